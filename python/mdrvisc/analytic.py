@@ -1,0 +1,348 @@
+"""Closed-form solutions: the analytic side of every comparison (DESIGN.md section 1.3).
+
+Units throughout: lengths in m, times in s, forces in N, pressures and moduli in Pa,
+viscosities in Pa s, impulses (force x time) in N s. Depths and deflections are positive into
+the body. The half-space is incompressible: its effective modulus is E* = 4 G, and by Radok's
+correspondence a viscous half-space of viscosity eta behaves like an elastic one with
+E* = 4 eta once forces are replaced by impulses (constant force F from t = 0: impulse F t) and
+deflections by deflection rates. Functions taking times, radii or coordinates accept scalars or
+numpy arrays and return a float or an array of the broadcast shape.
+"""
+
+import math
+
+import numpy as np
+
+from .errors import DomainError, InvalidInputError
+
+__all__ = [
+    "rod_velocity",
+    "rod_central_pressure",
+    "rod_pressure",
+    "rod_surface_velocity",
+    "paraboloid_depth",
+    "paraboloid_contact_radius",
+    "paraboloid_contact_length",
+    "cone_depth",
+    "cone_contact_radius",
+    "power_law_mdr_factor",
+    "sphere_mdr_profile",
+    "hertz",
+    "hertz_pressure",
+    "lee_radok_depth_from_impulse",
+]
+
+
+# ----------------------------------------------------------------------------- validation
+def _positive(owner, name, value):
+    """``value`` as a float, or InvalidInputError unless it is a finite number > 0."""
+    try:
+        number = float(value)
+    except (TypeError, ValueError):
+        number = None
+    if isinstance(value, bool) or number is None or not math.isfinite(number) or number <= 0.0:
+        shown = repr(value) if number is None or isinstance(value, bool) else repr(number)
+        raise InvalidInputError(f"{owner}: {name} must be a finite positive number, got {shown}")
+    return number
+
+
+def _array(owner, name, value, minimum=None):
+    """``value`` as a float64 array, or InvalidInputError naming the first bad entry.
+
+    Every entry must be finite and, when ``minimum`` is given, >= ``minimum``.
+    """
+    try:
+        array = np.asarray(value, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise InvalidInputError(f"{owner}: {name} must be real numbers, got {value!r}") from None
+    bad = ~np.isfinite(array)
+    rule = "finite"
+    if minimum is not None:
+        bad |= array < minimum
+        rule = f"finite and >= {minimum!r}"
+    if bad.any():
+        index = np.unravel_index(np.argmax(bad), array.shape) if array.ndim else ()
+        where = f" at index {tuple(int(i) for i in index)}" if array.ndim else ""
+        raise InvalidInputError(
+            f"{owner}: {name} must be {rule}, got {float(array[index])!r}{where}"
+        )
+    return array
+
+
+def _out(array):
+    """A 0-d result as a Python float, anything else unchanged."""
+    return float(array) if np.ndim(array) == 0 else array
+
+
+# ----------------------------------------------------------------------------- flat rod
+def rod_velocity(force, radius, eta):
+    """Indentation velocity of a flat rod on a viscous half-space, ddot = F / (8 a eta).
+
+    Parameters: force F (N), rod radius a (m), viscosity eta (Pa s). Returns m/s.
+    """
+    force = _positive("rod_velocity", "force", force)
+    radius = _positive("rod_velocity", "radius", radius)
+    eta = _positive("rod_velocity", "eta", eta)
+    return force / (8.0 * radius * eta)
+
+
+def rod_central_pressure(force, radius):
+    """Pressure at the centre of a flat rod's contact, p0 = F / (2 pi a^2) (Pa).
+
+    Parameters: force F (N), rod radius a (m). Holds for elastic and viscous half-spaces.
+    """
+    force = _positive("rod_central_pressure", "force", force)
+    radius = _positive("rod_central_pressure", "radius", radius)
+    return force / (2.0 * math.pi * radius**2)
+
+
+def rod_pressure(r, force, radius):
+    """Pressure under a flat rod, p(r) = p0 (1 - r^2/a^2)^(-1/2) for r < a, 0 for r >= a (Pa).
+
+    Parameters: radial distance r >= 0 (m, scalar or array), force F (N), rod radius a (m).
+    The pressure is (integrably) infinite at the edge r = a; it is returned as 0 there, with
+    the outside.
+    """
+    r = _array("rod_pressure", "r", r, minimum=0.0)
+    p0 = rod_central_pressure(force, radius)
+    radius = float(radius)
+    inside = r < radius
+    ratio = np.where(inside, r / radius, 0.0)
+    return _out(np.where(inside, p0 / np.sqrt((1.0 - ratio) * (1.0 + ratio)), 0.0))
+
+
+def rod_surface_velocity(r, force, radius, eta):
+    """Surface deflection rate around a flat rod on a viscous half-space (m/s).
+
+    du/dt = ddot for r <= a and (2/pi) ddot asin(a/r) for r > a, with ddot = F / (8 a eta).
+    Parameters: radial distance r >= 0 (m, scalar or array), force F (N), rod radius a (m),
+    viscosity eta (Pa s).
+    """
+    r = _array("rod_surface_velocity", "r", r, minimum=0.0)
+    velocity = rod_velocity(force, radius, eta)
+    radius = float(radius)
+    outside = r > radius
+    ratio = np.where(outside, radius / np.where(outside, r, 1.0), 1.0)
+    return _out(np.where(outside, (2.0 / math.pi) * velocity * np.arcsin(ratio), velocity))
+
+
+# ----------------------------------------------------------------------------- paraboloid
+def paraboloid_depth(t, force, c, eta):
+    """Depth of a paraboloid h = c r^2 under a constant force on a viscous half-space (m).
+
+    Lee-Radok: d(t) = (3 F t sqrt(2c) / (16 eta))^(2/3), the force F (N) acting from first touch
+    at t = 0 on an unbounded paraboloid of curvature parameter c (1/m; radius R = 1/(2c)),
+    viscosity eta (Pa s). Time t >= 0 (s, scalar or array).
+    """
+    t = _array("paraboloid_depth", "t", t, minimum=0.0)
+    force = _positive("paraboloid_depth", "force", force)
+    c = _positive("paraboloid_depth", "c", c)
+    eta = _positive("paraboloid_depth", "eta", eta)
+    return _out((3.0 * force * t * math.sqrt(2.0 * c) / (16.0 * eta)) ** (2.0 / 3.0))
+
+
+def paraboloid_contact_radius(t, force, c, eta):
+    """Contact radius a = sqrt(d / (2c)) of :func:`paraboloid_depth`'s indentation (m).
+
+    Same parameters as :func:`paraboloid_depth`.
+    """
+    depth = paraboloid_depth(t, force, c, eta)
+    return _out(np.sqrt(np.asarray(depth) / (2.0 * float(c))))
+
+
+def paraboloid_contact_length(t, force, c, eta):
+    """Contact length l = 2a of :func:`paraboloid_depth`'s indentation (m).
+
+    Same parameters as :func:`paraboloid_depth`.
+    """
+    return _out(2.0 * np.asarray(paraboloid_contact_radius(t, force, c, eta)))
+
+
+# ----------------------------------------------------------------------------- cone
+def cone_depth(t, force, slope, eta):
+    """Depth of a cone h = slope r under a constant force on a viscous half-space (m).
+
+    The elastic cone (MDR profile g = (pi/2) s |x|, contact radius a = 2d / (pi s)) carries
+    F = E* d a = 2 E* d^2 / (pi s); with E* -> 4 eta and F -> F t (Lee-Radok) this gives
+    d(t) = sqrt(pi s F t / (8 eta)). Parameters: time t >= 0 (s, scalar or array), force F (N)
+    acting from first touch at t = 0, slope s (dimensionless), viscosity eta (Pa s).
+    """
+    t = _array("cone_depth", "t", t, minimum=0.0)
+    force = _positive("cone_depth", "force", force)
+    slope = _positive("cone_depth", "slope", slope)
+    eta = _positive("cone_depth", "eta", eta)
+    return _out(np.sqrt(math.pi * slope * force * t / (8.0 * eta)))
+
+
+def cone_contact_radius(t, force, slope, eta):
+    """Contact radius a = 2d / (pi s) of :func:`cone_depth`'s indentation (m).
+
+    Same parameters as :func:`cone_depth`.
+    """
+    depth = cone_depth(t, force, slope, eta)
+    return _out(2.0 * np.asarray(depth) / (math.pi * float(slope)))
+
+
+# ----------------------------------------------------------------------------- MDR maps
+def power_law_mdr_factor(n):
+    """Factor kappa_n of the MDR map of a power-law profile (dimensionless).
+
+    f(r) = c r^n maps to g(x) = kappa_n c |x|^n with
+    kappa_n = sqrt(pi) Gamma(n/2 + 1) / Gamma(n/2 + 1/2) (kappa_1 = pi/2, kappa_2 = 2).
+    Parameter: exponent n > 0.
+    """
+    n = _positive("power_law_mdr_factor", "n", n)
+    return math.sqrt(math.pi) * math.exp(math.lgamma(0.5 * n + 1.0) - math.lgamma(0.5 * n + 0.5))
+
+
+def sphere_mdr_profile(x, radius):
+    """MDR profile of a spherical cap of radius R: g(x) = (|x|/2) ln((R + |x|) / (R - |x|)) (m).
+
+    Evaluated as |x| artanh(|x|/R). Parameters: 1D coordinate x (m, scalar or array) with
+    |x| < R, sphere radius R (m); g grows without bound as |x| -> R.
+    """
+    radius = _positive("sphere_mdr_profile", "radius", radius)
+    x = np.abs(_array("sphere_mdr_profile", "x", x))
+    if (x >= radius).any():
+        bad = float(x[x >= radius].flat[0])
+        raise InvalidInputError(
+            f"sphere_mdr_profile: |x| must be < radius = {radius!r}, got |x| = {bad!r}"
+        )
+    return _out(x * np.arctanh(x / radius))
+
+
+# ----------------------------------------------------------------------------- Hertz
+def hertz(force, radius_of_curvature, e_star):
+    """Hertz contact of a rigid paraboloid on an elastic half-space.
+
+    Parameters: force F (N), radius of curvature R (m; h = r^2 / (2R)), effective modulus E*
+    (Pa; 4 G for an incompressible body). Returns ``(a, d, p0)``: contact radius
+    a = (3 F R / (4 E*))^(1/3) (m), depth d = a^2 / R (m), central pressure
+    p0 = 3 F / (2 pi a^2) (Pa).
+    """
+    force = _positive("hertz", "force", force)
+    radius = _positive("hertz", "radius_of_curvature", radius_of_curvature)
+    e_star = _positive("hertz", "e_star", e_star)
+    a = (3.0 * force * radius / (4.0 * e_star)) ** (1.0 / 3.0)
+    return a, a * a / radius, 3.0 * force / (2.0 * math.pi * a * a)
+
+
+def hertz_pressure(r, a, p0):
+    """Hertz pressure p(r) = p0 sqrt(1 - r^2/a^2) for r < a, 0 outside (Pa).
+
+    Parameters: radial distance r >= 0 (m, scalar or array), contact radius a (m), central
+    pressure p0 (Pa).
+    """
+    r = _array("hertz_pressure", "r", r, minimum=0.0)
+    a = _positive("hertz_pressure", "a", a)
+    p0 = _positive("hertz_pressure", "p0", p0)
+    ratio = np.minimum(r / a, 1.0)
+    return _out(p0 * np.sqrt((1.0 - ratio) * (1.0 + ratio)))
+
+
+# ----------------------------------------------------------------------------- Lee-Radok
+def lee_radok_depth_from_impulse(impulse, indenter, eta):
+    """Depth of any :mod:`mdrvisc.geometry` indenter pressed into a viscous half-space (m).
+
+    Monotone contact (Lee-Radok) through MDR: the depth d and contact radius a solve
+    g(a) = d and 4 eta * integral_{-a}^{a} (d - g(x)) dx = J, with g the indenter's 1D profile
+    and J the impulse (integral of the force over time, N s; F t for a constant force F from
+    first touch). Parameters: impulse J >= 0 (scalar or array), indenter (a
+    :class:`mdrvisc.geometry.Indenter`), viscosity eta (Pa s).
+
+    Rod, Paraboloid and Cone use closed forms; other indenters are solved numerically with
+    scipy (``brentq`` on a, ``quad`` for the integral). Once the contact fills a disc footprint
+    of radius R (Rod, ``Axisymmetric(..., radius=R)``) the indenter moves on like a rod:
+    d = g(R) + (J - J_R) / (8 eta R). Raises DomainError once the contact circle reaches the
+    edge of a square footprint, where it stops being circular and no closed form applies.
+    """
+    # Imported here: geometry builds on this module's closed forms.
+    from . import geometry
+
+    if not isinstance(indenter, geometry.Indenter):
+        raise InvalidInputError(
+            f"lee_radok_depth_from_impulse: indenter must be an mdrvisc Indenter, got {indenter!r}"
+        )
+    impulse = _array("lee_radok_depth_from_impulse", "impulse", impulse, minimum=0.0)
+    eta = _positive("lee_radok_depth_from_impulse", "eta", eta)
+    if isinstance(indenter, geometry.Rod):
+        return _out(impulse / (8.0 * eta * indenter.radius))
+    if isinstance(indenter, geometry.Paraboloid):
+        depth = np.asarray(paraboloid_depth(impulse, 1.0, indenter.c, eta))
+    elif isinstance(indenter, geometry.Cone):
+        depth = np.asarray(cone_depth(impulse, 1.0, indenter.slope, eta))
+    else:
+        solver = _LeeRadok(
+            indenter,
+            eta,
+            disc=indenter.radius if isinstance(indenter, geometry.Axisymmetric) else None,
+            rim=indenter.radius if isinstance(indenter, geometry.Sphere) else None,
+        )
+        depth = np.vectorize(solver, otypes=[np.float64])(impulse)
+    edge = getattr(indenter, "edge", None)
+    if edge is not None and depth.size:
+        radius = indenter.contact_radius_at_depth(float(np.max(depth)))
+        if radius > 0.5 * edge:
+            raise DomainError(
+                f"lee_radok_depth_from_impulse: contact radius {radius!r} m exceeds half the "
+                f"edge ({0.5 * edge!r} m) of {indenter!r}; the contact is no longer circular"
+            )
+    return _out(depth)
+
+
+class _LeeRadok:
+    """Numerical Lee-Radok depth of one indenter from J(a) = 8 eta int_0^a (g(a) - g(x)) dx.
+
+    ``disc``: radius of a disc footprint the contact can fill (then the indenter moves on like a
+    rod); ``rim``: radius where g diverges (the sphere), which bounds the contact radius.
+    """
+
+    def __init__(self, indenter, eta, disc, rim):
+        self.indenter = indenter
+        self.eta = eta
+        self.disc = disc
+        self.rim = rim
+
+    def g(self, x):
+        """The indenter's 1D profile at one point (m)."""
+        return float(self.indenter.profile_1d(x))
+
+    def impulse(self, a):
+        """Impulse (N s) that brings the contact radius to ``a`` (m)."""
+        from scipy.integrate import quad
+
+        depth = self.g(a)
+        integral, _ = quad(lambda x: depth - self.g(x), 0.0, a, epsabs=0.0, epsrel=1e-12,
+                           limit=200)
+        return 8.0 * self.eta * integral
+
+    def __call__(self, impulse):
+        """Depth (m) reached at ``impulse`` (N s)."""
+        from scipy.optimize import brentq
+
+        if impulse == 0.0:
+            return 0.0
+        if self.disc is not None:
+            filled = self.impulse(self.disc)
+            if impulse >= filled:
+                return self.g(self.disc) + (impulse - filled) / (8.0 * self.eta * self.disc)
+            upper = self.disc
+        else:
+            upper = self._bracket(impulse)
+        radius = brentq(lambda a: self.impulse(a) - impulse, 0.0, upper, xtol=1e-15 * upper,
+                        rtol=4.0 * np.finfo(float).eps, maxiter=200)
+        return self.g(radius)
+
+    def _bracket(self, impulse):
+        """A contact radius (m) whose impulse is at least ``impulse``."""
+        if self.rim is not None:
+            candidates = (self.rim * (1.0 - 2.0**-k) for k in range(1, 53))
+        else:
+            candidates = (2.0**k for k in range(1024))
+        for upper in candidates:
+            if self.impulse(upper) >= impulse:
+                return upper
+        raise DomainError(
+            f"lee_radok_depth_from_impulse: no contact radius of {self.indenter!r} carries an "
+            f"impulse of {impulse!r} N s"
+        )

@@ -1,0 +1,35 @@
+"""Exception hierarchy of mdrvisc.
+
+Every error raised by the library derives from :class:`MdrviscError`; errors caused by a
+bad argument also derive from :class:`ValueError`, so ``except ValueError`` keeps working.
+"""
+
+
+class MdrviscError(Exception):
+    """Base class of all mdrvisc errors."""
+
+
+class InvalidInputError(MdrviscError, ValueError):
+    """An argument is out of range, of the wrong type or shape, or not finite."""
+
+
+class ConvergenceError(MdrviscError, RuntimeError):
+    """An iterative solver stopped before reaching its tolerance.
+
+    Attributes
+    ----------
+    iterations : int
+        Iterations performed.
+    residual : float
+        Relative residual when the solver stopped.
+    """
+
+    def __init__(self, message: str, iterations: int = 0, residual: float = float("nan")):
+        super().__init__(message)
+        self.iterations = iterations
+        self.residual = residual
+
+
+class DomainError(MdrviscError):
+    """The solution left the region a method can represent (e.g. contact reached the edge of
+    the BEM grid of an unbounded indenter)."""

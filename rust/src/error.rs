@@ -1,0 +1,79 @@
+//! The crate's error type: bad input, non-convergence, interruption, domain violations.
+
+use std::fmt;
+
+/// Everything that can go wrong in a computation of this crate.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Error {
+    /// An argument is out of range, not finite, or of the wrong size; the message names it.
+    InvalidInput(String),
+    /// An iterative solver stopped at `iterations` with relative residual `residual`.
+    NotConverged {
+        /// What was being solved.
+        what: String,
+        /// Iterations performed.
+        iterations: usize,
+        /// Relative residual when it stopped.
+        residual: f64,
+    },
+    /// The caller asked to stop (Ctrl-C in Python).
+    Interrupted,
+    /// The solution left the region the method can represent.
+    Domain(String),
+}
+
+/// Shorthand for results of this crate.
+pub type Result<T> = std::result::Result<T, Error>;
+
+impl fmt::Display for Error {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Error::InvalidInput(m) => write!(f, "invalid input: {m}"),
+            Error::NotConverged {
+                what,
+                iterations,
+                residual,
+            } => write!(
+                f,
+                "{what} did not converge: residual {residual:.3e} after {iterations} iterations"
+            ),
+            Error::Interrupted => write!(f, "interrupted"),
+            Error::Domain(m) => write!(f, "{m}"),
+        }
+    }
+}
+
+impl std::error::Error for Error {}
+
+/// Fails with `InvalidInput` unless `value` is finite and > 0.
+pub fn check_positive(name: &str, value: f64) -> Result<()> {
+    if value.is_finite() && value > 0.0 {
+        Ok(())
+    } else {
+        Err(Error::InvalidInput(format!(
+            "{name} must be a finite positive number, got {value}"
+        )))
+    }
+}
+
+/// Fails with `InvalidInput` unless every entry of `values` is finite.
+pub fn check_finite(name: &str, values: &[f64]) -> Result<()> {
+    match values.iter().position(|v| !v.is_finite()) {
+        None => Ok(()),
+        Some(i) => Err(Error::InvalidInput(format!(
+            "{name} must be finite everywhere, got {} at flat index {i}",
+            values[i]
+        ))),
+    }
+}
+
+/// Fails with `InvalidInput` unless `values` has exactly `expected` entries.
+pub fn check_len(name: &str, values: usize, expected: usize) -> Result<()> {
+    if values == expected {
+        Ok(())
+    } else {
+        Err(Error::InvalidInput(format!(
+            "{name} has {values} entries, expected {expected}"
+        )))
+    }
+}

@@ -1,0 +1,12 @@
+//! mdrvisc: normal contact of rigid indenters with viscous half-spaces, by the boundary
+//! element method (BEM) and the method of dimensionality reduction (MDR).
+//!
+//! Units are SI throughout (m, s, N, Pa, Pa s). Depths and deflections are positive into
+//! the body.
+
+pub mod error;
+pub mod influence;
+pub mod monitor;
+pub mod operator;
+
+pub use error::{Error, Result};

@@ -1,0 +1,350 @@
+//! The surface operator: deflections of a non-periodic half-space (G = 1 Pa) under
+//! element pressures, by zero-padded FFT convolution (DC-FFT) or by a dense matrix (faer).
+//!
+//! Grids are row-major: element (ix, iy) at index iy * nx + ix, centres dx apart.
+
+use crate::error::{check_positive, Error, Result};
+use crate::influence;
+use faer::{Accum, ColMut, ColRef, Mat, Par};
+use rayon::prelude::*;
+use realfft::{ComplexToReal, RealFftPlanner, RealToComplex};
+use rustfft::num_complex::Complex;
+use rustfft::{Fft, FftPlanner};
+use std::sync::Arc;
+
+/// A linear map from element pressures (Pa) to element-centre deflections (m) at G = 1 Pa.
+pub trait SurfaceOperator {
+    /// Number of elements along x.
+    fn nx(&self) -> usize;
+    /// Number of elements along y.
+    fn ny(&self) -> usize;
+    /// Element side (m).
+    fn dx(&self) -> f64;
+    /// Writes K[p] into `u` (both nx * ny long).
+    fn apply(&mut self, p: &[f64], u: &mut [f64]);
+}
+
+/// Smallest m >= n whose prime factors are all in {2, 3, 5, 7}.
+fn smooth_size(n: usize) -> usize {
+    let mut m = n.max(1);
+    loop {
+        let mut r = m;
+        for f in [2, 3, 5, 7] {
+            while r % f == 0 {
+                r /= f;
+            }
+        }
+        if r == 1 {
+            return m;
+        }
+        m += 1;
+    }
+}
+
+/// Padded length for a linear convolution over `n` elements with an even kernel: offsets
+/// +(n-1) and -(n-1) may share a slot, so 2n - 2 suffices (1 for a single element).
+fn padded_size(n: usize) -> usize {
+    if n == 1 {
+        1
+    } else {
+        smooth_size(2 * n - 2)
+    }
+}
+
+/// Per-worker buffers, allocated once with the operator.
+struct Worker {
+    real: Vec<f64>,
+    half: Vec<Complex<f64>>,
+    r2c_scratch: Vec<Complex<f64>>,
+    c2r_scratch: Vec<Complex<f64>>,
+    col_scratch: Vec<Complex<f64>>,
+}
+
+/// DC-FFT operator: the kernel spectrum is computed once, FFT plans and buffers live with
+/// the operator, and rows and columns are transformed in parallel with rayon.
+pub struct FftOperator {
+    nx: usize,
+    ny: usize,
+    dx: f64,
+    mx: usize,
+    my: usize,
+    half: usize,
+    r2c: Arc<dyn RealToComplex<f64>>,
+    c2r: Arc<dyn ComplexToReal<f64>>,
+    col_fwd: Arc<dyn Fft<f64>>,
+    col_inv: Arc<dyn Fft<f64>>,
+    /// Real kernel spectrum, transposed (half x my), normalisation included.
+    spectrum: Vec<f64>,
+    rows: Vec<Complex<f64>>,
+    cols: Vec<Complex<f64>>,
+    workers: Vec<Worker>,
+}
+
+impl FftOperator {
+    /// Builds the operator for an `nx` x `ny` grid of square elements of side `dx` (m).
+    pub fn new(nx: usize, ny: usize, dx: f64) -> Result<Self> {
+        if nx == 0 || ny == 0 {
+            return Err(Error::InvalidInput(format!(
+                "grid size must be at least 1 x 1, got {nx} x {ny}"
+            )));
+        }
+        check_positive("element size dx", dx)?;
+        let (mx, my) = (padded_size(nx), padded_size(ny));
+        let half = mx / 2 + 1;
+        let mut rplan = RealFftPlanner::<f64>::new();
+        let r2c = rplan.plan_fft_forward(mx);
+        let c2r = rplan.plan_fft_inverse(mx);
+        let mut cplan = FftPlanner::<f64>::new();
+        let col_fwd = cplan.plan_fft_forward(my);
+        let col_inv = cplan.plan_fft_inverse(my);
+        let nworkers = rayon::current_num_threads().max(1) * 2;
+        let workers = (0..nworkers)
+            .map(|_| Worker {
+                real: vec![0.0; mx],
+                half: vec![Complex::default(); half],
+                r2c_scratch: r2c.make_scratch_vec(),
+                c2r_scratch: c2r.make_scratch_vec(),
+                col_scratch: vec![Complex::default(); col_fwd.get_inplace_scratch_len()],
+            })
+            .collect();
+        let mut op = FftOperator {
+            nx,
+            ny,
+            dx,
+            mx,
+            my,
+            half,
+            r2c,
+            c2r,
+            col_fwd,
+            col_inv,
+            spectrum: vec![0.0; half * my],
+            rows: vec![Complex::default(); my * half],
+            cols: vec![Complex::default(); half * my],
+            workers,
+        };
+        op.spectrum = op.kernel_spectrum();
+        Ok(op)
+    }
+
+    /// Padded FFT sizes (x, y).
+    pub fn padded(&self) -> (usize, usize) {
+        (self.mx, self.my)
+    }
+
+    fn kernel_spectrum(&mut self) -> Vec<f64> {
+        let (nx, ny, mx, my) = (self.nx, self.ny, self.mx, self.my);
+        let quarter = influence::quarter_kernel(nx, ny, self.dx);
+        let wrap = |i: usize, m: usize, n: usize| -> Option<usize> {
+            let k = if i <= m / 2 { i } else { m - i };
+            (k < n).then_some(k)
+        };
+        let mut padded = vec![0.0; mx * my];
+        for iy in 0..my {
+            for ix in 0..mx {
+                if let (Some(kx), Some(ky)) = (wrap(ix, mx, nx), wrap(iy, my, ny)) {
+                    padded[iy * mx + ix] = quarter[ky * nx + kx];
+                }
+            }
+        }
+        self.forward(&padded, mx, my);
+        let norm = 1.0 / (mx * my) as f64;
+        self.cols.iter().map(|c| c.re * norm).collect()
+    }
+
+    /// Row R2C of `nrows` rows of `src` (row stride `stride`), then column FFTs into `cols`.
+    fn forward(&mut self, src: &[f64], stride: usize, nrows: usize) {
+        let (half, my, ncols_in) = (self.half, self.my, stride.min(self.mx));
+        let nw = self.workers.len();
+        let r2c = &self.r2c;
+        let chunk = nrows.div_ceil(nw).max(1);
+        self.rows[..nrows * half]
+            .par_chunks_mut(chunk * half)
+            .zip(self.workers.par_iter_mut())
+            .enumerate()
+            .for_each(|(c, (out, w))| {
+                for (r, row_out) in out.chunks_mut(half).enumerate() {
+                    let iy = c * chunk + r;
+                    w.real[..ncols_in].copy_from_slice(&src[iy * stride..iy * stride + ncols_in]);
+                    w.real[ncols_in..].fill(0.0);
+                    r2c.process_with_scratch(&mut w.real, row_out, &mut w.r2c_scratch)
+                        .expect("buffer sizes are fixed at construction");
+                }
+            });
+        let rows = &self.rows;
+        let col_fwd = &self.col_fwd;
+        let chunk = half.div_ceil(nw).max(1);
+        self.cols
+            .par_chunks_mut(chunk * my)
+            .zip(self.workers.par_iter_mut())
+            .enumerate()
+            .for_each(|(c, (out, w))| {
+                for (k, col) in out.chunks_mut(my).enumerate() {
+                    let kx = c * chunk + k;
+                    for (iy, v) in col.iter_mut().enumerate() {
+                        *v = if iy < nrows {
+                            rows[iy * half + kx]
+                        } else {
+                            Complex::default()
+                        };
+                    }
+                    col_fwd.process_with_scratch(col, &mut w.col_scratch);
+                }
+            });
+    }
+}
+
+impl SurfaceOperator for FftOperator {
+    fn nx(&self) -> usize {
+        self.nx
+    }
+    fn ny(&self) -> usize {
+        self.ny
+    }
+    fn dx(&self) -> f64 {
+        self.dx
+    }
+
+    fn apply(&mut self, p: &[f64], u: &mut [f64]) {
+        let (nx, ny, half, my) = (self.nx, self.ny, self.half, self.my);
+        assert_eq!(p.len(), nx * ny, "pressure length");
+        assert_eq!(u.len(), nx * ny, "deflection length");
+        self.forward(p, nx, ny);
+        let nw = self.workers.len();
+        let spectrum = &self.spectrum;
+        let col_inv = &self.col_inv;
+        let chunk = half.div_ceil(nw).max(1);
+        self.cols
+            .par_chunks_mut(chunk * my)
+            .zip(self.workers.par_iter_mut())
+            .enumerate()
+            .for_each(|(c, (out, w))| {
+                for (k, col) in out.chunks_mut(my).enumerate() {
+                    let kx = c * chunk + k;
+                    let s = &spectrum[kx * my..(kx + 1) * my];
+                    col.iter_mut().zip(s).for_each(|(v, &s)| *v *= s);
+                    col_inv.process_with_scratch(col, &mut w.col_scratch);
+                }
+            });
+        let cols = &self.cols;
+        let c2r = &self.c2r;
+        let chunk = ny.div_ceil(nw).max(1);
+        let mx = self.mx;
+        u.par_chunks_mut(chunk * nx)
+            .zip(self.workers.par_iter_mut())
+            .enumerate()
+            .for_each(|(c, (out, w))| {
+                for (r, row_out) in out.chunks_mut(nx).enumerate() {
+                    let iy = c * chunk + r;
+                    for (kx, v) in w.half.iter_mut().enumerate() {
+                        *v = cols[kx * my + iy];
+                    }
+                    w.half[0].im = 0.0;
+                    if mx % 2 == 0 {
+                        w.half[half - 1].im = 0.0;
+                    }
+                    c2r.process_with_scratch(&mut w.half, &mut w.real, &mut w.c2r_scratch)
+                        .expect("buffer sizes are fixed at construction");
+                    row_out.copy_from_slice(&w.real[..nx]);
+                }
+            });
+    }
+}
+
+/// Dense influence matrix between chosen elements of a grid (faer), for small grids, for
+/// direct solves on a contact set and for cross-checking the FFT operator.
+pub struct DenseOperator {
+    nx: usize,
+    ny: usize,
+    dx: f64,
+    matrix: Mat<f64>,
+}
+
+impl DenseOperator {
+    /// Full matrix of an `nx` x `ny` grid (size (nx ny)^2: small grids only).
+    pub fn new(nx: usize, ny: usize, dx: f64) -> Result<Self> {
+        let all: Vec<usize> = (0..nx * ny).collect();
+        let matrix = Self::subset_matrix(nx, dx, &all)?;
+        Ok(DenseOperator { nx, ny, dx, matrix })
+    }
+
+    /// Influence matrix (m/Pa at G = 1) among the elements `idx` of a grid `nx` wide.
+    pub fn subset_matrix(nx: usize, dx: f64, idx: &[usize]) -> Result<Mat<f64>> {
+        check_positive("element size dx", dx)?;
+        if nx == 0 {
+            return Err(Error::InvalidInput("grid width nx must be >= 1".into()));
+        }
+        let pos: Vec<(i64, i64)> = idx
+            .iter()
+            .map(|&i| ((i % nx) as i64, (i / nx) as i64))
+            .collect();
+        Ok(Mat::from_fn(idx.len(), idx.len(), |i, j| {
+            let (a, b) = (pos[i], pos[j]);
+            influence::coefficient(a.0 - b.0, a.1 - b.1, dx)
+        }))
+    }
+}
+
+impl SurfaceOperator for DenseOperator {
+    fn nx(&self) -> usize {
+        self.nx
+    }
+    fn ny(&self) -> usize {
+        self.ny
+    }
+    fn dx(&self) -> f64 {
+        self.dx
+    }
+    fn apply(&mut self, p: &[f64], u: &mut [f64]) {
+        faer::linalg::matmul::matmul(
+            ColMut::from_slice_mut(u).as_mat_mut(),
+            Accum::Replace,
+            self.matrix.as_ref(),
+            ColRef::from_slice(p).as_mat(),
+            1.0,
+            Par::rayon(0),
+        );
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn pseudo_random(n: usize, seed: u64) -> Vec<f64> {
+        let mut s = seed;
+        (0..n)
+            .map(|_| {
+                s = s.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+                (s >> 11) as f64 / (1u64 << 53) as f64
+            })
+            .collect()
+    }
+
+    fn max_rel_diff(nx: usize, ny: usize) -> f64 {
+        let dx = 0.37;
+        let p = pseudo_random(nx * ny, (nx * 31 + ny) as u64);
+        let (mut a, mut b) = (vec![0.0; nx * ny], vec![0.0; nx * ny]);
+        FftOperator::new(nx, ny, dx).unwrap().apply(&p, &mut a);
+        DenseOperator::new(nx, ny, dx).unwrap().apply(&p, &mut b);
+        let scale = b.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        a.iter()
+            .zip(&b)
+            .fold(0.0f64, |m, (x, y)| m.max((x - y).abs() / scale))
+    }
+
+    #[test]
+    fn fft_matches_dense_on_odd_even_and_tiny_grids() {
+        for (nx, ny) in [(1, 1), (2, 2), (3, 3), (1, 5), (13, 9), (16, 16), (17, 12), (33, 31)] {
+            let d = max_rel_diff(nx, ny);
+            assert!(d < 1e-12, "{nx}x{ny}: {d}");
+        }
+    }
+
+    #[test]
+    fn smooth_sizes() {
+        assert_eq!(padded_size(257), 512);
+        assert_eq!(padded_size(200), 400);
+        assert_eq!(smooth_size(11 * 13), 144);
+    }
+}
