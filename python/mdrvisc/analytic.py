@@ -267,41 +267,54 @@ def lee_radok_depth_from_impulse(impulse, indenter, eta):
     eta = _positive("lee_radok_depth_from_impulse", "eta", eta)
     if isinstance(indenter, geometry.Rod):
         return _out(impulse / (8.0 * eta * indenter.radius))
-    if isinstance(indenter, geometry.Paraboloid):
-        depth = np.asarray(paraboloid_depth(impulse, 1.0, indenter.c, eta))
-    elif isinstance(indenter, geometry.Cone):
-        depth = np.asarray(cone_depth(impulse, 1.0, indenter.slope, eta))
-    else:
-        solver = _LeeRadok(
-            indenter,
-            eta,
-            disc=indenter.radius if isinstance(indenter, geometry.Axisymmetric) else None,
-            rim=indenter.radius if isinstance(indenter, geometry.Sphere) else None,
-        )
-        depth = np.vectorize(solver, otypes=[np.float64])(impulse)
-    edge = getattr(indenter, "edge", None)
-    if edge is not None and depth.size:
-        radius = indenter.contact_radius_at_depth(float(np.max(depth)))
-        if radius > 0.5 * edge:
-            raise DomainError(
-                f"lee_radok_depth_from_impulse: contact radius {radius!r} m exceeds half the "
-                f"edge ({0.5 * edge!r} m) of {indenter!r}; the contact is no longer circular"
-            )
-    return _out(depth)
+    if isinstance(indenter, (geometry.Paraboloid, geometry.Cone)):
+        if isinstance(indenter, geometry.Paraboloid):
+            depth = paraboloid_depth(impulse, 1.0, indenter.c, eta)
+        else:
+            depth = cone_depth(impulse, 1.0, indenter.slope, eta)
+        if indenter.edge is not None and np.size(depth):
+            radius = indenter.contact_radius_at_depth(float(np.max(depth)))
+            if radius > 0.5 * indenter.edge:
+                raise _edge_error(indenter, float(np.max(impulse)))
+        return depth
+    disc = rim = None
+    if isinstance(indenter, geometry.Sphere):
+        rim = indenter.radius
+    elif isinstance(indenter, geometry.Axisymmetric) and indenter.radius is not None:
+        try:
+            with np.errstate(divide="ignore", invalid="ignore"):
+                indenter.profile_1d(indenter.radius)
+            disc = indenter.radius
+        except InvalidInputError:  # g diverges at the rim, like the sphere's
+            rim = indenter.radius
+    solver = _LeeRadok(indenter, eta, disc=disc, rim=rim, edge=getattr(indenter, "edge", None))
+    return _out(np.vectorize(solver, otypes=[np.float64])(impulse))
+
+
+def _edge_error(indenter, impulse):
+    """The DomainError for a contact circle that outgrows a square footprint."""
+    return DomainError(
+        f"lee_radok_depth_from_impulse: at an impulse of {impulse!r} N s the contact radius "
+        f"of {indenter!r} exceeds half the edge ({0.5 * indenter.edge!r} m); the contact is no "
+        "longer circular"
+    )
 
 
 class _LeeRadok:
     """Numerical Lee-Radok depth of one indenter from J(a) = 8 eta int_0^a (g(a) - g(x)) dx.
 
     ``disc``: radius of a disc footprint the contact can fill (then the indenter moves on like a
-    rod); ``rim``: radius where g diverges (the sphere), which bounds the contact radius.
+    rod); ``rim``: radius where g diverges (the sphere), which bounds the contact radius;
+    ``edge``: side of a square footprint, whose half bounds it. None of them: the contact radius
+    is sought up to 2^20 m.
     """
 
-    def __init__(self, indenter, eta, disc, rim):
+    def __init__(self, indenter, eta, disc, rim, edge):
         self.indenter = indenter
         self.eta = eta
         self.disc = disc
         self.rim = rim
+        self.edge = edge
 
     def g(self, x):
         """The indenter's 1D profile at one point (m)."""
@@ -335,14 +348,18 @@ class _LeeRadok:
 
     def _bracket(self, impulse):
         """A contact radius (m) whose impulse is at least ``impulse``."""
-        if self.rim is not None:
-            candidates = (self.rim * (1.0 - 2.0**-k) for k in range(1, 53))
+        if self.edge is not None:
+            candidates = [0.5 * self.edge]
+        elif self.rim is not None:
+            candidates = [self.rim * (1.0 - 2.0**-k) for k in range(1, 53)]
         else:
-            candidates = (2.0**k for k in range(1024))
+            candidates = [2.0**k for k in range(21)]
         for upper in candidates:
             if self.impulse(upper) >= impulse:
                 return upper
+        if self.edge is not None:
+            raise _edge_error(self.indenter, impulse)
         raise DomainError(
-            f"lee_radok_depth_from_impulse: no contact radius of {self.indenter!r} carries an "
-            f"impulse of {impulse!r} N s"
+            f"lee_radok_depth_from_impulse: no contact radius of {self.indenter!r} up to "
+            f"{candidates[-1]!r} m carries an impulse of {impulse!r} N s"
         )

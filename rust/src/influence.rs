@@ -10,8 +10,16 @@ use std::f64::consts::PI;
 /// Antiderivative of 1/sqrt(x^2 + y^2) in x and y: x asinh(y/|x|) + y asinh(x/|y|)
 /// (x ln(y + r) + y ln(x + r) up to terms in one variable, without its cancellation).
 fn phi(x: f64, y: f64) -> f64 {
-    let a = if x == 0.0 { 0.0 } else { x * (y / x.abs()).asinh() };
-    let b = if y == 0.0 { 0.0 } else { y * (x / y.abs()).asinh() };
+    let a = if x == 0.0 {
+        0.0
+    } else {
+        x * (y / x.abs()).asinh()
+    };
+    let b = if y == 0.0 {
+        0.0
+    } else {
+        y * (x / y.abs()).asinh()
+    };
     a + b
 }
 

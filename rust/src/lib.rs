@@ -10,3 +10,8 @@ pub mod monitor;
 pub mod operator;
 
 pub use error::{Error, Result};
+pub mod contact;
+pub mod loading;
+pub mod mdr;
+pub mod transforms;
+pub mod viscous;

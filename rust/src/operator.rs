@@ -315,7 +315,9 @@ mod tests {
         let mut s = seed;
         (0..n)
             .map(|_| {
-                s = s.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+                s = s
+                    .wrapping_mul(6364136223846793005)
+                    .wrapping_add(1442695040888963407);
                 (s >> 11) as f64 / (1u64 << 53) as f64
             })
             .collect()
@@ -335,7 +337,16 @@ mod tests {
 
     #[test]
     fn fft_matches_dense_on_odd_even_and_tiny_grids() {
-        for (nx, ny) in [(1, 1), (2, 2), (3, 3), (1, 5), (13, 9), (16, 16), (17, 12), (33, 31)] {
+        for (nx, ny) in [
+            (1, 1),
+            (2, 2),
+            (3, 3),
+            (1, 5),
+            (13, 9),
+            (16, 16),
+            (17, 12),
+            (33, 31),
+        ] {
             let d = max_rel_diff(nx, ny);
             assert!(d < 1e-12, "{nx}x{ny}: {d}");
         }

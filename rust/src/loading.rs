@@ -1,0 +1,130 @@
+//! Loading histories: the force F(t) applied to the indenter and its impulse.
+
+use crate::error::{check_finite, Error, Result};
+
+/// A force history F(t) (N), piecewise linear between samples, constant after the last
+/// sample; time starts at t = 0 (first touch).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ForceHistory {
+    times: Vec<f64>,
+    forces: Vec<f64>,
+}
+
+impl ForceHistory {
+    /// A constant force `f` (N) from t = 0.
+    pub fn constant(f: f64) -> Result<Self> {
+        Self::piecewise_linear(vec![0.0], vec![f])
+    }
+
+    /// Samples (t_i, F_i): times start at 0 and strictly increase, forces are >= 0.
+    pub fn piecewise_linear(times: Vec<f64>, forces: Vec<f64>) -> Result<Self> {
+        if times.is_empty() || times.len() != forces.len() {
+            return Err(Error::InvalidInput(format!(
+                "force history needs equally many times and forces (>= 1), got {} and {}",
+                times.len(),
+                forces.len()
+            )));
+        }
+        check_finite("force history times", &times)?;
+        check_finite("force history forces", &forces)?;
+        if times[0] != 0.0 {
+            return Err(Error::InvalidInput(format!(
+                "force history must start at t = 0, got {}",
+                times[0]
+            )));
+        }
+        if let Some(w) = times.windows(2).find(|w| w[1] <= w[0]) {
+            return Err(Error::InvalidInput(format!(
+                "force history times must increase, got {} then {}",
+                w[0], w[1]
+            )));
+        }
+        if let Some(f) = forces.iter().find(|&&f| f < 0.0) {
+            return Err(Error::InvalidInput(format!(
+                "forces must be >= 0 (no adhesion), got {f}"
+            )));
+        }
+        Ok(ForceHistory { times, forces })
+    }
+
+    /// Force (N) at time `t` (s).
+    pub fn force(&self, t: f64) -> f64 {
+        let k = self.times.partition_point(|&s| s <= t);
+        if k == 0 {
+            0.0
+        } else if k == self.times.len() {
+            self.forces[k - 1]
+        } else {
+            let (t0, t1) = (self.times[k - 1], self.times[k]);
+            let (f0, f1) = (self.forces[k - 1], self.forces[k]);
+            f0 + (f1 - f0) * (t - t0) / (t1 - t0)
+        }
+    }
+
+    /// Impulse (N s): integral of F from 0 to `t`, exact for the piecewise-linear history.
+    pub fn impulse(&self, t: f64) -> f64 {
+        if t <= 0.0 {
+            return 0.0;
+        }
+        let mut total = 0.0;
+        for k in 0..self.times.len() {
+            let t0 = self.times[k];
+            if t0 >= t {
+                break;
+            }
+            let t1 = self
+                .times
+                .get(k + 1)
+                .copied()
+                .unwrap_or(f64::INFINITY)
+                .min(t);
+            total += 0.5 * (self.force(t0) + self.force(t1)) * (t1 - t0);
+        }
+        total
+    }
+}
+
+/// Fails unless `times` are finite, > 0 and strictly increasing.
+pub fn check_output_times(times: &[f64]) -> Result<()> {
+    if times.is_empty() {
+        return Err(Error::InvalidInput("no output times given".into()));
+    }
+    check_finite("output times", times)?;
+    if times[0] <= 0.0 {
+        return Err(Error::InvalidInput(format!(
+            "output times must be > 0 (t = 0 is first touch), got {}",
+            times[0]
+        )));
+    }
+    if let Some(w) = times.windows(2).find(|w| w[1] <= w[0]) {
+        return Err(Error::InvalidInput(format!(
+            "output times must increase, got {} then {}",
+            w[0], w[1]
+        )));
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn impulse_of_ramp_and_hold() {
+        let h = ForceHistory::piecewise_linear(vec![0.0, 2.0], vec![0.0, 4.0]).unwrap();
+        assert_eq!(h.force(1.0), 2.0);
+        assert_eq!(h.force(3.0), 4.0);
+        assert!((h.impulse(2.0) - 4.0).abs() < 1e-15);
+        assert!((h.impulse(3.0) - 8.0).abs() < 1e-15);
+        assert!((ForceHistory::constant(1.5).unwrap().impulse(2.0) - 3.0).abs() < 1e-15);
+    }
+
+    #[test]
+    fn rejects_bad_histories() {
+        assert!(ForceHistory::constant(-1.0).is_err());
+        assert!(ForceHistory::piecewise_linear(vec![0.0, 0.0], vec![1.0, 1.0]).is_err());
+        assert!(ForceHistory::piecewise_linear(vec![1.0], vec![1.0]).is_err());
+        assert!(check_output_times(&[1.0, 0.5]).is_err());
+        assert!(check_output_times(&[f64::NAN]).is_err());
+    }
+}

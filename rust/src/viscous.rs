@@ -1,0 +1,293 @@
+//! BEM for a viscous half-space (shear viscosity eta, Pa s) under a force history.
+//!
+//! Written for the impulse P = integral of p dt: the deflection is u = K[P] / eta, so the
+//! state at each output time is an elastic contact problem (modulus eta) for the impulse
+//! increment dP >= 0 with total dI = integral of F over the step and separation h + u_n.
+//! While the contact grows (always, for F >= 0 on a viscous body) this implicit step has no
+//! time-discretisation error (Lee–Radok), so a run costs one contact solve per output time.
+
+use crate::contact::{ContactSolver, SolverOptions, Target};
+use crate::error::{check_finite, check_len, check_positive, Error, Result};
+use crate::loading::{check_output_times, ForceHistory};
+use crate::monitor::Monitor;
+use crate::operator::{FftOperator, SurfaceOperator};
+
+/// A square-element grid over the indenter's footprint.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Grid {
+    /// Elements along x.
+    pub nx: usize,
+    /// Elements along y.
+    pub ny: usize,
+    /// Element side (m).
+    pub dx: f64,
+    /// Indenter height above its tip at element centres (m), row-major (iy * nx + ix).
+    pub height: Vec<f64>,
+    /// Elements the indenter covers (where contact is possible).
+    pub allowed: Vec<bool>,
+}
+
+impl Grid {
+    /// Validates sizes and values: heights finite and >= 0 where allowed.
+    pub fn new(
+        nx: usize,
+        ny: usize,
+        dx: f64,
+        height: Vec<f64>,
+        allowed: Vec<bool>,
+    ) -> Result<Self> {
+        if nx == 0 || ny == 0 {
+            return Err(Error::InvalidInput(format!(
+                "grid size must be at least 1 x 1, got {nx} x {ny}"
+            )));
+        }
+        check_positive("element size dx", dx)?;
+        check_len("height map", height.len(), nx * ny)?;
+        check_len("footprint mask", allowed.len(), nx * ny)?;
+        check_finite("height map", &height)?;
+        if let Some(i) = (0..nx * ny).find(|&i| allowed[i] && height[i] < 0.0) {
+            return Err(Error::InvalidInput(format!(
+                "heights must be >= 0 (measured from the indenter's tip), got {} at element ({}, {})",
+                height[i],
+                i % nx,
+                i / nx
+            )));
+        }
+        if !allowed.iter().any(|&a| a) {
+            return Err(Error::InvalidInput(
+                "the indenter's footprint holds no element of the grid".into(),
+            ));
+        }
+        Ok(Grid {
+            nx,
+            ny,
+            dx,
+            height,
+            allowed,
+        })
+    }
+
+    /// Whether any element of `set` lies on the outermost ring of the grid.
+    pub fn touches_border(&self, set: &[bool]) -> bool {
+        let (nx, ny) = (self.nx, self.ny);
+        (0..nx * ny).any(|i| {
+            let (ix, iy) = (i % nx, i / nx);
+            set[i] && (ix == 0 || iy == 0 || ix + 1 == nx || iy + 1 == ny)
+        })
+    }
+}
+
+/// Surface fields at one output time.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Fields {
+    /// Index of the output time.
+    pub step: usize,
+    /// Contact pressure (Pa) at that instant.
+    pub pressure: Vec<f64>,
+    /// Surface deflection rate du/dt (m/s).
+    pub velocity: Vec<f64>,
+    /// Surface deflection u (m).
+    pub deflection: Vec<f64>,
+}
+
+/// What a viscous BEM run computes besides depth and contact area.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ViscousRequest {
+    /// Output times (s), > 0 and increasing.
+    pub times: Vec<f64>,
+    /// Compute the instantaneous penetration rate and stiffness-based contact length.
+    pub rates: bool,
+    /// Output-time indices at which to build pressure and velocity fields.
+    pub fields_at: Vec<usize>,
+}
+
+/// Time series of a viscous run, one entry per output time.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct ViscousSeries {
+    /// Output times (s).
+    pub t: Vec<f64>,
+    /// Indentation depth d (m).
+    pub depth: Vec<f64>,
+    /// Contact area (m^2).
+    pub area: Vec<f64>,
+    /// Contact length 2 sqrt(A / pi) (m).
+    pub contact_length: Vec<f64>,
+    /// Penetration rate dd/dt (m/s); NaN unless rates were requested.
+    pub velocity: Vec<f64>,
+    /// Contact length from the stiffness, F / (4 eta dd/dt) (m); NaN unless requested.
+    pub stiffness_length: Vec<f64>,
+    /// Solver iterations of each output step.
+    pub iterations: Vec<usize>,
+    /// Final solver residual of each output step.
+    pub residual: Vec<f64>,
+    /// Whether the contact reached the outermost ring of the grid.
+    pub at_border: Vec<bool>,
+    /// Fields at the requested steps.
+    pub fields: Vec<Fields>,
+    /// Contact solves performed (time steps plus rate solves).
+    pub solves: usize,
+}
+
+/// Runs the implicit impulse stepping of a viscous half-space under `history`.
+pub fn run_implicit(
+    grid: &Grid,
+    eta: f64,
+    history: &ForceHistory,
+    request: &ViscousRequest,
+    opts: &SolverOptions,
+    monitor: &mut dyn Monitor,
+) -> Result<ViscousSeries> {
+    check_positive("viscosity eta", eta)?;
+    check_output_times(&request.times)?;
+    if let Some(&k) = request
+        .fields_at
+        .iter()
+        .find(|&&k| k >= request.times.len())
+    {
+        return Err(Error::InvalidInput(format!(
+            "field output index {k} is out of range for {} output times",
+            request.times.len()
+        )));
+    }
+    let n = grid.nx * grid.ny;
+    let area_el = grid.dx * grid.dx;
+    let mut solver = ContactSolver::new(FftOperator::new(grid.nx, grid.ny, grid.dx)?);
+    let mut sep = grid.height.clone();
+    let mut u_acc = vec![0.0; n];
+    let mut contact = vec![false; n];
+    let mut out = ViscousSeries::default();
+    let mut t_prev = 0.0;
+    let mut depth = 0.0;
+    let total = request.times.len();
+    for (k, &t) in request.times.iter().enumerate() {
+        let impulse = history.impulse(t) - history.impulse(t_prev);
+        let last = if impulse > 0.0 {
+            let s = solver.solve(
+                &sep,
+                &grid.allowed,
+                1.0 / eta,
+                Target::Force(impulse),
+                k > 0,
+                opts,
+                monitor,
+            )?;
+            depth = s.depth;
+            out.solves += 1;
+            for i in 0..n {
+                u_acc[i] += solver.deflection()[i];
+                sep[i] = grid.height[i] + u_acc[i];
+                contact[i] = solver.pressure()[i] > 0.0;
+            }
+            (s.iterations, s.residual)
+        } else {
+            (0, 0.0)
+        };
+        let count = contact.iter().filter(|&&c| c).count();
+        let area = count as f64 * area_el;
+        out.t.push(t);
+        out.depth.push(depth);
+        out.area.push(area);
+        out.contact_length
+            .push(2.0 * (area / std::f64::consts::PI).sqrt());
+        out.iterations.push(last.0);
+        out.residual.push(last.1);
+        out.at_border.push(grid.touches_border(&contact));
+        let want_fields = request.fields_at.contains(&k);
+        let force = history.force(t);
+        if (request.rates || want_fields) && count > 0 && force > 0.0 {
+            let (p_unit, its, res) = solver.unit_punch(&contact, opts, monitor)?;
+            out.solves += 1;
+            *out.iterations.last_mut().expect("pushed above") += its;
+            let r = out.residual.last_mut().expect("pushed above");
+            *r = r.max(res);
+            let k_unit: f64 = p_unit.iter().sum::<f64>() * area_el;
+            let rate = force / (eta * k_unit);
+            out.velocity.push(rate);
+            out.stiffness_length.push(k_unit / 4.0);
+            if want_fields {
+                let pressure: Vec<f64> = p_unit.iter().map(|v| v * force / k_unit).collect();
+                let mut velocity = vec![0.0; n];
+                solver.operator().apply(&pressure, &mut velocity);
+                velocity.iter_mut().for_each(|v| *v /= eta);
+                out.fields.push(Fields {
+                    step: k,
+                    pressure,
+                    velocity,
+                    deflection: u_acc.clone(),
+                });
+            }
+        } else {
+            out.velocity.push(if count > 0 || !request.rates {
+                f64::NAN
+            } else {
+                0.0
+            });
+            out.stiffness_length.push(f64::NAN);
+        }
+        t_prev = t;
+        monitor.progress("time steps", k + 1, total)?;
+    }
+    Ok(out)
+}
+
+/// Result of a flat-punch (rod) solve: its contact never changes, so one solve suffices.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PunchResult {
+    /// Penetration rate dd/dt (m/s).
+    pub velocity: f64,
+    /// Pressure of the elements (Pa), on the footprint grid.
+    pub pressure: Vec<f64>,
+    /// Contact stiffness rate F / (dd/dt) (N s/m).
+    pub damping: f64,
+    /// Iterations (1 for a dense solve).
+    pub iterations: usize,
+    /// Final relative residual.
+    pub residual: f64,
+    /// Surface velocity (m/s) on a grid extended by `margin` elements on each side, when
+    /// asked for (row-major, (nx + 2 margin) x (ny + 2 margin)).
+    pub surface_velocity: Option<Vec<f64>>,
+}
+
+/// Solves a flat punch covering `grid.allowed` (heights ignored) pressed by `force` (N)
+/// into a viscous half-space. With `margin = Some(m)` also returns the surface velocity on
+/// a grid extended by m elements on every side.
+pub fn run_punch(
+    grid: &Grid,
+    eta: f64,
+    force: f64,
+    margin: Option<usize>,
+    opts: &SolverOptions,
+    monitor: &mut dyn Monitor,
+) -> Result<PunchResult> {
+    check_positive("viscosity eta", eta)?;
+    check_positive("force", force)?;
+    let area_el = grid.dx * grid.dx;
+    let mut solver = ContactSolver::new(FftOperator::new(grid.nx, grid.ny, grid.dx)?);
+    let (p_unit, iterations, residual) = solver.unit_punch(&grid.allowed, opts, monitor)?;
+    let k_unit: f64 = p_unit.iter().sum::<f64>() * area_el;
+    let pressure: Vec<f64> = p_unit.iter().map(|v| v * force / k_unit).collect();
+    let surface_velocity = match margin {
+        None => None,
+        Some(m) => {
+            let (ex, ey) = (grid.nx + 2 * m, grid.ny + 2 * m);
+            let mut big = vec![0.0; ex * ey];
+            for iy in 0..grid.ny {
+                let row = (iy + m) * ex + m;
+                big[row..row + grid.nx]
+                    .copy_from_slice(&pressure[iy * grid.nx..(iy + 1) * grid.nx]);
+            }
+            let mut v = vec![0.0; ex * ey];
+            FftOperator::new(ex, ey, grid.dx)?.apply(&big, &mut v);
+            v.iter_mut().for_each(|x| *x /= eta);
+            Some(v)
+        }
+    };
+    Ok(PunchResult {
+        velocity: force / (eta * k_unit),
+        pressure,
+        damping: eta * k_unit,
+        iterations,
+        residual,
+        surface_velocity,
+    })
+}
