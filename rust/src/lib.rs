@@ -15,3 +15,4 @@ pub mod loading;
 pub mod mdr;
 pub mod transforms;
 pub mod viscous;
+pub mod scenes;
