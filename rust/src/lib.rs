@@ -13,6 +13,8 @@ pub use error::{Error, Result};
 pub mod contact;
 pub mod loading;
 pub mod mdr;
+#[cfg(feature = "python")]
+mod python;
+pub mod scenes;
 pub mod transforms;
 pub mod viscous;
-pub mod scenes;

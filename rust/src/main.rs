@@ -3,15 +3,20 @@
 
 use mdrvisc::contact::SolverOptions;
 use mdrvisc::monitor::Silent;
-use mdrvisc::scenes::{Indenter, Method, MediumSpec, Report, Scene};
+use mdrvisc::scenes::{Indenter, MediumSpec, Method, Report, Scene};
 use std::process::ExitCode;
 
-const USAGE: &str = "usage: mdrvisc paper [--json] [--quick]\n       mdrvisc run SCENE.toml [--json]";
+const USAGE: &str =
+    "usage: mdrvisc paper [--json] [--quick]\n       mdrvisc run SCENE.toml [--json]";
 
 /// The paper's scenes: the rod (Section 5) and the paraboloids (Section 6).
 fn paper_scenes(quick: bool) -> Vec<(String, Scene)> {
     let viscous = MediumSpec::Viscous { eta: 1.0 };
-    let (n_rod, n_bem, n_mdr) = if quick { (50, 65, 4097) } else { (200, 257, 66049) };
+    let (n_rod, n_bem, n_mdr) = if quick {
+        (50, 65, 4097)
+    } else {
+        (200, 257, 66049)
+    };
     let mut out = vec![];
     for (method, n) in [(Method::Bem, n_rod), (Method::Mdr, n_mdr)] {
         out.push((
@@ -32,7 +37,10 @@ fn paper_scenes(quick: bool) -> Vec<(String, Scene)> {
             out.push((
                 format!("paraboloid c={c}"),
                 Scene {
-                    indenter: Indenter::Paraboloid { c, edge: Some(2.56) },
+                    indenter: Indenter::Paraboloid {
+                        c,
+                        edge: Some(2.56),
+                    },
                     medium: viscous,
                     force: 1.0,
                     duration: 5.0,
@@ -58,7 +66,10 @@ fn print_table(name: &str, r: &Report) {
     if let Some(p0) = r.central_pressure {
         println!("  central pressure p0 = {p0:.6} Pa");
     }
-    println!("  {:>8} {:>14} {:>14} {:>14}", "t [s]", "d [m]", "l [m]", "dd/dt [m/s]");
+    println!(
+        "  {:>8} {:>14} {:>14} {:>14}",
+        "t [s]", "d [m]", "l [m]", "dd/dt [m/s]"
+    );
     for i in 0..r.t.len() {
         println!(
             "  {:>8.3} {:>14.8} {:>14.8} {:>14.8}",
@@ -80,15 +91,21 @@ fn run(args: &[String]) -> Result<(), String> {
     let scenes = match positional.as_slice() {
         [cmd] if cmd.as_str() == "paper" => paper_scenes(quick),
         [cmd, path] if cmd.as_str() == "run" => {
-            let text = std::fs::read_to_string(path).map_err(|e| format!("cannot read {path}: {e}"))?;
-            vec![(path.to_string(), Scene::from_toml(&text).map_err(|e| e.to_string())?)]
+            let text =
+                std::fs::read_to_string(path).map_err(|e| format!("cannot read {path}: {e}"))?;
+            vec![(
+                path.to_string(),
+                Scene::from_toml(&text).map_err(|e| e.to_string())?,
+            )]
         }
         _ => return Err(USAGE.to_string()),
     };
     let opts = SolverOptions::default();
     let mut reports = vec![];
     for (name, scene) in &scenes {
-        let r = scene.run(&opts, &mut Silent).map_err(|e| format!("{name}: {e}"))?;
+        let r = scene
+            .run(&opts, &mut Silent)
+            .map_err(|e| format!("{name}: {e}"))?;
         if !json {
             print_table(name, &r);
         }

@@ -76,7 +76,9 @@ impl Indenter {
     pub fn half_width(&self) -> Option<f64> {
         match *self {
             Indenter::Rod { radius } => Some(radius),
-            Indenter::Paraboloid { edge, .. } | Indenter::Cone { edge, .. } => edge.map(|e| 0.5 * e),
+            Indenter::Paraboloid { edge, .. } | Indenter::Cone { edge, .. } => {
+                edge.map(|e| 0.5 * e)
+            }
         }
     }
 
@@ -84,7 +86,9 @@ impl Indenter {
     pub fn half_length_1d(&self) -> Option<f64> {
         match *self {
             Indenter::Rod { radius } => Some(radius),
-            Indenter::Paraboloid { edge, .. } | Indenter::Cone { edge, .. } => edge.map(|e| e / PI.sqrt()),
+            Indenter::Paraboloid { edge, .. } | Indenter::Cone { edge, .. } => {
+                edge.map(|e| e / PI.sqrt())
+            }
         }
     }
 
@@ -229,7 +233,8 @@ pub struct Report {
 impl Scene {
     /// Parses a scene from TOML text; unknown keys are errors.
     pub fn from_toml(text: &str) -> Result<Self> {
-        let s: Scene = toml::from_str(text).map_err(|e| Error::InvalidInput(format!("scene file: {e}")))?;
+        let s: Scene =
+            toml::from_str(text).map_err(|e| Error::InvalidInput(format!("scene file: {e}")))?;
         s.indenter.validate()?;
         check_positive("force", s.force)?;
         check_positive("duration", s.duration)?;
@@ -260,7 +265,14 @@ impl Scene {
                     dx: grid.dx,
                     t: times.clone(),
                     depth: times.iter().map(|t| r.velocity * t).collect(),
-                    contact_length: vec![2.0 * (grid.allowed.iter().filter(|&&a| a).count() as f64 * grid.dx * grid.dx / PI).sqrt(); times.len()],
+                    contact_length: vec![
+                        2.0 * (grid.allowed.iter().filter(|&&a| a).count() as f64
+                            * grid.dx
+                            * grid.dx
+                            / PI)
+                            .sqrt();
+                        times.len()
+                    ],
                     velocity: vec![r.velocity; times.len()],
                     central_pressure: Some(central_value(&r.pressure, grid.nx, grid.ny)),
                     iterations: r.iterations,
@@ -278,7 +290,8 @@ impl Scene {
                 let s = viscous::run_implicit(&grid, eta, &history, &req, opts, monitor)?;
                 if self.indenter.half_width().is_none() && s.at_border.iter().any(|&b| b) {
                     return Err(Error::Domain(
-                        "the contact reached the edge of the BEM grid of an unbounded indenter".into(),
+                        "the contact reached the edge of the BEM grid of an unbounded indenter"
+                            .into(),
                     ));
                 }
                 Ok(Report {
@@ -297,12 +310,27 @@ impl Scene {
             }
             (Method::Mdr, _) => {
                 let f = self.indenter.foundation(self.n, impulse, eta)?;
-                let fields: &[usize] = if matches!(self.indenter, Indenter::Rod { .. }) { &[0] } else { &[] };
-                let s = mdr::run(&f, Medium::Viscous { eta }, &history, &times, fields, monitor)?;
-                let central_pressure = s.fields.first().map(|fl| {
-                    crate::transforms::pressure_from_line_load(&fl.line_load, f.dx(), &[0.0])
-                        .map(|p| p[0])
-                }).transpose()?;
+                let fields: &[usize] = if matches!(self.indenter, Indenter::Rod { .. }) {
+                    &[0]
+                } else {
+                    &[]
+                };
+                let s = mdr::run(
+                    &f,
+                    Medium::Viscous { eta },
+                    &history,
+                    &times,
+                    fields,
+                    monitor,
+                )?;
+                let central_pressure = s
+                    .fields
+                    .first()
+                    .map(|fl| {
+                        crate::transforms::pressure_from_line_load(&fl.line_load, f.dx(), &[0.0])
+                            .map(|p| p[0])
+                    })
+                    .transpose()?;
                 Ok(Report {
                     method: Method::Mdr,
                     n: self.n,
@@ -324,8 +352,19 @@ impl Scene {
 /// Value at the grid centre: the centre element (odd sizes) or the mean of the 2 or 4
 /// elements around it (even sizes).
 pub fn central_value(field: &[f64], nx: usize, ny: usize) -> f64 {
-    let xs: Vec<usize> = if nx % 2 == 1 { vec![nx / 2] } else { vec![nx / 2 - 1, nx / 2] };
-    let ys: Vec<usize> = if ny % 2 == 1 { vec![ny / 2] } else { vec![ny / 2 - 1, ny / 2] };
-    let vals: Vec<f64> = ys.iter().flat_map(|&y| xs.iter().map(move |&x| field[y * nx + x])).collect();
+    let xs: Vec<usize> = if nx % 2 == 1 {
+        vec![nx / 2]
+    } else {
+        vec![nx / 2 - 1, nx / 2]
+    };
+    let ys: Vec<usize> = if ny % 2 == 1 {
+        vec![ny / 2]
+    } else {
+        vec![ny / 2 - 1, ny / 2]
+    };
+    let vals: Vec<f64> = ys
+        .iter()
+        .flat_map(|&y| xs.iter().map(move |&x| field[y * nx + x]))
+        .collect();
     vals.iter().sum::<f64>() / vals.len() as f64
 }

@@ -1,0 +1,24 @@
+"""mdrvisc: normal contact of rigid indenters with viscous half-spaces, solved by boundary
+elements (BEM) and by the method of dimensionality reduction (MDR), side by side.
+
+>>> import mdrvisc as mv
+>>> scene = mv.Scene(indenter=mv.Paraboloid(c=1.0, edge=2.56), medium=mv.Viscous(eta=1.0),
+...                  force=1.0, duration=5.0)
+>>> bem = mv.solve(scene, method="bem", n=257)       # doctest: +SKIP
+>>> mdr = mv.solve(scene, method="mdr", n=66049)     # doctest: +SKIP
+
+Units are SI: m, s, N, Pa, Pa s. Depths and deflections are positive into the body.
+"""
+
+from . import analytic
+from .errors import ConvergenceError, DomainError, InvalidInputError, MdrviscError
+from .geometry import Axisymmetric, Cone, Indenter, Paraboloid, Rod, Sphere
+from .media import Elastic, Viscous
+from .scene import OUTPUTS, Result, Scene
+from .solve import solve
+
+__version__ = "0.1.0"
+
+__all__ = ["Scene", "Result", "OUTPUTS", "solve", "Rod", "Paraboloid", "Cone", "Sphere",
+           "Axisymmetric", "Indenter", "Viscous", "Elastic", "analytic", "MdrviscError",
+           "InvalidInputError", "ConvergenceError", "DomainError", "__version__"]

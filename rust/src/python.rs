@@ -1,0 +1,417 @@
+//! pyo3 bindings (cargo feature "python"): numpy in, dicts of numpy arrays out. The GIL is
+//! released during computations; progress callbacks and Ctrl-C are served between chunks of
+//! work from the calling thread.
+
+use crate::contact::{ContactSolver, SolverOptions, Target};
+use crate::error::Error;
+use crate::loading::ForceHistory;
+use crate::mdr::{self, Foundation, Medium};
+use crate::monitor::Monitor;
+use crate::operator::{DenseOperator, FftOperator, SurfaceOperator};
+use crate::transforms;
+use crate::viscous::{self, Grid, ViscousRequest};
+use numpy::{
+    IntoPyArray, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods,
+};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use std::time::{Duration, Instant};
+
+/// Raises the matching exception class of `mdrvisc.errors`.
+fn to_pyerr(py: Python<'_>, e: Error) -> PyErr {
+    let errors = match py.import("mdrvisc.errors") {
+        Ok(m) => m,
+        Err(err) => return err,
+    };
+    let msg = e.to_string();
+    let made = match &e {
+        Error::InvalidInput(_) => errors
+            .getattr("InvalidInputError")
+            .and_then(|c| c.call1((msg,))),
+        Error::NotConverged {
+            iterations,
+            residual,
+            ..
+        } => errors
+            .getattr("ConvergenceError")
+            .and_then(|c| c.call1((msg, *iterations, *residual))),
+        Error::Domain(_) => errors.getattr("DomainError").and_then(|c| c.call1((msg,))),
+        Error::Interrupted => return pyo3::exceptions::PyKeyboardInterrupt::new_err(msg),
+    };
+    match made {
+        Ok(obj) => PyErr::from_value(obj),
+        Err(err) => err,
+    }
+}
+
+/// Serves Ctrl-C and an optional Python callback `progress(stage, done, total)` at most
+/// every 0.2 s; keeps the Python exception that stopped the run.
+struct PyMonitor {
+    callback: Option<Py<PyAny>>,
+    last: Instant,
+    error: Option<PyErr>,
+}
+
+impl PyMonitor {
+    fn new(callback: Option<Py<PyAny>>) -> Self {
+        PyMonitor {
+            callback,
+            last: Instant::now(),
+            error: None,
+        }
+    }
+
+    /// Converts the computation's result, preferring the Python exception that stopped it.
+    fn finish<T>(self, py: Python<'_>, r: crate::Result<T>) -> PyResult<T> {
+        match (r, self.error) {
+            (Err(_), Some(e)) => Err(e),
+            (r, _) => r.map_err(|e| to_pyerr(py, e)),
+        }
+    }
+}
+
+impl Monitor for PyMonitor {
+    fn progress(&mut self, stage: &str, done: usize, total: usize) -> crate::Result<()> {
+        if done < total && self.last.elapsed() < Duration::from_millis(200) {
+            return Ok(());
+        }
+        self.last = Instant::now();
+        let outcome = Python::attach(|py| -> PyResult<()> {
+            py.check_signals()?;
+            if let Some(cb) = &self.callback {
+                cb.call1(py, (stage, done, total))?;
+            }
+            Ok(())
+        });
+        outcome.map_err(|e| {
+            self.error = Some(e);
+            Error::Interrupted
+        })
+    }
+}
+
+fn slice1(a: &PyReadonlyArray1<'_, f64>, name: &str) -> PyResult<Vec<f64>> {
+    a.as_slice().map(<[f64]>::to_vec).map_err(|_| {
+        pyo3::exceptions::PyValueError::new_err(format!(
+            "{name} must be a contiguous float64 array"
+        ))
+    })
+}
+
+fn grid_from(
+    py: Python<'_>,
+    height: &PyReadonlyArray2<'_, f64>,
+    allowed: &PyReadonlyArray2<'_, bool>,
+    dx: f64,
+) -> PyResult<Grid> {
+    let shape = height.shape();
+    let (ny, nx) = (shape[0], shape[1]);
+    if allowed.shape() != shape {
+        return Err(to_pyerr(
+            py,
+            Error::InvalidInput(format!(
+                "footprint mask shape {:?} differs from height map shape {:?}",
+                allowed.shape(),
+                shape
+            )),
+        ));
+    }
+    let h = height.as_array().iter().copied().collect();
+    let a = allowed.as_array().iter().copied().collect();
+    Grid::new(nx, ny, dx, h, a).map_err(|e| to_pyerr(py, e))
+}
+
+fn options(tol: f64, max_iter: usize) -> SolverOptions {
+    SolverOptions {
+        tol,
+        max_iter,
+        ..SolverOptions::default()
+    }
+}
+
+fn history(py: Python<'_>, times: Vec<f64>, forces: Vec<f64>) -> PyResult<ForceHistory> {
+    ForceHistory::piecewise_linear(times, forces).map_err(|e| to_pyerr(py, e))
+}
+
+/// Implicit viscous BEM run on a grid: heights (m, (ny, nx)), footprint mask, element size
+/// dx (m), viscosity eta (Pa s), output times (s), force history samples (s, N).
+#[pyfunction]
+#[pyo3(signature = (height, allowed, dx, eta, times, force_times, force_values, rates=false, fields_at=vec![], tol=1e-10, max_iter=5000, progress=None))]
+#[allow(clippy::too_many_arguments)]
+fn bem_viscous<'py>(
+    py: Python<'py>,
+    height: PyReadonlyArray2<'py, f64>,
+    allowed: PyReadonlyArray2<'py, bool>,
+    dx: f64,
+    eta: f64,
+    times: PyReadonlyArray1<'py, f64>,
+    force_times: PyReadonlyArray1<'py, f64>,
+    force_values: PyReadonlyArray1<'py, f64>,
+    rates: bool,
+    fields_at: Vec<usize>,
+    tol: f64,
+    max_iter: usize,
+    progress: Option<Py<PyAny>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let grid = grid_from(py, &height, &allowed, dx)?;
+    let hist = history(
+        py,
+        slice1(&force_times, "force_times")?,
+        slice1(&force_values, "force_values")?,
+    )?;
+    let request = ViscousRequest {
+        times: slice1(&times, "times")?,
+        rates,
+        fields_at,
+    };
+    let opts = options(tol, max_iter);
+    let mut monitor = PyMonitor::new(progress);
+    let r = py.detach(|| viscous::run_implicit(&grid, eta, &hist, &request, &opts, &mut monitor));
+    let s = monitor.finish(py, r)?;
+    let d = PyDict::new(py);
+    d.set_item("t", s.t.into_pyarray(py))?;
+    d.set_item("depth", s.depth.into_pyarray(py))?;
+    d.set_item("area", s.area.into_pyarray(py))?;
+    d.set_item("contact_length", s.contact_length.into_pyarray(py))?;
+    d.set_item("velocity", s.velocity.into_pyarray(py))?;
+    d.set_item("stiffness_length", s.stiffness_length.into_pyarray(py))?;
+    d.set_item("iterations", s.iterations.into_pyarray(py))?;
+    d.set_item("residual", s.residual.into_pyarray(py))?;
+    d.set_item("at_border", s.at_border.into_pyarray(py))?;
+    d.set_item("solves", s.solves)?;
+    let shape = [grid.ny, grid.nx];
+    let fields = PyDict::new(py);
+    for f in s.fields {
+        let e = PyDict::new(py);
+        e.set_item("pressure", f.pressure.into_pyarray(py).reshape(shape)?)?;
+        e.set_item("velocity", f.velocity.into_pyarray(py).reshape(shape)?)?;
+        e.set_item("deflection", f.deflection.into_pyarray(py).reshape(shape)?)?;
+        fields.set_item(f.step, e)?;
+    }
+    d.set_item("fields", fields)?;
+    Ok(d)
+}
+
+/// Flat punch on the footprint mask pressed by `force` (N) into a viscous half-space;
+/// with `margin`, the surface velocity on a grid extended by that many elements per side.
+#[pyfunction]
+#[pyo3(signature = (allowed, dx, eta, force, margin=None, tol=1e-10, max_iter=5000, progress=None))]
+#[allow(clippy::too_many_arguments)]
+fn bem_punch<'py>(
+    py: Python<'py>,
+    allowed: PyReadonlyArray2<'py, bool>,
+    dx: f64,
+    eta: f64,
+    force: f64,
+    margin: Option<usize>,
+    tol: f64,
+    max_iter: usize,
+    progress: Option<Py<PyAny>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let shape = allowed.shape().to_vec();
+    let zeros = vec![0.0; shape[0] * shape[1]];
+    let grid = Grid::new(
+        shape[1],
+        shape[0],
+        dx,
+        zeros,
+        allowed.as_array().iter().copied().collect(),
+    )
+    .map_err(|e| to_pyerr(py, e))?;
+    let opts = options(tol, max_iter);
+    let mut monitor = PyMonitor::new(progress);
+    let r = py.detach(|| viscous::run_punch(&grid, eta, force, margin, &opts, &mut monitor));
+    let r = monitor.finish(py, r)?;
+    let d = PyDict::new(py);
+    d.set_item("velocity", r.velocity)?;
+    d.set_item("damping", r.damping)?;
+    d.set_item("iterations", r.iterations)?;
+    d.set_item("residual", r.residual)?;
+    d.set_item(
+        "pressure",
+        r.pressure.into_pyarray(py).reshape([grid.ny, grid.nx])?,
+    )?;
+    if let (Some(v), Some(m)) = (r.surface_velocity, margin) {
+        d.set_item(
+            "surface_velocity",
+            v.into_pyarray(py)
+                .reshape([grid.ny + 2 * m, grid.nx + 2 * m])?,
+        )?;
+    }
+    Ok(d)
+}
+
+/// MDR run: 1D profile g (m) at element centres spaced dx (m); medium "viscous" (param =
+/// eta, Pa s) or "elastic" (param = G, Pa); output times (s); force history samples.
+#[pyfunction]
+#[pyo3(signature = (profile, dx, medium, param, times, force_times, force_values, fields_at=vec![], progress=None))]
+#[allow(clippy::too_many_arguments)]
+fn mdr_run<'py>(
+    py: Python<'py>,
+    profile: PyReadonlyArray1<'py, f64>,
+    dx: f64,
+    medium: &str,
+    param: f64,
+    times: PyReadonlyArray1<'py, f64>,
+    force_times: PyReadonlyArray1<'py, f64>,
+    force_values: PyReadonlyArray1<'py, f64>,
+    fields_at: Vec<usize>,
+    progress: Option<Py<PyAny>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let medium = match medium {
+        "viscous" => Medium::Viscous { eta: param },
+        "elastic" => Medium::Elastic { g: param },
+        other => {
+            return Err(to_pyerr(
+                py,
+                Error::InvalidInput(format!(
+                    "medium must be 'viscous' or 'elastic', got {other:?}"
+                )),
+            ))
+        }
+    };
+    let f = Foundation::new(slice1(&profile, "profile")?, dx).map_err(|e| to_pyerr(py, e))?;
+    let hist = history(
+        py,
+        slice1(&force_times, "force_times")?,
+        slice1(&force_values, "force_values")?,
+    )?;
+    let times = slice1(&times, "times")?;
+    let mut monitor = PyMonitor::new(progress);
+    let r = py.detach(|| mdr::run(&f, medium, &hist, &times, &fields_at, &mut monitor));
+    let s = monitor.finish(py, r)?;
+    let d = PyDict::new(py);
+    d.set_item("t", s.t.into_pyarray(py))?;
+    d.set_item("depth", s.depth.into_pyarray(py))?;
+    d.set_item("contact_length", s.contact_length.into_pyarray(py))?;
+    d.set_item("velocity", s.velocity.into_pyarray(py))?;
+    d.set_item("saturated", s.saturated.into_pyarray(py))?;
+    let fields = PyDict::new(py);
+    for fl in s.fields {
+        let e = PyDict::new(py);
+        e.set_item("displacement", fl.displacement.into_pyarray(py))?;
+        e.set_item("line_load", fl.line_load.into_pyarray(py))?;
+        e.set_item("velocity", fl.velocity.into_pyarray(py))?;
+        fields.set_item(fl.step, e)?;
+    }
+    d.set_item("fields", fields)?;
+    Ok(d)
+}
+
+/// Inverse MDR transform: 3D pressure (Pa) at radii r (m) from the line load q (N/m).
+#[pyfunction]
+fn mdr_pressure<'py>(
+    py: Python<'py>,
+    q: PyReadonlyArray1<'py, f64>,
+    dx: f64,
+    r: PyReadonlyArray1<'py, f64>,
+) -> PyResult<Bound<'py, numpy::PyArray1<f64>>> {
+    let p = transforms::pressure_from_line_load(&slice1(&q, "q")?, dx, &slice1(&r, "r")?)
+        .map_err(|e| to_pyerr(py, e))?;
+    Ok(p.into_pyarray(py))
+}
+
+/// Inverse MDR transform: 3D surface deflection (or rate) at radii r (m) outside the
+/// contact from 1D displacements (or velocities) w.
+#[pyfunction]
+fn mdr_deflection<'py>(
+    py: Python<'py>,
+    w: PyReadonlyArray1<'py, f64>,
+    dx: f64,
+    r: PyReadonlyArray1<'py, f64>,
+) -> PyResult<Bound<'py, numpy::PyArray1<f64>>> {
+    let u = transforms::deflection_outside(&slice1(&w, "w")?, dx, &slice1(&r, "r")?)
+        .map_err(|e| to_pyerr(py, e))?;
+    Ok(u.into_pyarray(py))
+}
+
+/// Surface deflection (m) of a half-space with G = 1 Pa under element pressures p (Pa),
+/// (ny, nx), by the DC-FFT operator or (`dense=True`) the dense faer matrix.
+#[pyfunction]
+#[pyo3(signature = (p, dx, dense=false))]
+fn surface_deflection<'py>(
+    py: Python<'py>,
+    p: PyReadonlyArray2<'py, f64>,
+    dx: f64,
+    dense: bool,
+) -> PyResult<Bound<'py, numpy::PyArray2<f64>>> {
+    let shape = [p.shape()[0], p.shape()[1]];
+    let pv: Vec<f64> = p.as_array().iter().copied().collect();
+    let r = py.detach(|| -> crate::Result<Vec<f64>> {
+        let mut u = vec![0.0; pv.len()];
+        if dense {
+            DenseOperator::new(shape[1], shape[0], dx)?.apply(&pv, &mut u);
+        } else {
+            FftOperator::new(shape[1], shape[0], dx)?.apply(&pv, &mut u);
+        }
+        Ok(u)
+    });
+    let u = r.map_err(|e| to_pyerr(py, e))?;
+    Ok(u.into_pyarray(py).reshape(shape)?)
+}
+
+/// Static Polonsky–Keer contact solve: separation h (m), footprint mask, element size dx
+/// (m), compliance (1/G, 1/Pa), and either `force` (N) or `depth` (m).
+#[pyfunction]
+#[pyo3(signature = (height, allowed, dx, compliance, force=None, depth=None, tol=1e-10, max_iter=5000, progress=None))]
+#[allow(clippy::too_many_arguments)]
+fn contact_solve<'py>(
+    py: Python<'py>,
+    height: PyReadonlyArray2<'py, f64>,
+    allowed: PyReadonlyArray2<'py, bool>,
+    dx: f64,
+    compliance: f64,
+    force: Option<f64>,
+    depth: Option<f64>,
+    tol: f64,
+    max_iter: usize,
+    progress: Option<Py<PyAny>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let grid = grid_from(py, &height, &allowed, dx)?;
+    let target = match (force, depth) {
+        (Some(f), None) => Target::Force(f),
+        (None, Some(d)) => Target::Depth(d),
+        _ => {
+            return Err(to_pyerr(
+                py,
+                Error::InvalidInput("give exactly one of force and depth".into()),
+            ))
+        }
+    };
+    let opts = options(tol, max_iter);
+    let mut monitor = PyMonitor::new(progress);
+    let r = py.detach(|| -> crate::Result<_> {
+        let mut solver = ContactSolver::new(FftOperator::new(grid.nx, grid.ny, grid.dx)?);
+        let s = solver.solve(
+            &grid.height,
+            &grid.allowed,
+            compliance,
+            target,
+            false,
+            &opts,
+            &mut monitor,
+        )?;
+        Ok((s, solver.pressure().to_vec(), solver.deflection().to_vec()))
+    });
+    let (s, p, u) = monitor.finish(py, r)?;
+    let shape = [grid.ny, grid.nx];
+    let d = PyDict::new(py);
+    d.set_item("depth", s.depth)?;
+    d.set_item("force", s.force)?;
+    d.set_item("iterations", s.iterations)?;
+    d.set_item("residual", s.residual)?;
+    d.set_item("contact_count", s.contact_count)?;
+    d.set_item("pressure", p.into_pyarray(py).reshape(shape)?)?;
+    d.set_item("deflection", u.into_pyarray(py).reshape(shape)?)?;
+    Ok(d)
+}
+
+/// The compiled core of mdrvisc.
+#[pymodule(name = "_core")]
+mod core_module {
+    #[pymodule_export]
+    use super::{
+        bem_punch, bem_viscous, contact_solve, mdr_deflection, mdr_pressure, mdr_run,
+        surface_deflection,
+    };
+}
