@@ -1,0 +1,148 @@
+"""BEM against closed forms (DESIGN.md §1.3): rod, viscous paraboloid, elastic Hertz."""
+
+import threading
+
+import numpy as np
+import pytest
+
+import mdrvisc as mv
+from mdrvisc import _core, analytic
+
+VISCOUS = mv.Viscous(eta=1.0)
+
+
+def rod(n):
+    scene = mv.Scene(indenter=mv.Rod(radius=1.0), medium=VISCOUS, force=1.0, duration=1.0)
+    return mv.solve(scene, "bem", n)
+
+
+def test_rod_paper_grid_matches_closed_form_and_refines():
+    errors = []
+    for n in (200, 300, 400):
+        r = rod(n)
+        ev = abs(r.velocity / analytic.rod_velocity(1.0, 1.0, 1.0) - 1)
+        ep = abs(r.central_pressure / analytic.rod_central_pressure(1.0, 1.0) - 1)
+        errors.append((ev, ep))
+        if n == 200:
+            assert r.grid_shape == (201, 201)
+            assert r.area[0] == pytest.approx(31417 * 0.01**2)
+            assert ev < 1.5e-3 and ep < 3e-3
+            assert r.solves == 1 and r.steps == 0
+    assert errors[0][0] > errors[1][0] > errors[2][0]
+    assert errors[0][1] > errors[1][1] > errors[2][1]
+
+
+def test_paraboloid_paper_case_matches_lee_radok():
+    scene = mv.Scene(indenter=mv.Paraboloid(c=1.0, edge=2.56), medium=VISCOUS, force=1.0, duration=5.0)
+    r = mv.solve(scene, "bem", 257)
+    d = analytic.paraboloid_depth(r.t, 1.0, 1.0, 1.0)
+    l_exact = analytic.paraboloid_contact_length(r.t, 1.0, 1.0, 1.0)
+    assert abs(r.depth[-1] / d[-1] - 1) < 1e-4
+    assert abs(r.contact_length[-1] / l_exact[-1] - 1) < 2e-3
+    assert r.solves == 5  # one contact solve per output time: no rate solves asked for
+    assert r.velocity is None and r.fields is None
+    assert np.all(np.diff(r.depth) > 0)
+
+
+def test_rates_and_stiffness_length_follow_the_rod_law():
+    scene = mv.Scene(indenter=mv.Paraboloid(c=5.0, edge=2.56), medium=VISCOUS, force=1.0, duration=5.0,
+                     outputs=("depth", "contact_length", "velocity", "stiffness_length"))
+    r = mv.solve(scene, "bem", 129)
+    # Any circular contact moves at F / (8 a eta): l = 2a = F / (4 eta ddot).
+    assert np.allclose(r.stiffness_length, 1.0 / (4.0 * r.velocity), rtol=1e-12)
+    exact = analytic.paraboloid_contact_length(r.t, 1.0, 5.0, 1.0)
+    assert np.all(np.abs(r.stiffness_length / exact - 1) < 0.01)
+    assert r.solves == 10
+
+
+def test_depth_scales_with_force_time_over_viscosity():
+    base = None
+    for force, eta, t in ((1.0, 1.0, 5.0), (1e3, 10.0, 0.05), (2.0, 1e-3, 2.5e-3)):
+        scene = mv.Scene(indenter=mv.Paraboloid(c=1.0, edge=2.56), medium=mv.Viscous(eta=eta),
+                         force=force, duration=t, times=[t])
+        d = mv.solve(scene, "bem", 65).depth[-1]
+        if base is None:
+            base = d
+        assert d == pytest.approx(base, rel=1e-9)
+
+
+def test_fields_are_physical():
+    scene = mv.Scene(indenter=mv.Paraboloid(c=1.0, edge=2.56), medium=VISCOUS, force=1.0, duration=5.0,
+                     outputs=("depth", "contact_length", "pressure", "surface_velocity", "deflection"),
+                     field_times=[5.0])
+    r = mv.solve(scene, "bem", 129)
+    f = r.fields[5.0]
+    p, v, u = f["pressure"], f["surface_velocity"], f["deflection"]
+    dx = r.dx
+    assert np.all(p >= 0)
+    assert p.sum() * dx * dx == pytest.approx(1.0, rel=1e-10)
+    x = f["x"]
+    h = 1.0 * (x[None, :] ** 2 + x[:, None] ** 2)
+    gap = u - r.depth[-1] + h
+    assert gap.min() > -1e-6 * r.depth[-1]
+    contact = p > 0
+    # inside the contact every point moves with the indenter
+    assert np.ptp(v[contact]) < 1e-6 * v[contact].mean()
+
+
+def test_fft_operator_matches_dense_faer_operator():
+    rng = np.random.default_rng(1)
+    for shape in ((1, 1), (2, 3), (13, 9), (24, 24)):
+        p = rng.random(shape)
+        a = _core.surface_deflection(p, 0.1)
+        b = _core.surface_deflection(p, 0.1, dense=True)
+        assert np.max(np.abs(a - b)) < 1e-10 * np.max(np.abs(b))
+
+
+def test_elastic_hertz_contact():
+    n, edge, G, force, R = 128, 2.56, 1.0, 0.0215, 10.0
+    scene = mv.Scene(indenter=mv.Paraboloid(c=1 / (2 * R), edge=edge), medium=mv.Elastic(G=G), force=force,
+                     outputs=("depth", "contact_length", "pressure"))
+    r = mv.solve(scene, "bem", n)
+    a, d, p0 = analytic.hertz(force, R, 4 * G)
+    assert r.depth[0] == pytest.approx(d, rel=2e-3)
+    assert r.contact_length[0] == pytest.approx(2 * a, rel=2e-2)
+    p = r.fields[None]["pressure"]
+    assert p.max() == pytest.approx(p0, rel=1e-2)
+    assert np.all(p >= 0)
+
+
+def test_non_convergence_raises_with_iterations_and_residual():
+    scene = mv.Scene(indenter=mv.Paraboloid(c=1.0, edge=2.56), medium=VISCOUS, force=1.0, duration=1.0)
+    with pytest.raises(mv.ConvergenceError) as info:
+        mv.solve(scene, "bem", 65, max_iter=3)
+    assert info.value.iterations == 3
+    assert info.value.residual > 0
+
+
+def test_progress_callback_and_interrupt():
+    scene = mv.Scene(indenter=mv.Paraboloid(c=1.0, edge=2.56), medium=VISCOUS, force=1.0, duration=5.0)
+    seen = []
+    mv.solve(scene, "bem", 65, progress=lambda stage, done, total: seen.append((stage, done, total)))
+    assert seen[-1] == ("time steps", 5, 5)
+
+    def stop(stage, done, total):
+        raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        mv.solve(scene, "bem", 65, progress=stop)
+
+
+def test_solve_releases_the_gil():
+    scene = mv.Scene(indenter=mv.Paraboloid(c=1.0, edge=2.56), medium=VISCOUS, force=1.0, duration=5.0)
+    ticks = []
+    done = threading.Event()
+
+    def count():
+        while not done.is_set():
+            ticks.append(1)
+            done.wait(0.001)
+
+    worker = threading.Thread(target=count)
+    worker.start()
+    try:
+        mv.solve(scene, "bem", 257, tol=1e-8)
+    finally:
+        done.set()
+        worker.join()
+    assert len(ticks) > 20
