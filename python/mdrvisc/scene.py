@@ -155,6 +155,7 @@ class Result:
     residual: float = 0.0
     wall_time: float = 0.0
     grid_shape: tuple = None
+    integrator: str = "implicit"
     units: dict = field(default_factory=lambda: {
         "t": "s", "depth": "m", "contact_length": "m", "area": "m^2", "velocity": "m/s",
         "stiffness_length": "m", "central_pressure": "Pa", "dx": "m", "wall_time": "s"})

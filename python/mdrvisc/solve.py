@@ -7,7 +7,7 @@ import time
 import numpy as np
 
 from . import _core
-from .analytic import lee_radok_depth_from_impulse
+from .analytic import _positive, lee_radok_depth_from_impulse
 from .errors import InvalidInputError
 from .media import Elastic, Viscous
 from .scene import Result, Scene
@@ -72,7 +72,8 @@ def _check_n(n, method):
     return int(n)
 
 
-def solve(scene, method="bem", n=None, tol=1e-10, max_iter=5000, progress=None):
+def solve(scene, method="bem", n=None, tol=1e-10, max_iter=5000, progress=None,
+          integrator="implicit", step=0.01, area_change=0.01):
     """Solves ``scene`` by ``method`` ("bem" or "mdr") at resolution ``n``.
 
     Parameters
@@ -88,6 +89,13 @@ def solve(scene, method="bem", n=None, tol=1e-10, max_iter=5000, progress=None):
         Iteration limit of the BEM solver; reaching it raises ConvergenceError.
     progress : callable(stage, done, total) or True, optional
         Called from the computing thread between chunks of work; True prints to stderr.
+    integrator : {"implicit", "explicit"}
+        "implicit" (default): one exact impulse step per output time (no time-discretisation
+        error while the contact grows). "explicit": the paper's loop (Fig. 1b): surface
+        velocity of the current contact, explicit Euler steps dt = step * t, the contact
+        re-solved only when its area grew by more than ``area_change`` (paper: 1 %).
+    step, area_change : float
+        Controls of the explicit integrator (ignored by the implicit one).
 
     Returns
     -------
@@ -99,11 +107,21 @@ def solve(scene, method="bem", n=None, tol=1e-10, max_iter=5000, progress=None):
         raise InvalidInputError(f"solve: method must be 'bem' or 'mdr', got {method!r}")
     n = _check_n(257 if method == "bem" and n is None else 66049 if n is None else n, method)
     callback = _progress_printer if progress is True else progress
+    if integrator not in ("implicit", "explicit"):
+        raise InvalidInputError(f"solve: integrator must be 'implicit' or 'explicit', got {integrator!r}")
+    explicit = None
+    if integrator == "explicit":
+        if not isinstance(scene.medium, Viscous):
+            raise InvalidInputError("solve: the explicit integrator needs a viscous medium")
+        explicit = (_positive("solve", "step", step), float(area_change), 1e-6)
+        if not (math.isfinite(explicit[1]) and explicit[1] >= 0):
+            raise InvalidInputError(f"solve: area_change must be finite and >= 0, got {area_change!r}")
     start = time.perf_counter()
     if method == "bem":
-        result = _solve_bem(scene, n, tol, max_iter, callback)
+        result = _solve_bem(scene, n, tol, max_iter, callback, explicit)
     else:
-        result = _solve_mdr(scene, n, callback)
+        result = _solve_mdr(scene, n, callback, explicit)
+    result.integrator = integrator
     result.wall_time = time.perf_counter() - start
     return result
 
@@ -112,7 +130,7 @@ def _field_steps(scene):
     return [int(np.searchsorted(scene.times, ft)) for ft in scene.field_times] if scene.wants_fields else []
 
 
-def _solve_bem(scene, n, tol, max_iter, callback):
+def _solve_bem(scene, n, tol, max_iter, callback, explicit):
     x, dx, h, mask = bem_grid(scene, n)
     ind = scene.indenter
     if isinstance(scene.medium, Elastic):
@@ -131,7 +149,7 @@ def _solve_bem(scene, n, tol, max_iter, callback):
     steps = _field_steps(scene)
     rates = scene.wants("velocity") or scene.wants("stiffness_length")
     r = _core.bem_viscous(h, mask, dx, eta, scene.times, ft, fv, rates=rates, fields_at=steps,
-                          tol=tol, max_iter=max_iter, progress=callback)
+                          tol=tol, max_iter=max_iter, progress=callback, explicit=explicit)
     if ind.footprint_half_width is None and np.any(r["at_border"]):
         from .errors import DomainError
         raise DomainError("BEM: the contact reached the edge of the grid of an unbounded indenter "
@@ -142,7 +160,7 @@ def _solve_bem(scene, n, tol, max_iter, callback):
     return Result("bem", n, dx, r["t"], r["depth"], r["contact_length"], area=r["area"],
                   velocity=r["velocity"] if scene.wants("velocity") else None,
                   stiffness_length=r["stiffness_length"] if scene.wants("stiffness_length") else None,
-                  fields=fields, saturated=r["at_border"], steps=len(scene.times), solves=r["solves"],
+                  fields=fields, saturated=r["at_border"], steps=r["steps"], solves=r["solves"],
                   iterations=int(np.sum(r["iterations"])), residual=float(np.max(r["residual"])),
                   grid_shape=h.shape)
 
@@ -182,7 +200,7 @@ def _solve_bem_rod(scene, n, x, dx, mask, eta, tol, max_iter, callback):
                   residual=r["residual"], grid_shape=mask.shape)
 
 
-def _solve_mdr(scene, n, callback):
+def _solve_mdr(scene, n, callback, explicit):
     x, dx, g = mdr_grid(scene, n)
     ft, fv = scene.history
     elastic = isinstance(scene.medium, Elastic)
@@ -191,12 +209,15 @@ def _solve_mdr(scene, n, callback):
     steps = [0] if elastic else _field_steps(scene)
     if scene.indenter.is_flat and not elastic:
         steps = sorted(set(steps) | {0})
-    r = _core.mdr_run(g, dx, medium, param, times, ft, fv, fields_at=steps, progress=callback)
+    if explicit is not None:
+        steps = []
+    r = _core.mdr_run(g, dx, medium, param, times, ft, fv, fields_at=steps, progress=callback,
+                      explicit=explicit)
     fields = None
     if steps and scene.wants_fields:
         fields = {float(times[k]) if not elastic else None: _mdr_fields(scene, x, dx, r, k) for k in set(steps)}
     central = None
-    if scene.indenter.is_flat and not elastic:
+    if scene.indenter.is_flat and not elastic and 0 in r["fields"]:
         central = float(_core.mdr_pressure(r["fields"][0]["line_load"], dx, np.array([0.0]))[0])
     length = r["contact_length"]
     velocity = r["velocity"]
@@ -205,7 +226,7 @@ def _solve_mdr(scene, n, callback):
                   if scene.wants("velocity") or scene.indenter.is_flat else None,
                   stiffness_length=None if elastic else (length if scene.wants("stiffness_length") else None),
                   central_pressure=central, fields=fields, saturated=r["saturated"],
-                  steps=len(times), solves=len(times), iterations=0, residual=0.0)
+                  steps=r["steps"], solves=len(times), iterations=0, residual=0.0)
 
 
 def _mdr_fields(scene, x, dx, r, k):

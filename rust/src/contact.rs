@@ -38,7 +38,7 @@ impl Default for SolverOptions {
         SolverOptions {
             tol: 1e-10,
             max_iter: 5000,
-            dense_limit: 1024,
+            dense_limit: 200,
         }
     }
 }
@@ -307,10 +307,12 @@ impl<O: SurfaceOperator> ContactSolver<O> {
 
     /// Flat-punch solve on a fixed contact set: the pressure (Pa at G = 1) that moves every
     /// element of `set` by exactly 1 m. Returns (pressure, iterations, relative residual).
-    /// Sets of at most `opts.dense_limit` elements are factorised densely.
+    /// Sets of at most `opts.dense_limit` elements are factorised densely; larger ones use
+    /// CG, started from `start` (restricted to the set) when given.
     pub fn unit_punch(
         &mut self,
         set: &[bool],
+        start: Option<&[f64]>,
         opts: &SolverOptions,
         monitor: &mut dyn Monitor,
     ) -> Result<(Vec<f64>, usize, f64)> {
@@ -326,13 +328,23 @@ impl<O: SurfaceOperator> ContactSolver<O> {
         }
         // Conjugate gradient on K_SS x = 1 (symmetric positive definite).
         let mut x = vec![0.0; n];
+        if let Some(s) = start {
+            check_len("starting pressure", s.len(), n)?;
+            for &i in &idx {
+                x[i] = s[i];
+            }
+        }
         let (r, d, q) = (&mut self.g, &mut self.t, &mut self.r);
+        self.op.apply(&x, q);
         for i in 0..n {
-            r[i] = if set[i] { 1.0 } else { 0.0 };
+            r[i] = if set[i] { 1.0 - q[i] } else { 0.0 };
             d[i] = r[i];
         }
         let bnorm = (idx.len() as f64).sqrt();
         let mut rr: f64 = idx.iter().map(|&i| r[i] * r[i]).sum();
+        if rr.sqrt() / bnorm < opts.tol {
+            return Ok((x, 0, rr.sqrt() / bnorm));
+        }
         for it in 1..=opts.max_iter {
             self.op.apply(d, q);
             let dq: f64 = idx.iter().map(|&i| d[i] * q[i]).sum();

@@ -11,6 +11,7 @@ pub mod operator;
 
 pub use error::{Error, Result};
 pub mod contact;
+pub mod integrator;
 pub mod loading;
 pub mod mdr;
 #[cfg(feature = "python")]

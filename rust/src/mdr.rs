@@ -8,6 +8,7 @@
 //! piecewise linear and increasing in d: the root is found exactly on the sorted profile.
 
 use crate::error::{check_finite, check_positive, Error, Result};
+use crate::integrator::ExplicitControl;
 use crate::loading::{check_output_times, ForceHistory};
 use crate::monitor::Monitor;
 
@@ -226,6 +227,54 @@ pub fn run(
         monitor.progress("time steps", k + 1, times.len())?;
     }
     Ok(out)
+}
+
+/// The paper's explicit loop on the viscous foundation: penetration rate of the current
+/// contact, an explicit Euler step, contact growth; the rate uses the element count of the
+/// last update, refreshed when the count grew by more than `ctrl.area_change`.
+pub fn run_explicit(
+    foundation: &Foundation,
+    eta: f64,
+    history: &ForceHistory,
+    times: &[f64],
+    ctrl: &ExplicitControl,
+    monitor: &mut dyn Monitor,
+) -> Result<(MdrSeries, usize)> {
+    check_positive("viscosity eta", eta)?;
+    check_output_times(times)?;
+    ctrl.validate()?;
+    let c = 4.0 * eta * foundation.dx;
+    let n = foundation.len();
+    let in_contact = |d: f64| foundation.sorted.partition_point(|&g| g <= d);
+    let mut depth = foundation.sorted[0];
+    let mut count = in_contact(depth);
+    let mut used = count;
+    let t_first = ctrl.start * times.last().copied().unwrap_or(1.0);
+    let (mut t, mut steps) = (0.0, 0usize);
+    let mut out = MdrSeries::default();
+    for (k, &target) in times.iter().enumerate() {
+        while t < target {
+            let rate = history.force(t) / (c * used as f64);
+            let (dt, next) = ctrl.next_step(t, t_first, target);
+            t = next;
+            depth += rate * dt;
+            count = in_contact(depth);
+            if count as f64 > used as f64 * (1.0 + ctrl.area_change) {
+                used = count;
+            }
+            steps += 1;
+            if steps % 4096 == 0 {
+                monitor.progress("explicit time steps", k, times.len())?;
+            }
+        }
+        out.t.push(t);
+        out.depth.push(depth);
+        out.contact_length.push(count as f64 * foundation.dx);
+        out.velocity.push(history.force(t) / (c * used as f64));
+        out.saturated.push(count == n);
+        monitor.progress("time steps", k + 1, times.len())?;
+    }
+    Ok((out, steps))
 }
 
 #[cfg(test)]

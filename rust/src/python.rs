@@ -4,6 +4,7 @@
 
 use crate::contact::{ContactSolver, SolverOptions, Target};
 use crate::error::Error;
+use crate::integrator::ExplicitControl;
 use crate::loading::ForceHistory;
 use crate::mdr::{self, Foundation, Medium};
 use crate::monitor::Monitor;
@@ -121,6 +122,15 @@ fn grid_from(
     Grid::new(nx, ny, dx, h, a).map_err(|e| to_pyerr(py, e))
 }
 
+/// Explicit-loop controls from (step, area_change, start).
+fn explicit_control((step, area_change, start): (f64, f64, f64)) -> ExplicitControl {
+    ExplicitControl {
+        step,
+        area_change,
+        start,
+    }
+}
+
 fn options(tol: f64, max_iter: usize) -> SolverOptions {
     SolverOptions {
         tol,
@@ -136,7 +146,7 @@ fn history(py: Python<'_>, times: Vec<f64>, forces: Vec<f64>) -> PyResult<ForceH
 /// Implicit viscous BEM run on a grid: heights (m, (ny, nx)), footprint mask, element size
 /// dx (m), viscosity eta (Pa s), output times (s), force history samples (s, N).
 #[pyfunction]
-#[pyo3(signature = (height, allowed, dx, eta, times, force_times, force_values, rates=false, fields_at=vec![], tol=1e-10, max_iter=5000, progress=None))]
+#[pyo3(signature = (height, allowed, dx, eta, times, force_times, force_values, rates=false, fields_at=vec![], tol=1e-10, max_iter=5000, progress=None, explicit=None))]
 #[allow(clippy::too_many_arguments)]
 fn bem_viscous<'py>(
     py: Python<'py>,
@@ -152,6 +162,7 @@ fn bem_viscous<'py>(
     tol: f64,
     max_iter: usize,
     progress: Option<Py<PyAny>>,
+    explicit: Option<(f64, f64, f64)>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let grid = grid_from(py, &height, &allowed, dx)?;
     let hist = history(
@@ -166,9 +177,14 @@ fn bem_viscous<'py>(
     };
     let opts = options(tol, max_iter);
     let mut monitor = PyMonitor::new(progress);
-    let r = py.detach(|| viscous::run_implicit(&grid, eta, &hist, &request, &opts, &mut monitor));
+    let ctrl = explicit.map(explicit_control);
+    let r = py.detach(|| match &ctrl {
+        None => viscous::run_implicit(&grid, eta, &hist, &request, &opts, &mut monitor),
+        Some(c) => viscous::run_explicit(&grid, eta, &hist, &request, c, &opts, &mut monitor),
+    });
     let s = monitor.finish(py, r)?;
     let d = PyDict::new(py);
+    d.set_item("steps", s.steps)?;
     d.set_item("t", s.t.into_pyarray(py))?;
     d.set_item("depth", s.depth.into_pyarray(py))?;
     d.set_item("area", s.area.into_pyarray(py))?;
@@ -244,7 +260,7 @@ fn bem_punch<'py>(
 /// MDR run: 1D profile g (m) at element centres spaced dx (m); medium "viscous" (param =
 /// eta, Pa s) or "elastic" (param = G, Pa); output times (s); force history samples.
 #[pyfunction]
-#[pyo3(signature = (profile, dx, medium, param, times, force_times, force_values, fields_at=vec![], progress=None))]
+#[pyo3(signature = (profile, dx, medium, param, times, force_times, force_values, fields_at=vec![], progress=None, explicit=None))]
 #[allow(clippy::too_many_arguments)]
 fn mdr_run<'py>(
     py: Python<'py>,
@@ -257,6 +273,7 @@ fn mdr_run<'py>(
     force_values: PyReadonlyArray1<'py, f64>,
     fields_at: Vec<usize>,
     progress: Option<Py<PyAny>>,
+    explicit: Option<(f64, f64, f64)>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let medium = match medium {
         "viscous" => Medium::Viscous { eta: param },
@@ -278,9 +295,20 @@ fn mdr_run<'py>(
     )?;
     let times = slice1(&times, "times")?;
     let mut monitor = PyMonitor::new(progress);
-    let r = py.detach(|| mdr::run(&f, medium, &hist, &times, &fields_at, &mut monitor));
-    let s = monitor.finish(py, r)?;
+    let r = py.detach(|| match (explicit, medium) {
+        (None, _) => {
+            mdr::run(&f, medium, &hist, &times, &fields_at, &mut monitor).map(|s| (s, times.len()))
+        }
+        (Some(c), Medium::Viscous { eta }) => {
+            mdr::run_explicit(&f, eta, &hist, &times, &explicit_control(c), &mut monitor)
+        }
+        (Some(_), Medium::Elastic { .. }) => Err(Error::InvalidInput(
+            "the explicit integrator applies to the viscous medium only".into(),
+        )),
+    });
+    let (s, steps) = monitor.finish(py, r)?;
     let d = PyDict::new(py);
+    d.set_item("steps", steps)?;
     d.set_item("t", s.t.into_pyarray(py))?;
     d.set_item("depth", s.depth.into_pyarray(py))?;
     d.set_item("contact_length", s.contact_length.into_pyarray(py))?;

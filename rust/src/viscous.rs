@@ -8,6 +8,7 @@
 
 use crate::contact::{ContactSolver, SolverOptions, Target};
 use crate::error::{check_finite, check_len, check_positive, Error, Result};
+use crate::integrator::ExplicitControl;
 use crate::loading::{check_output_times, ForceHistory};
 use crate::monitor::Monitor;
 use crate::operator::{FftOperator, SurfaceOperator};
@@ -126,6 +127,91 @@ pub struct ViscousSeries {
     pub fields: Vec<Fields>,
     /// Contact solves performed (time steps plus rate solves).
     pub solves: usize,
+    /// Time steps taken (explicit loop; the implicit run steps once per output time).
+    pub steps: usize,
+}
+
+fn check_request(request: &ViscousRequest, eta: f64) -> Result<()> {
+    check_positive("viscosity eta", eta)?;
+    check_output_times(&request.times)?;
+    match request
+        .fields_at
+        .iter()
+        .find(|&&k| k >= request.times.len())
+    {
+        Some(k) => Err(Error::InvalidInput(format!(
+            "field output index {k} is out of range for {} output times",
+            request.times.len()
+        ))),
+        None => Ok(()),
+    }
+}
+
+/// The flat-punch solution of a contact set: unit pressure (K p = 1 on the set, G = 1) and
+/// its stiffness sum(p) dA (m).
+struct Punch {
+    p_unit: Vec<f64>,
+    k_unit: f64,
+}
+
+impl Punch {
+    fn solve(
+        solver: &mut ContactSolver<FftOperator>,
+        set: &[bool],
+        start: Option<&[f64]>,
+        opts: &SolverOptions,
+        monitor: &mut dyn Monitor,
+    ) -> Result<(Self, usize, f64)> {
+        let area_el = solver.operator().dx().powi(2);
+        let (p_unit, its, res) = solver.unit_punch(set, start, opts, monitor)?;
+        let k_unit = p_unit.iter().sum::<f64>() * area_el;
+        Ok((Punch { p_unit, k_unit }, its, res))
+    }
+
+    /// Pressure (Pa) and surface velocity (m/s) under `force` (N) on a body of viscosity eta.
+    fn fields(
+        &self,
+        solver: &mut ContactSolver<FftOperator>,
+        force: f64,
+        eta: f64,
+    ) -> (Vec<f64>, Vec<f64>) {
+        let pressure: Vec<f64> = self
+            .p_unit
+            .iter()
+            .map(|v| v * force / self.k_unit)
+            .collect();
+        let mut velocity = vec![0.0; pressure.len()];
+        solver.operator().apply(&pressure, &mut velocity);
+        velocity.iter_mut().for_each(|v| *v /= eta);
+        (pressure, velocity)
+    }
+}
+
+impl ViscousSeries {
+    /// Appends one output time.
+    #[allow(clippy::too_many_arguments)]
+    fn record(
+        &mut self,
+        grid: &Grid,
+        t: f64,
+        depth: f64,
+        contact: &[bool],
+        rate: Option<(f64, f64)>,
+        iterations: usize,
+        residual: f64,
+    ) {
+        let area = contact.iter().filter(|&&c| c).count() as f64 * grid.dx * grid.dx;
+        self.t.push(t);
+        self.depth.push(depth);
+        self.area.push(area);
+        self.contact_length
+            .push(2.0 * (area / std::f64::consts::PI).sqrt());
+        self.velocity.push(rate.map_or(f64::NAN, |r| r.0));
+        self.stiffness_length.push(rate.map_or(f64::NAN, |r| r.1));
+        self.iterations.push(iterations);
+        self.residual.push(residual);
+        self.at_border.push(grid.touches_border(contact));
+    }
 }
 
 /// Runs the implicit impulse stepping of a viscous half-space under `history`.
@@ -137,20 +223,8 @@ pub fn run_implicit(
     opts: &SolverOptions,
     monitor: &mut dyn Monitor,
 ) -> Result<ViscousSeries> {
-    check_positive("viscosity eta", eta)?;
-    check_output_times(&request.times)?;
-    if let Some(&k) = request
-        .fields_at
-        .iter()
-        .find(|&&k| k >= request.times.len())
-    {
-        return Err(Error::InvalidInput(format!(
-            "field output index {k} is out of range for {} output times",
-            request.times.len()
-        )));
-    }
+    check_request(request, eta)?;
     let n = grid.nx * grid.ny;
-    let area_el = grid.dx * grid.dx;
     let mut solver = ContactSolver::new(FftOperator::new(grid.nx, grid.ny, grid.dx)?);
     let mut sep = grid.height.clone();
     let mut u_acc = vec![0.0; n];
@@ -161,7 +235,8 @@ pub fn run_implicit(
     let total = request.times.len();
     for (k, &t) in request.times.iter().enumerate() {
         let impulse = history.impulse(t) - history.impulse(t_prev);
-        let last = if impulse > 0.0 {
+        let (mut iterations, mut residual) = (0, 0.0);
+        if impulse > 0.0 {
             let s = solver.solve(
                 &sep,
                 &grid.allowed,
@@ -172,43 +247,25 @@ pub fn run_implicit(
                 monitor,
             )?;
             depth = s.depth;
+            (iterations, residual) = (s.iterations, s.residual);
             out.solves += 1;
             for i in 0..n {
                 u_acc[i] += solver.deflection()[i];
                 sep[i] = grid.height[i] + u_acc[i];
                 contact[i] = solver.pressure()[i] > 0.0;
             }
-            (s.iterations, s.residual)
-        } else {
-            (0, 0.0)
-        };
-        let count = contact.iter().filter(|&&c| c).count();
-        let area = count as f64 * area_el;
-        out.t.push(t);
-        out.depth.push(depth);
-        out.area.push(area);
-        out.contact_length
-            .push(2.0 * (area / std::f64::consts::PI).sqrt());
-        out.iterations.push(last.0);
-        out.residual.push(last.1);
-        out.at_border.push(grid.touches_border(&contact));
+        }
         let want_fields = request.fields_at.contains(&k);
         let force = history.force(t);
-        if (request.rates || want_fields) && count > 0 && force > 0.0 {
-            let (p_unit, its, res) = solver.unit_punch(&contact, opts, monitor)?;
+        let mut rate = None;
+        if (request.rates || want_fields) && contact.iter().any(|&c| c) {
+            let (punch, its, res) = Punch::solve(&mut solver, &contact, None, opts, monitor)?;
             out.solves += 1;
-            *out.iterations.last_mut().expect("pushed above") += its;
-            let r = out.residual.last_mut().expect("pushed above");
-            *r = r.max(res);
-            let k_unit: f64 = p_unit.iter().sum::<f64>() * area_el;
-            let rate = force / (eta * k_unit);
-            out.velocity.push(rate);
-            out.stiffness_length.push(k_unit / 4.0);
+            iterations += its;
+            residual = residual.max(res);
+            rate = Some((force / (eta * punch.k_unit), punch.k_unit / 4.0));
             if want_fields {
-                let pressure: Vec<f64> = p_unit.iter().map(|v| v * force / k_unit).collect();
-                let mut velocity = vec![0.0; n];
-                solver.operator().apply(&pressure, &mut velocity);
-                velocity.iter_mut().for_each(|v| *v /= eta);
+                let (pressure, velocity) = punch.fields(&mut solver, force, eta);
                 out.fields.push(Fields {
                     step: k,
                     pressure,
@@ -216,17 +273,98 @@ pub fn run_implicit(
                     deflection: u_acc.clone(),
                 });
             }
-        } else {
-            out.velocity.push(if count > 0 || !request.rates {
-                f64::NAN
-            } else {
-                0.0
-            });
-            out.stiffness_length.push(f64::NAN);
         }
+        out.record(grid, t, depth, &contact, rate, iterations, residual);
+        out.steps += 1;
         t_prev = t;
         monitor.progress("time steps", k + 1, total)?;
     }
+    Ok(out)
+}
+
+/// Runs the paper's explicit loop: the surface velocity of the current contact set (a
+/// flat-punch solve), an explicit Euler step of depth and deflection, contact growth where
+/// the gap closed; the flat punch is re-solved only when the contact area grew by more than
+/// `ctrl.area_change`. Its error is first order in the step and carries the singular start.
+pub fn run_explicit(
+    grid: &Grid,
+    eta: f64,
+    history: &ForceHistory,
+    request: &ViscousRequest,
+    ctrl: &ExplicitControl,
+    opts: &SolverOptions,
+    monitor: &mut dyn Monitor,
+) -> Result<ViscousSeries> {
+    check_request(request, eta)?;
+    ctrl.validate()?;
+    let n = grid.nx * grid.ny;
+    let mut solver = ContactSolver::new(FftOperator::new(grid.nx, grid.ny, grid.dx)?);
+    let hmin = (0..n)
+        .filter(|&i| grid.allowed[i])
+        .map(|i| grid.height[i])
+        .fold(f64::INFINITY, f64::min);
+    let mut contact: Vec<bool> = (0..n)
+        .map(|i| grid.allowed[i] && grid.height[i] <= hmin)
+        .collect();
+    let mut count = contact.iter().filter(|&&c| c).count();
+    let (mut punch, mut iterations, mut residual) =
+        Punch::solve(&mut solver, &contact, None, opts, monitor)?;
+    let mut v_unit = vec![0.0; n];
+    solver.operator().apply(&punch.p_unit, &mut v_unit);
+    let mut solved_count = count;
+    let mut out = ViscousSeries {
+        solves: 1,
+        ..ViscousSeries::default()
+    };
+    let (mut t, mut depth) = (0.0, hmin);
+    let mut u = vec![0.0; n];
+    let t_first = ctrl.start * request.times.last().copied().unwrap_or(1.0);
+    let mut steps = 0usize;
+    for (k, &target) in request.times.iter().enumerate() {
+        while t < target {
+            let rate = history.force(t) / (eta * punch.k_unit);
+            let (dt, next) = ctrl.next_step(t, t_first, target);
+            t = next;
+            depth += rate * dt;
+            for i in 0..n {
+                u[i] += rate * dt * v_unit[i];
+                if grid.allowed[i] && !contact[i] && u[i] - depth + grid.height[i] <= 0.0 {
+                    contact[i] = true;
+                    count += 1;
+                }
+            }
+            steps += 1;
+            if count as f64 > solved_count as f64 * (1.0 + ctrl.area_change) {
+                let start = punch.p_unit.clone();
+                let (p, its, res) =
+                    Punch::solve(&mut solver, &contact, Some(&start), opts, monitor)?;
+                punch = p;
+                solver.operator().apply(&punch.p_unit, &mut v_unit);
+                solved_count = count;
+                out.solves += 1;
+                iterations += its;
+                residual = residual.max(res);
+            }
+            if steps % 256 == 0 {
+                monitor.progress("explicit time steps", k, request.times.len())?;
+            }
+        }
+        let force = history.force(t);
+        if request.fields_at.contains(&k) {
+            let (pressure, velocity) = punch.fields(&mut solver, force, eta);
+            out.fields.push(Fields {
+                step: k,
+                pressure,
+                velocity,
+                deflection: u.clone(),
+            });
+        }
+        let rate = (force / (eta * punch.k_unit), punch.k_unit / 4.0);
+        out.record(grid, t, depth, &contact, Some(rate), iterations, residual);
+        (iterations, residual) = (0, 0.0);
+        monitor.progress("time steps", k + 1, request.times.len())?;
+    }
+    out.steps = steps;
     Ok(out)
 }
 
@@ -263,7 +401,7 @@ pub fn run_punch(
     check_positive("force", force)?;
     let area_el = grid.dx * grid.dx;
     let mut solver = ContactSolver::new(FftOperator::new(grid.nx, grid.ny, grid.dx)?);
-    let (p_unit, iterations, residual) = solver.unit_punch(&grid.allowed, opts, monitor)?;
+    let (p_unit, iterations, residual) = solver.unit_punch(&grid.allowed, None, opts, monitor)?;
     let k_unit: f64 = p_unit.iter().sum::<f64>() * area_el;
     let pressure: Vec<f64> = p_unit.iter().map(|v| v * force / k_unit).collect();
     let surface_velocity = match margin {

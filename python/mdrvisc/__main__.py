@@ -1,0 +1,7 @@
+"""``python -m mdrvisc paper|run ...``: see :mod:`mdrvisc.cli`."""
+
+import sys
+
+from .cli import main
+
+sys.exit(main())

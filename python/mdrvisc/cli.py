@@ -1,0 +1,98 @@
+"""Command line: ``mdrvisc paper [--out DIR] [--quick] [--json]`` and
+``mdrvisc run SCENE.toml [--json]`` (also ``python -m mdrvisc ...``).
+
+Results go to stdout (tables, or one JSON document with ``--json``), progress to stderr.
+Bad input exits with status 2 and an ``error: ...`` line on stderr.
+"""
+
+import argparse
+import json
+import sys
+import time
+
+from . import report, scenefile, studies
+from .errors import MdrviscError
+from .solve import solve
+
+__all__ = ["main"]
+
+
+class _Progress:
+    """Prints ``[elapsed s] label`` to stderr for each announced solve."""
+
+    def __init__(self):
+        self.start = time.perf_counter()
+
+    def __call__(self, label):
+        print(f"[{time.perf_counter() - self.start:7.2f} s] {label}", file=sys.stderr, flush=True)
+
+
+def _parser():
+    parser = argparse.ArgumentParser(
+        prog="mdrvisc",
+        description="Rigid indenters on a viscous half-space by BEM and MDR "
+                    "(Kürschner & Filippov 2012).")
+    commands = parser.add_subparsers(dest="command", required=True)
+    paper = commands.add_parser(
+        "paper", help="the paper's comparisons: tables on stdout, CSV/JSON/PNG files in --out")
+    paper.add_argument("--out", default="mdrvisc-paper",
+                       help="output folder (default: ./mdrvisc-paper)")
+    paper.add_argument("--quick", action="store_true",
+                       help="coarse resolutions (BEM rod 50, paraboloids 65, MDR 4097): seconds")
+    paper.add_argument("--json", action="store_true",
+                       help="print the tables as one JSON document instead of text")
+    run = commands.add_parser("run", help="run one scene file (TOML)")
+    run.add_argument("scene", help="scene file, e.g. examples/rod.toml")
+    run.add_argument("--json", action="store_true", help="print the result as JSON")
+    return parser
+
+
+def _paper(args):
+    progress = _Progress()
+    results = studies.paper(quick=args.quick, progress=progress)
+    progress("writing files")
+    paths = report.write_paper(results, args.out)
+    if args.json:
+        print(json.dumps(report.paper_document(results)))
+    else:
+        print(report.rod_table(results["rod"]))
+        print()
+        print(report.paraboloid_tables(results["paraboloids"]))
+    print(f"wrote {', '.join(str(p) for p in paths)}", file=sys.stderr)
+    progress("done")
+
+
+def _run(args):
+    data = scenefile.read_scene(args.scene)
+    scene, method, n = scenefile.parse_scene(data, args.scene)
+    _Progress()(f"{args.scene}: {method.upper()} n={n}")
+    result = solve(scene, method, n, progress=True)
+    if args.json:
+        fields = {"method", "n", "dx", "t", "depth", "contact_length", "velocity",
+                  "stiffness_length", "central_pressure", "area", "steps", "solves",
+                  "iterations", "residual", "wall_time", "units"}
+        out = {k: v for k, v in vars(result).items() if k in fields and v is not None}
+        if result.fields:
+            out["fields"] = [{"t": t, **f} for t, f in result.fields.items()]
+        doc = [{"scene": args.scene, "input": data, "result": out}]
+        print(json.dumps(report.to_jsonable(doc)))
+    else:
+        print(report.result_table(args.scene, result))
+
+
+def main(argv=None):
+    """Runs the command line with ``argv`` (default ``sys.argv[1:]``); returns the exit status
+    (0 success, 2 bad input or failed solve, 130 interrupted)."""
+    args = _parser().parse_args(argv)
+    try:
+        if args.command == "paper":
+            _paper(args)
+        else:
+            _run(args)
+    except (MdrviscError, ValueError, OSError) as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print("error: interrupted", file=sys.stderr)
+        return 130
+    return 0

@@ -1,0 +1,51 @@
+//! Time-integrator controls shared by BEM and MDR.
+//!
+//! The default engine of both methods is the implicit impulse step, exact in time while the
+//! contact grows. The paper's explicit loop is kept as a selectable integrator so that the
+//! cost of that choice can be measured.
+
+use crate::error::{check_positive, Error, Result};
+
+/// Controls of the paper's explicit loop (its Fig. 1b).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ExplicitControl {
+    /// Relative time step: dt = step * max(t, start * t_end).
+    pub step: f64,
+    /// Re-solve the contact when its area grew by more than this fraction (paper: 0.01).
+    pub area_change: f64,
+    /// First step length as a fraction of the final output time.
+    pub start: f64,
+}
+
+impl Default for ExplicitControl {
+    fn default() -> Self {
+        ExplicitControl {
+            step: 0.01,
+            area_change: 0.01,
+            start: 1e-6,
+        }
+    }
+}
+
+impl ExplicitControl {
+    /// Fails unless step and start are positive and area_change >= 0.
+    pub fn validate(&self) -> Result<()> {
+        check_positive("explicit step", self.step)?;
+        check_positive("explicit start fraction", self.start)?;
+        if !(self.area_change >= 0.0 && self.area_change.is_finite()) {
+            return Err(Error::InvalidInput(format!(
+                "area_change must be finite and >= 0, got {}",
+                self.area_change
+            )));
+        }
+        Ok(())
+    }
+
+    /// The step (dt, t + dt) from `t`, with first step `t_first` (s), clipped to land exactly
+    /// on `target`.
+    pub fn next_step(&self, t: f64, t_first: f64, target: f64) -> (f64, f64) {
+        let remaining = target - t;
+        let dt = (self.step * t.max(t_first)).min(remaining);
+        (dt, if dt == remaining { target } else { t + dt })
+    }
+}

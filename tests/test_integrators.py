@@ -1,0 +1,54 @@
+"""The paper's explicit loop as a selectable integrator: first-order convergence, and the
+implicit impulse step being exact in time."""
+
+import numpy as np
+import pytest
+
+import mdrvisc as mv
+from mdrvisc import analytic
+
+SCENE = mv.Scene(indenter=mv.Paraboloid(c=1.0, edge=2.56), medium=mv.Viscous(eta=1.0), force=1.0,
+                 duration=5.0, outputs=("depth", "contact_length", "stiffness_length"))
+EXACT = analytic.paraboloid_depth(5.0, 1.0, 1.0, 1.0)
+
+
+def test_explicit_mdr_converges_first_order_in_the_step():
+    errs = [abs(mv.solve(SCENE, "mdr", 66049, integrator="explicit", step=s, area_change=0.0).depth[-1] / EXACT - 1)
+            for s in (0.1, 0.01, 0.001)]
+    for coarse, fine in zip(errs, errs[1:]):
+        assert 5 < coarse / fine < 20
+
+
+def test_paper_area_rule_limits_explicit_accuracy():
+    strict = mv.solve(SCENE, "mdr", 66049, integrator="explicit", step=1e-3, area_change=0.0)
+    paper = mv.solve(SCENE, "mdr", 66049, integrator="explicit", step=1e-3, area_change=0.01)
+    assert abs(paper.depth[-1] / EXACT - 1) > 10 * abs(strict.depth[-1] / EXACT - 1)
+
+
+def test_explicit_bem_approaches_the_implicit_answer():
+    implicit = mv.solve(SCENE, "bem", 65)
+    errs = [abs(mv.solve(SCENE, "bem", 65, integrator="explicit", step=s).depth[-1] / implicit.depth[-1] - 1)
+            for s in (0.1, 0.01)]
+    assert errs[1] < errs[0] < 0.01
+    r = mv.solve(SCENE, "bem", 65, integrator="explicit", step=0.1)
+    assert r.steps > 100 and r.solves > 10 and r.integrator == "explicit"
+
+
+@pytest.mark.parametrize("method,n", [("bem", 65), ("mdr", 4097)])
+def test_implicit_result_does_not_depend_on_output_times(method, n):
+    coarse = mv.Scene(indenter=SCENE.indenter, medium=SCENE.medium, force=1.0, duration=5.0, times=[5.0])
+    fine = mv.Scene(indenter=SCENE.indenter, medium=SCENE.medium, force=1.0, duration=5.0,
+                    times=np.linspace(0.05, 5.0, 100))
+    a = mv.solve(coarse, method, n).depth[-1]
+    b = mv.solve(fine, method, n).depth[-1]
+    assert a == pytest.approx(b, rel=1e-7)
+
+
+def test_explicit_needs_a_viscous_medium_and_valid_controls():
+    elastic = mv.Scene(indenter=mv.Paraboloid(c=1.0), medium=mv.Elastic(G=1.0), force=1.0)
+    with pytest.raises(mv.InvalidInputError):
+        mv.solve(elastic, "bem", 33, integrator="explicit")
+    with pytest.raises(mv.InvalidInputError, match="step"):
+        mv.solve(SCENE, "mdr", 101, integrator="explicit", step=-1.0)
+    with pytest.raises(mv.InvalidInputError, match="integrator"):
+        mv.solve(SCENE, "mdr", 101, integrator="rk4")
