@@ -27,6 +27,22 @@ class _Progress:
         print(f"[{time.perf_counter() - self.start:7.2f} s] {label}", file=sys.stderr, flush=True)
 
 
+class _SolverProgress:
+    """A solver's ``progress(stage, done, total)``: one overwritten stderr line per solve."""
+
+    def __init__(self):
+        self.shown = False
+
+    def __call__(self, stage, done, total):
+        print(f"\r  {stage}: {done}/{total}".ljust(50), end="", file=sys.stderr, flush=True)
+        self.shown = True
+
+    def close(self):
+        """Ends the progress line."""
+        if self.shown:
+            print(file=sys.stderr)
+
+
 def _parser():
     parser = argparse.ArgumentParser(
         prog="mdrvisc",
@@ -66,7 +82,11 @@ def _run(args):
     data = scenefile.read_scene(args.scene)
     scene, method, n = scenefile.parse_scene(data, args.scene)
     _Progress()(f"{args.scene}: {method.upper()} n={n}")
-    result = solve(scene, method, n, progress=True)
+    progress = _SolverProgress()
+    try:
+        result = solve(scene, method, n, progress=progress)
+    finally:
+        progress.close()
     if args.json:
         fields = {"method", "n", "dx", "t", "depth", "contact_length", "velocity",
                   "stiffness_length", "central_pressure", "area", "steps", "solves",

@@ -60,18 +60,21 @@ def paraboloid_tables(par):
                     ("BEM/LR-1", "depth_bem_vs_lee_radok", "+.2e"),
                     ("MDR/LR-1", "depth_mdr_vs_lee_radok", "+.2e"),
                     ("BEM at edge", "bem_at_edge", ""), ("MDR full", "mdr_saturated", "")]
-    length = head + [("BEM Eq.23 [m]", "length_bem", ".5f"), ("BEM area [m]", "length_bem_area", ".5f"),
+    length = head + [("BEM Eq.23 [m]", "length_bem", ".5f"),
+                     ("BEM area [m]", "length_bem_area", ".5f"),
                      ("MDR [m]", "length_mdr", ".5f"), ("Lee-Radok [m]", "length_lee_radok", ".5f"),
                      ("Eq.23/MDR-1", "length_bem_vs_mdr", "+.2e"),
                      ("area/MDR-1", "length_bem_area_vs_mdr", "+.2e"),
                      ("Eq.23/LR-1", "length_bem_vs_lee_radok", "+.2e"),
                      ("MDR/LR-1", "length_mdr_vs_lee_radok", "+.2e")]
     runs = [("c [1/m]", "c", "g"), ("method", "method", ""), ("n", "n", "d"),
-            ("steps", "steps", "d"), ("solves", "solves", "d"), ("iterations", "iterations", "d"),
+            ("integrator", "integrator", ""), ("steps", "steps", "d"), ("solves", "solves", "d"),
+            ("iterations", "iterations", "d"),
             ("residual", "residual", ".1e"), ("wall [s]", "wall_time", ".3f")]
-    title = (f"Paraboloids (Section 6): h = c r^2 on a {p['edge']:g} m square, F = {p['force']:g} N, "
-             f"eta = {p['eta']:g} Pa s; BEM n = {p['n_bem']} x {p['n_bem']}, MDR n = {p['n_mdr']}; "
-             "Lee-Radok n/a once 2a > edge")
+    title = (f"Paraboloids (Section 6): h = c r^2 on a {p['edge']:g} m square, "
+             f"F = {p['force']:g} N, eta = {p['eta']:g} Pa s\n"
+             f"BEM n = {p['n_bem']} x {p['n_bem']}, MDR n = {p['n_mdr']}; "
+             "Lee-Radok (LR) n/a once 2a > edge")
     return "\n\n".join([title, "Depth d(t)\n" + _table(depth, par["rows"]),
                         "Contact length l(t) (BEM: Eq. 23 l = F/(4 eta dd/dt), and 2 sqrt(A/pi))\n"
                         + _table(length, par["rows"]),
@@ -198,7 +201,7 @@ def plot_paraboloids(par, path):
     symbols (filled: Eq. 23, open: from the contact area). Saves a PNG at ``path``."""
     plt = _pyplot()
     p = par["parameters"]
-    fig, (left, right) = plt.subplots(1, 2, figsize=(11, 4.6), layout="constrained")
+    fig, (left, right) = plt.subplots(1, 2, figsize=(11, 4.9), layout="constrained")
     markers = "osD^v<>ph*"
     for k, curve in enumerate(par["curves"]):
         c = curve["c"]
@@ -214,9 +217,9 @@ def plot_paraboloids(par, path):
         right.plot(t, [r["length_bem_area"] for r in rows], marker, color=color, ls="none",
                    mfc="none", ms=9)
     right.axhline(2 * p["edge"] / math.sqrt(math.pi), color="0.5", ls=":", lw=1)
-    left.set(xlabel="time t [s]", ylabel="indentation depth d [m]", xlim=(0, p["duration"]),
+    left.set(xlabel="time t [s]", ylabel="indentation depth d [m]", xlim=(0, 1.03 * p["duration"]),
              ylim=(0, None), title="(a) indentation depth")
-    right.set(xlabel="time t [s]", ylabel="contact length l [m]", xlim=(0, p["duration"]),
+    right.set(xlabel="time t [s]", ylabel="contact length l [m]", xlim=(0, 1.03 * p["duration"]),
               ylim=(0, None), title="(b) contact length")
     handles = [plt.Line2D([], [], color="k", lw=1.2, label=f"MDR (n = {p['n_mdr']})"),
                plt.Line2D([], [], color="k", marker="o", ls="none",
@@ -228,7 +231,7 @@ def plot_paraboloids(par, path):
     for ax in (left, right):
         ax.grid(alpha=0.3)
     left.legend(loc="upper left", fontsize=8)
-    right.legend(handles=handles, loc="lower right", fontsize=8)
+    fig.legend(handles=handles, loc="outside lower center", ncol=len(handles), fontsize=8)
     fig.suptitle(f"Paraboloids h = c r^2 on a {p['edge']:g} m square, F = {p['force']:g} N, "
                  f"eta = {p['eta']:g} Pa s")
     fig.savefig(path, dpi=150)

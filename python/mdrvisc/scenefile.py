@@ -46,7 +46,8 @@ _TOP = {"method": (_STRING, True), "n": (_INTEGER, True), "force": (_NUMBER, Tru
         "duration": (_NUMBER, True), "times": (_NUMBERS, False), "outputs": (_STRINGS, False),
         "indenter": (_TABLE, True), "medium": (_TABLE, True)}
 #: Indenter types: (class, {key: required}).
-_INDENTERS = {"rod": (Rod, {"radius": True}), "paraboloid": (Paraboloid, {"c": True, "edge": False}),
+_INDENTERS = {"rod": (Rod, {"radius": True}),
+              "paraboloid": (Paraboloid, {"c": True, "edge": False}),
               "cone": (Cone, {"slope": True, "edge": False}), "sphere": (Sphere, {"radius": True})}
 #: Medium types: (class, {key: required}).
 _MEDIA = {"viscous": (Viscous, {"eta": True})}
@@ -115,7 +116,8 @@ def parse_scene(data, source="scene"):
     _check(source, data, _TOP)
     method = data["method"]
     if method not in ("bem", "mdr"):
-        raise InvalidInputError(f"{source}: key 'method' must be \"bem\" or \"mdr\", got {method!r}")
+        raise InvalidInputError(
+            f"{source}: key 'method' must be \"bem\" or \"mdr\", got {method!r}")
     if data["n"] < 1:
         raise InvalidInputError(f"{source}: key 'n' must be >= 1, got {data['n']}")
     indenter = _build(source, data["indenter"], "indenter", _INDENTERS)

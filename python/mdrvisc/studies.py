@@ -174,9 +174,9 @@ def paper_paraboloids(cs=(0.05, 0.2, 1.0, 5.0, 20.0), n_bem=257, n_mdr=66049,
         form's contact diameter exceeds the 2.56 m edge), their relative differences,
         and whether the BEM contact touched the square's edge / the MDR contact filled the 1D
         indenter. ``curves``: per c, MDR ``t`` (s), ``depth`` (m), ``contact_length`` (m) at
-        the fine times, starting at (0, 0). ``runs``: per solve, c, method, n, wall time (s),
-        steps, solves, iterations, largest residual. ``parameters``: edge (m), force (N),
-        eta (Pa s), duration (s), n_bem, n_mdr.
+        the fine times, starting at (0, 0). ``runs``: per solve, c, method, n, integrator,
+        wall time (s), steps, solves, iterations, largest residual. ``parameters``: edge (m),
+        force (N), eta (Pa s), duration (s), n_bem, n_mdr.
     """
     times = np.asarray(times, dtype=float)
     fine_times = DURATION * np.arange(1, fine + 1) / fine
@@ -193,9 +193,9 @@ def paper_paraboloids(cs=(0.05, 0.2, 1.0, 5.0, 20.0), n_bem=257, n_mdr=66049,
         mdr = run(f"paraboloid c={c:g} MDR n={n_mdr}", Scene(
             indenter=indenter, medium=medium, force=FORCE, duration=DURATION, times=all_times),
             "mdr", n_mdr)
-        runs += [{"c": c, "method": r.method, "n": r.n, "wall_time": r.wall_time,
-                  "steps": r.steps, "solves": r.solves, "iterations": r.iterations,
-                  "residual": r.residual} for r in (bem, mdr)]
+        runs += [{"c": c, "method": r.method, "n": r.n, "integrator": r.integrator,
+                  "wall_time": r.wall_time, "steps": r.steps, "solves": r.solves,
+                  "iterations": r.iterations, "residual": r.residual} for r in (bem, mdr)]
         curves.append({"c": c, "t": np.concatenate([[0.0], mdr.t]),
                        "depth": np.concatenate([[0.0], mdr.depth]),
                        "contact_length": np.concatenate([[0.0], mdr.contact_length])})

@@ -177,7 +177,8 @@ impl<O: SurfaceOperator> ContactSolver<O> {
             }
         }
         if let Some(w) = force {
-            rescale(&mut self.p, w / area);
+            let sum: f64 = self.p.iter().sum();
+            self.p.iter_mut().for_each(|v| *v *= w / area / sum);
         }
         if let Target::Depth(d) = target {
             if h.iter().zip(allowed).all(|(&h, &a)| !a || h >= d) {
@@ -195,8 +196,10 @@ impl<O: SurfaceOperator> ContactSolver<O> {
         let mut delta = 0.0;
         let mut g_old = 1.0;
         let mut residual = f64::INFINITY;
+        // u = K[p] is refreshed by an operator apply only when the active set changed;
+        // otherwise it follows p by the same linear update (one apply per iteration).
+        self.op.apply(&self.p, &mut self.u);
         for it in 1..=opts.max_iter {
-            self.op.apply(&self.p, &mut self.u);
             let shift = match target {
                 Target::Force(_) => mean_on_contact(&self.p, allowed, &self.u, h, compliance),
                 Target::Depth(d) => d,
@@ -243,23 +246,38 @@ impl<O: SurfaceOperator> ContactSolver<O> {
             }
             let tau = if den > 0.0 { num / den } else { 0.0 };
             self.p_old.copy_from_slice(&self.p);
-            let mut overlap = false;
+            let (mut overlap, mut clamped) = (false, false);
             for i in 0..n {
                 if !allowed[i] {
                     continue;
                 }
                 if self.p[i] > 0.0 {
-                    self.p[i] = (self.p[i] - tau * self.t[i]).max(0.0);
-                } else if self.g[i] < 0.0 {
-                    self.p[i] = -tau.max(0.0) * self.g[i];
+                    let v = self.p[i] - tau * self.t[i];
+                    clamped |= v <= 0.0;
+                    self.p[i] = v.max(0.0);
+                } else if self.g[i] < 0.0 && tau > 0.0 {
+                    self.p[i] = -tau * self.g[i];
                     overlap = true;
                 }
             }
             delta = if overlap { 0.0 } else { 1.0 };
+            let mut factor = 1.0;
             if let Some(w) = force {
-                if !rescale(&mut self.p, w / area) {
+                let sum: f64 = self.p.iter().sum();
+                if sum > 0.0 {
+                    factor = w / area / sum;
+                    self.p.iter_mut().for_each(|v| *v *= factor);
+                } else {
                     let imin = argmin_gap(&self.g, allowed);
                     self.p[imin] = w / area;
+                    clamped = true;
+                }
+            }
+            if overlap || clamped {
+                self.op.apply(&self.p, &mut self.u);
+            } else {
+                for i in 0..n {
+                    self.u[i] = factor * (self.u[i] - tau * self.r[i]);
                 }
             }
             let total: f64 = self.p.iter().sum();
@@ -412,18 +430,6 @@ fn mean_on_contact(p: &[f64], allowed: &[bool], u: &[f64], h: &[f64], c: f64) ->
         0.0
     } else {
         s / k as f64
-    }
-}
-
-/// Scales `p` so that it sums to `total`; false if it sums to zero.
-fn rescale(p: &mut [f64], total: f64) -> bool {
-    let s: f64 = p.iter().sum();
-    if s > 0.0 {
-        let f = total / s;
-        p.iter_mut().for_each(|v| *v *= f);
-        true
-    } else {
-        false
     }
 }
 

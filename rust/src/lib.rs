@@ -19,3 +19,4 @@ mod python;
 pub mod scenes;
 pub mod transforms;
 pub mod viscous;
+pub mod window;

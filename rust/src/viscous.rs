@@ -12,6 +12,7 @@ use crate::integrator::ExplicitControl;
 use crate::loading::{check_output_times, ForceHistory};
 use crate::monitor::Monitor;
 use crate::operator::{FftOperator, SurfaceOperator};
+use crate::window::{SolverPool, Window};
 
 /// A square-element grid over the indenter's footprint.
 #[derive(Debug, Clone, PartialEq)]
@@ -215,6 +216,12 @@ impl ViscousSeries {
 }
 
 /// Runs the implicit impulse stepping of a viscous half-space under `history`.
+///
+/// Each step solves on a window that holds every element that can touch: the contact lies
+/// where the separation h + u_n is at most the new depth, so a window covering
+/// {h + u_n <= d_bound} is exact whenever the solve returns d <= d_bound (checked; otherwise
+/// the step is repeated on a larger window). d_bound extrapolates the depth linearly in the
+/// impulse, an upper bound while the contact grows. The first step uses the whole grid.
 pub fn run_implicit(
     grid: &Grid,
     eta: f64,
@@ -224,48 +231,87 @@ pub fn run_implicit(
     monitor: &mut dyn Monitor,
 ) -> Result<ViscousSeries> {
     check_request(request, eta)?;
-    let n = grid.nx * grid.ny;
-    let mut solver = ContactSolver::new(FftOperator::new(grid.nx, grid.ny, grid.dx)?);
+    let (nx, ny) = (grid.nx, grid.ny);
+    let n = nx * ny;
+    let mut pool = SolverPool::new(grid.dx);
+    let mut full = ContactSolver::new(FftOperator::new(nx, ny, grid.dx)?);
     let mut sep = grid.height.clone();
     let mut u_acc = vec![0.0; n];
+    let mut u_inc = vec![0.0; n];
+    let mut d_p = vec![0.0; n];
     let mut contact = vec![false; n];
+    let (mut sep_w, mut allowed_w, mut start_w) = (vec![], vec![], vec![]);
     let mut out = ViscousSeries::default();
-    let mut t_prev = 0.0;
-    let mut depth = 0.0;
+    let (mut t_prev, mut depth, mut depth_prev) = (0.0, 0.0, 0.0);
+    let mut impulse_prev = 0.0;
     let total = request.times.len();
     for (k, &t) in request.times.iter().enumerate() {
         let impulse = history.impulse(t) - history.impulse(t_prev);
         let (mut iterations, mut residual) = (0, 0.0);
         if impulse > 0.0 {
-            let s = solver.solve(
-                &sep,
-                &grid.allowed,
-                1.0 / eta,
-                Target::Force(impulse),
-                k > 0,
-                opts,
-                monitor,
-            )?;
+            let warm = contact.iter().any(|&c| c);
+            let mut bound = if warm {
+                depth + 1.05 * (depth - depth_prev) * impulse / impulse_prev
+            } else {
+                f64::INFINITY
+            };
+            let (window, s) = loop {
+                let win = Window::around(nx, ny, 2, |i| grid.allowed[i] && sep[i] <= bound);
+                win.gather(&sep, &mut sep_w);
+                win.gather(&grid.allowed, &mut allowed_w);
+                let solver = pool.get(win.wx, win.wy)?;
+                if warm {
+                    win.gather(&d_p, &mut start_w);
+                    solver.set_pressure(&start_w)?;
+                }
+                let s = solver.solve(
+                    &sep_w,
+                    &allowed_w,
+                    1.0 / eta,
+                    Target::Force(impulse),
+                    warm,
+                    opts,
+                    monitor,
+                )?;
+                iterations += s.iterations;
+                residual = s.residual;
+                out.solves += 1;
+                if s.depth <= bound || win.is_full() {
+                    break (win, s);
+                }
+                bound = s.depth + (s.depth - depth);
+            };
+            depth_prev = depth;
             depth = s.depth;
-            (iterations, residual) = (s.iterations, s.residual);
-            out.solves += 1;
+            impulse_prev = impulse;
+            window.scatter(pool.get(window.wx, window.wy)?.pressure(), &mut d_p);
+            full.operator().apply(&d_p, &mut u_inc);
             for i in 0..n {
-                u_acc[i] += solver.deflection()[i];
+                u_acc[i] += u_inc[i] / eta;
                 sep[i] = grid.height[i] + u_acc[i];
-                contact[i] = solver.pressure()[i] > 0.0;
+                contact[i] = d_p[i] > 0.0;
             }
         }
         let want_fields = request.fields_at.contains(&k);
         let force = history.force(t);
         let mut rate = None;
         if (request.rates || want_fields) && contact.iter().any(|&c| c) {
-            let (punch, its, res) = Punch::solve(&mut solver, &contact, None, opts, monitor)?;
+            let win = Window::around(nx, ny, 0, |i| contact[i]);
+            win.gather(&contact, &mut allowed_w);
+            let (punch, its, res) =
+                Punch::solve(pool.get(win.wx, win.wy)?, &allowed_w, None, opts, monitor)?;
             out.solves += 1;
             iterations += its;
-            residual = residual.max(res);
+            residual = f64::max(residual, res);
             rate = Some((force / (eta * punch.k_unit), punch.k_unit / 4.0));
             if want_fields {
-                let (pressure, velocity) = punch.fields(&mut solver, force, eta);
+                let mut p_unit = vec![0.0; n];
+                win.scatter(&punch.p_unit, &mut p_unit);
+                let punch = Punch {
+                    p_unit,
+                    k_unit: punch.k_unit,
+                };
+                let (pressure, velocity) = punch.fields(&mut full, force, eta);
                 out.fields.push(Fields {
                     step: k,
                     pressure,

@@ -1,0 +1,216 @@
+"""The command line (`mdrvisc paper`, `mdrvisc run`), its files, and scene files."""
+
+import contextlib
+import csv
+import io
+import json
+import math
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import mdrvisc as mv
+from mdrvisc import analytic, cli
+from mdrvisc.scenefile import load_scene, parse_scene
+
+EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
+FILES = ("rod.csv", "paraboloids.csv", "paper.json", "fig3_rod.png", "fig4_paraboloids.png")
+
+
+def run_cli(*argv):
+    """(exit status, stdout, stderr) of ``cli.main(argv)`` run in this process."""
+    out, err = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        status = cli.main(list(argv))
+    return status, out.getvalue(), err.getvalue()
+
+
+@pytest.fixture(scope="module")
+def paper_quick(tmp_path_factory):
+    """`mdrvisc paper --quick --json` into a fresh folder: (folder, stdout document)."""
+    folder = tmp_path_factory.mktemp("paper")
+    status, out, err = run_cli("paper", "--quick", "--json", "--out", str(folder))
+    assert status == 0, err
+    return folder, json.loads(out)
+
+
+# ------------------------------------------------------------------ mdrvisc paper
+def test_paper_writes_all_files(paper_quick):
+    folder, _ = paper_quick
+    for name in FILES:
+        assert (folder / name).stat().st_size > 0, name
+    for name in ("fig3_rod.png", "fig4_paraboloids.png"):
+        assert (folder / name).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_paper_json_file_matches_stdout(paper_quick):
+    folder, doc = paper_quick
+    assert json.loads((folder / "paper.json").read_text()) == doc
+    assert doc["quick"] is True
+
+
+def test_paper_rod_numbers(paper_quick):
+    _, doc = paper_quick
+    closed, paper_bem, bem, paper_mdr, mdr = doc["rod"]["rows"]
+    assert [closed["source"], paper_bem["source"], paper_mdr["source"]] == [
+        "closed form", "paper BEM", "paper MDR"]
+    assert bem["source"] == "BEM n=50" and mdr["source"] == "MDR n=4097"
+    assert abs(bem["velocity"] / 0.125 - 1) < 0.01
+    assert abs(bem["central_pressure"] / analytic.rod_central_pressure(1, 1) - 1) < 0.02
+    assert mdr["velocity"] == pytest.approx(0.125, rel=1e-12)
+    assert mdr["central_pressure"] == pytest.approx(1 / (2 * math.pi), rel=1e-3)
+    assert paper_bem["elements"] == 31417
+    assert paper_bem["velocity_error"] == pytest.approx(0.0016)
+    assert paper_mdr["central_pressure"] is None
+
+
+def test_paper_paraboloid_numbers(paper_quick):
+    _, doc = paper_quick
+    rows = doc["paraboloids"]["rows"]
+    assert len(rows) == 25
+    for r in rows:
+        closed_length = analytic.paraboloid_contact_length(r["t"], 1.0, r["c"], 1.0)
+        if closed_length > 2.56:  # the contact left the square: no closed form
+            assert r["depth_lee_radok"] is None and r["length_lee_radok"] is None
+            continue
+        lee_radok = analytic.paraboloid_depth(r["t"], 1.0, r["c"], 1.0)
+        assert r["depth_lee_radok"] == pytest.approx(lee_radok, rel=1e-12)
+        assert abs(r["depth_mdr"] - lee_radok) < 1e-5
+        assert abs(r["depth_bem"] / lee_radok - 1) < 5e-3
+        assert abs(r["length_bem"] / closed_length - 1) < 0.03
+        assert r["depth_bem_vs_mdr"] == pytest.approx(r["depth_bem"] / r["depth_mdr"] - 1)
+    saturated = [r for r in rows if r["c"] == 0.05 and r["t"] >= 3]
+    assert all(r["mdr_saturated"] and r["bem_at_edge"] for r in saturated)
+    assert all(r["length_mdr"] == pytest.approx(2 * 2.56 / math.sqrt(math.pi)) for r in saturated)
+
+
+def test_paper_csv(paper_quick):
+    folder, doc = paper_quick
+    with open(folder / "paraboloids.csv", newline="") as handle:
+        table = list(csv.DictReader(handle))
+    assert len(table) == 25
+    assert float(table[0]["depth_mdr [m]"]) == doc["paraboloids"]["rows"][0]["depth_mdr"]
+    with open(folder / "rod.csv", newline="") as handle:
+        rod = list(csv.DictReader(handle))
+    assert [r["source"] for r in rod][0] == "closed form"
+    assert "velocity [m/s]" in rod[0]
+
+
+def test_paper_text_tables(tmp_path):
+    status, out, err = run_cli("paper", "--quick", "--out", str(tmp_path))
+    assert status == 0, err
+    assert "p0 [Pa]" in out and "dd/dt [m/s]" in out and "Lee-Radok [m]" in out
+    assert "paraboloid c=20 MDR" in err  # progress
+    assert sorted(p.name for p in tmp_path.iterdir()) == sorted(FILES)
+
+
+# ------------------------------------------------------------------ mdrvisc run
+def test_run_scene_json():
+    status, out, err = run_cli("run", str(EXAMPLES / "paraboloid_c1_mdr.toml"), "--json")
+    assert status == 0, err
+    (doc,) = json.loads(out)
+    assert doc["input"]["indenter"] == {"type": "paraboloid", "c": 1, "edge": 2.56}
+    result = doc["result"]
+    assert result["method"] == "mdr" and result["n"] == 66049
+    np.testing.assert_allclose(result["depth"], analytic.paraboloid_depth(result["t"], 1, 1, 1),
+                               rtol=1e-8)
+
+
+def test_python_m_mdrvisc_run_and_bad_input(tmp_path):
+    done = subprocess.run([sys.executable, "-m", "mdrvisc", "run", str(EXAMPLES / "rod_mdr.toml")],
+                          capture_output=True, text=True, check=False)
+    assert done.returncode == 0, done.stderr
+    assert "central pressure p0 = 0.159155 Pa" in done.stdout
+    bad = tmp_path / "bad.toml"
+    bad.write_text((EXAMPLES / "rod.toml").read_text().replace("force = 1.0", "forse = 1.0"))
+    done = subprocess.run([sys.executable, "-m", "mdrvisc", "run", str(bad)],
+                          capture_output=True, text=True, check=False)
+    assert done.returncode == 2
+    assert done.stderr.startswith("error: ") and "'forse'" in done.stderr
+
+
+def test_run_errors_exit_2(tmp_path):
+    status, _, err = run_cli("run", str(tmp_path / "missing.toml"))
+    assert status == 2 and err.startswith("error: cannot read scene file")
+    invalid = tmp_path / "invalid.toml"
+    invalid.write_text("method = \n")
+    status, _, err = run_cli("run", str(invalid))
+    assert status == 2 and "not valid TOML" in err
+
+
+# ------------------------------------------------------------------ scene files
+@pytest.mark.parametrize("path", sorted(EXAMPLES.glob("*.toml")), ids=lambda p: p.name)
+def test_example_scene_files_load(path):
+    scene, method, n = load_scene(path)
+    assert method in ("bem", "mdr") and n > 0
+    assert scene.force == 1.0 and scene.medium == mv.Viscous(eta=1.0)
+
+
+def test_scene_file_builds_the_scene():
+    scene, method, n = load_scene(EXAMPLES / "paraboloid_c0.2.toml")
+    assert (method, n) == ("bem", 257)
+    assert isinstance(scene.indenter, mv.Paraboloid)
+    assert (scene.indenter.c, scene.indenter.edge) == (0.2, 2.56)
+    np.testing.assert_array_equal(scene.times, [1, 2, 3, 4, 5])
+    assert scene.duration == 5.0
+
+
+def good():
+    """A valid scene table (a fresh copy)."""
+    return {"method": "mdr", "n": 101, "force": 1.0, "duration": 2.0, "times": [1, 2],
+            "outputs": ["depth", "contact_length"],
+            "indenter": {"type": "sphere", "radius": 3.0},
+            "medium": {"type": "viscous", "eta": 2}}
+
+
+def test_good_table_solves():
+    scene, method, n = parse_scene(good())
+    result = mv.solve(scene, method, n)
+    assert result.depth.shape == (2,) and np.all(np.diff(result.depth) > 0)
+
+
+def edit(path, value):
+    """``good()`` with the dotted key ``path`` set to ``value`` (None: removed)."""
+    data = good()
+    *parents, key = path.split(".")
+    table = data
+    for parent in parents:
+        table = table[parent]
+    if value is None:
+        del table[key]
+    else:
+        table[key] = value
+    return data
+
+
+@pytest.mark.parametrize("path", ["speed", "indenter.c", "medium.G"])
+def test_unknown_key(path):
+    with pytest.raises(mv.InvalidInputError, match=f"unknown key '{path}'"):
+        parse_scene(edit(path, 1.0))
+
+
+@pytest.mark.parametrize("path", ["method", "n", "force", "duration", "indenter", "medium",
+                                  "indenter.type", "indenter.radius", "medium.eta"])
+def test_missing_key(path):
+    with pytest.raises(mv.InvalidInputError, match=f"missing key '{path}'"):
+        parse_scene(edit(path, None))
+
+
+@pytest.mark.parametrize("path, value", [
+    ("n", "101"), ("n", 101.0), ("n", True), ("force", "1"), ("duration", [2.0]),
+    ("times", [1, "2"]), ("times", 2.0), ("outputs", "depth"), ("method", 1),
+    ("indenter", "sphere"), ("indenter.radius", "3"), ("medium.eta", False),
+    ("method", "fem"), ("indenter.type", "wedge"), ("n", 0)])
+def test_wrong_type_or_value(path, value):
+    with pytest.raises(mv.InvalidInputError, match=f"key '{path}'"):
+        parse_scene(edit(path, value))
+
+
+def test_out_of_range_values_are_invalid_input():
+    with pytest.raises(mv.InvalidInputError, match="radius"):
+        parse_scene(edit("indenter.radius", -1.0))
+    with pytest.raises(mv.InvalidInputError, match="outputs"):
+        parse_scene(edit("outputs", ["depth", "temperature"]))
