@@ -38,7 +38,7 @@ impl Default for SolverOptions {
         SolverOptions {
             tol: 1e-10,
             max_iter: 5000,
-            dense_limit: 200,
+            dense_limit: 128,
         }
     }
 }

@@ -274,13 +274,17 @@ impl DenseOperator {
         if nx == 0 {
             return Err(Error::InvalidInput("grid width nx must be >= 1".into()));
         }
-        let pos: Vec<(i64, i64)> = idx
-            .iter()
-            .map(|&i| ((i % nx) as i64, (i / nx) as i64))
-            .collect();
+        let pos: Vec<(usize, usize)> = idx.iter().map(|&i| (i % nx, i / nx)).collect();
+        let span = |f: fn(&(usize, usize)) -> usize| {
+            let lo = pos.iter().map(f).min().unwrap_or(0);
+            pos.iter().map(f).max().unwrap_or(0) - lo + 1
+        };
+        // The kernel depends on the offset only: tabulate it once over the set's extent.
+        let (kx, ky) = (span(|p| p.0), span(|p| p.1));
+        let table = influence::quarter_kernel(kx, ky, dx);
         Ok(Mat::from_fn(idx.len(), idx.len(), |i, j| {
             let (a, b) = (pos[i], pos[j]);
-            influence::coefficient(a.0 - b.0, a.1 - b.1, dx)
+            table[a.1.abs_diff(b.1) * kx + a.0.abs_diff(b.0)]
         }))
     }
 }

@@ -131,11 +131,11 @@ fn explicit_control((step, area_change, start): (f64, f64, f64)) -> ExplicitCont
     }
 }
 
-fn options(tol: f64, max_iter: usize) -> SolverOptions {
+fn options(tol: f64, max_iter: usize, dense_limit: usize) -> SolverOptions {
     SolverOptions {
         tol,
         max_iter,
-        ..SolverOptions::default()
+        dense_limit,
     }
 }
 
@@ -146,7 +146,7 @@ fn history(py: Python<'_>, times: Vec<f64>, forces: Vec<f64>) -> PyResult<ForceH
 /// Implicit viscous BEM run on a grid: heights (m, (ny, nx)), footprint mask, element size
 /// dx (m), viscosity eta (Pa s), output times (s), force history samples (s, N).
 #[pyfunction]
-#[pyo3(signature = (height, allowed, dx, eta, times, force_times, force_values, rates=false, fields_at=vec![], tol=1e-10, max_iter=5000, progress=None, explicit=None))]
+#[pyo3(signature = (height, allowed, dx, eta, times, force_times, force_values, rates=false, fields_at=vec![], tol=1e-10, max_iter=5000, progress=None, explicit=None, dense_limit=128))]
 #[allow(clippy::too_many_arguments)]
 fn bem_viscous<'py>(
     py: Python<'py>,
@@ -163,6 +163,7 @@ fn bem_viscous<'py>(
     max_iter: usize,
     progress: Option<Py<PyAny>>,
     explicit: Option<(f64, f64, f64)>,
+    dense_limit: usize,
 ) -> PyResult<Bound<'py, PyDict>> {
     let grid = grid_from(py, &height, &allowed, dx)?;
     let hist = history(
@@ -175,7 +176,7 @@ fn bem_viscous<'py>(
         rates,
         fields_at,
     };
-    let opts = options(tol, max_iter);
+    let opts = options(tol, max_iter, dense_limit);
     let mut monitor = PyMonitor::new(progress);
     let ctrl = explicit.map(explicit_control);
     let r = py.detach(|| match &ctrl {
@@ -211,7 +212,7 @@ fn bem_viscous<'py>(
 /// Flat punch on the footprint mask pressed by `force` (N) into a viscous half-space;
 /// with `margin`, the surface velocity on a grid extended by that many elements per side.
 #[pyfunction]
-#[pyo3(signature = (allowed, dx, eta, force, margin=None, tol=1e-10, max_iter=5000, progress=None))]
+#[pyo3(signature = (allowed, dx, eta, force, margin=None, tol=1e-10, max_iter=5000, progress=None, dense_limit=128))]
 #[allow(clippy::too_many_arguments)]
 fn bem_punch<'py>(
     py: Python<'py>,
@@ -223,6 +224,7 @@ fn bem_punch<'py>(
     tol: f64,
     max_iter: usize,
     progress: Option<Py<PyAny>>,
+    dense_limit: usize,
 ) -> PyResult<Bound<'py, PyDict>> {
     let shape = allowed.shape().to_vec();
     let zeros = vec![0.0; shape[0] * shape[1]];
@@ -234,7 +236,7 @@ fn bem_punch<'py>(
         allowed.as_array().iter().copied().collect(),
     )
     .map_err(|e| to_pyerr(py, e))?;
-    let opts = options(tol, max_iter);
+    let opts = options(tol, max_iter, dense_limit);
     let mut monitor = PyMonitor::new(progress);
     let r = py.detach(|| viscous::run_punch(&grid, eta, force, margin, &opts, &mut monitor));
     let r = monitor.finish(py, r)?;
@@ -381,7 +383,7 @@ fn surface_deflection<'py>(
 /// Static Polonsky–Keer contact solve: separation h (m), footprint mask, element size dx
 /// (m), compliance (1/G, 1/Pa), and either `force` (N) or `depth` (m).
 #[pyfunction]
-#[pyo3(signature = (height, allowed, dx, compliance, force=None, depth=None, tol=1e-10, max_iter=5000, progress=None))]
+#[pyo3(signature = (height, allowed, dx, compliance, force=None, depth=None, tol=1e-10, max_iter=5000, progress=None, dense_limit=128))]
 #[allow(clippy::too_many_arguments)]
 fn contact_solve<'py>(
     py: Python<'py>,
@@ -394,6 +396,7 @@ fn contact_solve<'py>(
     tol: f64,
     max_iter: usize,
     progress: Option<Py<PyAny>>,
+    dense_limit: usize,
 ) -> PyResult<Bound<'py, PyDict>> {
     let grid = grid_from(py, &height, &allowed, dx)?;
     let target = match (force, depth) {
@@ -406,7 +409,7 @@ fn contact_solve<'py>(
             ))
         }
     };
-    let opts = options(tol, max_iter);
+    let opts = options(tol, max_iter, dense_limit);
     let mut monitor = PyMonitor::new(progress);
     let r = py.detach(|| -> crate::Result<_> {
         let mut solver = ContactSolver::new(FftOperator::new(grid.nx, grid.ny, grid.dx)?);
