@@ -10,10 +10,12 @@ from pathlib import Path
 
 import numpy as np
 
-from .studies import PARABOLOID_UNITS, ROD_UNITS
+from .studies import ERROR_UNITS, ORDER_UNITS, PARABOLOID_UNITS, QUANTITIES, ROD_UNITS
 
 __all__ = ["rod_table", "paraboloid_tables", "result_table", "to_jsonable", "write_csv",
-           "paper_document", "write_paper", "plot_rod", "plot_paraboloids"]
+           "paper_document", "write_paper", "plot_rod", "plot_paraboloids",
+           "error_table", "orders_table", "study_document", "write_error_vs_runtime",
+           "plot_error_vs_runtime"]
 
 
 # ----------------------------------------------------------------------------- text tables
@@ -128,27 +130,34 @@ def write_csv(path, rows, units):
                              else row[k] for k in units])
 
 
-def paper_document(results):
-    """The JSON document of :func:`mdrvisc.studies.paper`'s result: tables, units, runs."""
+def paper_document(results, study=None):
+    """The JSON document of :func:`mdrvisc.studies.paper`'s result: tables, units, runs; with
+    ``study`` (:func:`mdrvisc.studies.error_vs_runtime`'s result) also its
+    :func:`study_document` under ``error_vs_runtime``."""
     rod, par = results["rod"], results["paraboloids"]
-    return to_jsonable({
+    doc = {
         "quick": results["quick"],
         "rod": {"parameters": rod["parameters"], "units": ROD_UNITS, "rows": rod["rows"]},
         "paraboloids": {"parameters": par["parameters"], "units": PARABOLOID_UNITS,
                         "rows": par["rows"], "runs": par["runs"]},
-    })
+    }
+    if study is not None:
+        doc["error_vs_runtime"] = study_document(study)
+    return to_jsonable(doc)
 
 
-def write_paper(results, out):
+def write_paper(results, out, study=None):
     """Writes rod.csv, paraboloids.csv, paper.json, fig3_rod.png and fig4_paraboloids.png
-    into the folder ``out`` (created if missing); returns their paths."""
+    into the folder ``out`` (created if missing); returns their paths. paper.json holds
+    :func:`paper_document` (with ``study`` when given; its own files come from
+    :func:`write_error_vs_runtime`)."""
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     paths = {name: out / name for name in ("rod.csv", "paraboloids.csv", "paper.json",
                                            "fig3_rod.png", "fig4_paraboloids.png")}
     write_csv(paths["rod.csv"], results["rod"]["rows"], ROD_UNITS)
     write_csv(paths["paraboloids.csv"], results["paraboloids"]["rows"], PARABOLOID_UNITS)
-    paths["paper.json"].write_text(json.dumps(paper_document(results), indent=1) + "\n",
+    paths["paper.json"].write_text(json.dumps(paper_document(results, study), indent=1) + "\n",
                                    encoding="utf-8")
     plot_rod(results["rod"], paths["fig3_rod.png"])
     plot_paraboloids(results["paraboloids"], paths["fig4_paraboloids.png"])

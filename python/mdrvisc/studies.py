@@ -10,6 +10,9 @@ that does not apply.
 short label naming it (e.g. ``"paraboloid c=1 BEM n=257"``).
 """
 
+import math
+import time
+
 import numpy as np
 
 from . import analytic
@@ -19,7 +22,8 @@ from .scene import Scene
 from .solve import solve
 
 __all__ = ["paper", "paper_rod", "paper_paraboloids", "PAPER", "QUICK", "PAPER_ROD",
-           "ROD_UNITS", "PARABOLOID_UNITS"]
+           "ROD_UNITS", "PARABOLOID_UNITS", "error_vs_runtime", "ERROR_STUDY", "ERROR_STUDY_QUICK",
+           "ERROR_UNITS", "ORDER_UNITS"]
 
 #: Resolutions of the paper: rod BEM n = 200 (31417 elements in the disc), paraboloid BEM
 #: 257 x 257, MDR 66049 elements.
@@ -241,3 +245,286 @@ def paper(quick=False, progress=None):
     return {"quick": bool(quick),
             "rod": paper_rod(progress=progress, **sizes["rod"]),
             "paraboloids": paper_paraboloids(progress=progress, **sizes["paraboloids"])}
+
+
+# ----------------------------------------------------------------------------- error vs run time
+#: The error-vs-run-time sweep (issue 4). Paraboloids h = c r^2 on the 2.56 m square (F = 1 N,
+#: eta = 1 Pa s, errors of d(5 s) and l(5 s) against Lee-Radok) and the rod (a = 1 m, errors of
+#: dd/dt and p0 against the closed form). ``bem_n``: elements across the square (implicit);
+#: ``bem_explicit``: {n: relative steps dt / t} of the explicit loop, with ``bem_area_change``;
+#: ``mdr_n``: elements of the 1D indenter (implicit); the explicit MDR loop runs at
+#: ``mdr_explicit_n`` for every step in ``mdr_steps`` and area rule in ``mdr_area_changes``,
+#: and at ``mdr_explicit_cross_n`` for ``cross_step`` only (its error against n);
+#: ``rod_bem_n``: elements across the rod's diameter; ``rod_mdr_n``: elements of the 1D rod.
+ERROR_STUDY = {
+    "cs": (1.0, 5.0),
+    "bem_n": (33, 65, 129, 257, 513),
+    "bem_explicit": {65: (0.1, 0.03, 0.01, 0.003), 129: (0.1, 0.03, 0.01, 0.003),
+                     257: (0.1, 0.03, 0.01)},
+    "bem_area_change": 0.01,
+    "mdr_n": (257, 1025, 4097, 16385, 66049, 263169, 1050625),
+    "mdr_explicit_n": 66049,
+    "mdr_steps": (0.1, 0.03, 0.01, 0.003, 0.001),
+    "mdr_area_changes": (0.01, 0.0),
+    "mdr_explicit_cross_n": (4097, 1050625),
+    "cross_step": 0.01,
+    "rod_bem_n": (50, 100, 200, 400),
+    "rod_mdr_n": (257, 1025, 4097, 16385, 66049, 263169, 1050625),
+}
+#: The same study in seconds: coarse BEM, no BEM at the paper's 257 x 257.
+ERROR_STUDY_QUICK = {
+    "cs": (1.0, 5.0),
+    "bem_n": (33, 65, 129),
+    "bem_explicit": {33: (0.1, 0.03, 0.01), 65: (0.1, 0.03, 0.01)},
+    "bem_area_change": 0.01,
+    "mdr_n": (257, 1025, 4097, 16385, 66049),
+    "mdr_explicit_n": 66049,
+    "mdr_steps": (0.1, 0.03, 0.01, 0.003),
+    "mdr_area_changes": (0.01, 0.0),
+    "mdr_explicit_cross_n": (4097,),
+    "cross_step": 0.01,
+    "rod_bem_n": (50, 100, 200),
+    "rod_mdr_n": (257, 4097, 66049),
+}
+
+#: The paper's own settings, marked in the study (``paper`` = True). BEM: 257 x 257, the
+#: explicit loop re-solving at 1 % area growth; the paper gives no time step, dt = 0.01 t is
+#: assumed. MDR: 66049 elements, implicit, and the explicit loop without the area rule (the
+#: paper's MDR used "no speed-up techniques") at the assumed step. Rod: BEM n = 200 (31417
+#: elements), MDR 66049.
+PAPER_SETTINGS = {"bem": {"n": 257, "step": 0.01, "area_change": 0.01},
+                  "mdr": {"n": 66049, "step": 0.01, "area_change": 0.0},
+                  "rod": {"n_bem": 200, "n_mdr": 66049}}
+
+#: Runs shorter than this (s) are timed as the best of :data:`BEST_OF` runs.
+REPEAT_BELOW = 0.1
+BEST_OF = 3
+#: Relative errors below this count as exact (rounding).
+ROUNDING = 1e-14
+
+#: Quantities of the study: (label, unit).
+QUANTITIES = {"depth": ("d(5 s)", "m"), "contact_length": ("l(5 s)", "m"),
+              "stiffness_length": ("l Eq.23 (5 s)", "m"), "velocity": ("dd/dt", "m/s"),
+              "central_pressure": ("p0", "Pa")}
+
+#: Units of the keys of :func:`error_vs_runtime`'s rows. ``value`` and ``exact`` are in
+#: ``unit``; ``step`` is dt / t of the explicit loop; ``error``: (value - exact) / exact;
+#: ``error_vs_implicit``: (value - implicit value at the same n) / implicit value (explicit
+#: rows: the time-discretisation error alone).
+ERROR_UNITS = {
+    "case": "", "quantity": "", "unit": "", "method": "", "integrator": "", "series": "",
+    "n": "", "dx": "m", "step": "1", "area_change": "1", "value": "", "exact": "",
+    "error": "1", "error_vs_implicit": "1", "wall_time": "s", "steps": "", "solves": "",
+    "iterations": "", "paper": "",
+}
+
+#: Units of the keys of :func:`error_vs_runtime`'s ``orders``: |error| ~ variable^order.
+ORDER_UNITS = {
+    "method": "", "integrator": "", "case": "", "quantity": "", "fixed": "", "variable": "",
+    "against": "", "points": "", "from": "", "to": "", "error_finest": "1", "order": "1",
+    "order_last": "1", "note": "",
+}
+
+
+def _timed(run, label, *args, **kwargs):
+    """(result, wall time in s): runs ``solve`` once, and twice more for short runs (best of 3)."""
+    result = run(label, *args, **kwargs)
+    best = result.wall_time
+    if best < REPEAT_BELOW:
+        for _ in range(BEST_OF - 1):
+            best = min(best, solve(*args, **kwargs).wall_time)
+    return result, best
+
+
+def error_vs_runtime(quick=False, progress=None, settings=None):
+    """Error against run time of BEM and MDR, implicit and explicit (issue 4, item 2).
+
+    Paraboloids c = 1 and 5 (1/m) on the 2.56 m square, F = 1 N, eta = 1 Pa s: relative errors
+    of d(5 s) and l(5 s) against Lee-Radok (the contact stays inside the square until 5 s);
+    BEM l both from the area (2 sqrt(A / pi)) and by Eq. 23 (F / (4 eta dd/dt)). The rod
+    (a = 1 m, F = 1 N, eta = 1 Pa s): dd/dt and p0 against the closed form (one solve, no time
+    stepping). Wall times are the best of 3 for runs under 0.1 s.
+
+    Parameters
+    ----------
+    quick : bool
+        :data:`ERROR_STUDY_QUICK` (seconds) instead of :data:`ERROR_STUDY`.
+    progress : callable(label), optional
+    settings : dict, optional
+        Overrides keys of the chosen sweep.
+
+    Returns
+    -------
+    dict
+        ``rows``: one dict per (run, quantity), keys :data:`ERROR_UNITS`. ``orders``: observed
+        convergence orders, keys :data:`ORDER_UNITS`: |error| ~ dx^order along every
+        resolution sweep (implicit; explicit at a fixed step), ~ step^order along every step
+        sweep (against the closed form and against the implicit answer at the same n), fitted
+        by least squares in log-log (``order``) and from the two finest points
+        (``order_last``). ``settings``: the sweep; ``paper_settings``:
+        :data:`PAPER_SETTINGS`; ``parameters``: edge (m), force (N), eta (Pa s), duration (s),
+        rod radius (m); ``quick``; ``total_wall_time`` (s).
+    """
+    sweep = dict(ERROR_STUDY_QUICK if quick else ERROR_STUDY)
+    sweep.update(settings or {})
+    run = _announced(progress)
+    start = time.perf_counter()
+    rows = []
+    for c in sweep["cs"]:
+        rows += _paraboloid_sweep(float(c), sweep, run)
+    rows += _rod_sweep(sweep, run)
+    return {"quick": bool(quick), "settings": sweep, "paper_settings": PAPER_SETTINGS,
+            "parameters": {"edge": EDGE, "force": FORCE, "eta": ETA, "duration": DURATION,
+                           "rod_radius": ROD_RADIUS},
+            "rows": rows, "orders": convergence_orders(rows, sweep["cross_step"]),
+            "total_wall_time": time.perf_counter() - start}
+
+
+def _row(case, quantity, result, wall_time, value, exact, series, step=None, area_change=None,
+         implicit=None, paper=False, integrator=None):
+    label, unit = QUANTITIES[quantity]
+    value = float(value)
+    return {"case": case, "quantity": quantity, "unit": unit, "method": result.method.upper(),
+            "integrator": integrator or result.integrator, "series": series, "n": result.n,
+            "dx": result.dx, "step": step, "area_change": area_change, "value": value,
+            "exact": float(exact), "error": float((value - exact) / exact),
+            "error_vs_implicit": None if implicit is None else float((value - implicit) / implicit),
+            "wall_time": wall_time, "steps": int(result.steps), "solves": int(result.solves),
+            "iterations": int(result.iterations), "paper": bool(paper)}
+
+
+def _paraboloid_sweep(c, sweep, run):
+    """Rows of one paraboloid: BEM and MDR, implicit and explicit."""
+    exact = {"depth": float(analytic.paraboloid_depth(DURATION, FORCE, c, ETA)),
+             "contact_length": float(analytic.paraboloid_contact_length(DURATION, FORCE, c, ETA))}
+    exact["stiffness_length"] = exact["contact_length"]
+    if exact["contact_length"] > EDGE:
+        raise ValueError(f"error_vs_runtime: c = {c} leaves the {EDGE} m square before "
+                         f"{DURATION} s; Lee-Radok does not apply")
+    case = f"paraboloid c={c:g}"
+    indenter, medium = Paraboloid(c=c, edge=EDGE), Viscous(eta=ETA)
+    scene = {m: Scene(indenter=indenter, medium=medium, force=FORCE, duration=DURATION,
+                      times=[DURATION], outputs=outputs)
+             for m, outputs in (("bem", ("depth", "contact_length", "stiffness_length")),
+                                ("mdr", ("depth", "contact_length")))}
+    quantities = {"bem": ("depth", "contact_length", "stiffness_length"),
+                  "mdr": ("depth", "contact_length")}
+    rows, implicit = [], {}
+
+    def add(method, n, series, step=None, area_change=None, paper=False):
+        kwargs = {} if step is None else {"integrator": "explicit", "step": step,
+                                          "area_change": area_change}
+        what = "implicit" if step is None else f"explicit step={step:g} area_change={area_change:g}"
+        result, wall = _timed(run, f"study: {case} {method.upper()} n={n} {what}",
+                              scene[method], method, n, **kwargs)
+        for q in quantities[method]:
+            value = getattr(result, q)[-1]
+            if step is None:
+                implicit[(method, n, q)] = value
+            rows.append(_row(case, q, result, wall, value, exact[q], series, step, area_change,
+                             implicit.get((method, n, q)) if step is not None else None, paper))
+
+    pb, pm = PAPER_SETTINGS["bem"], PAPER_SETTINGS["mdr"]
+    for n in sweep["bem_n"]:
+        add("bem", n, "BEM implicit")
+    for n, steps in sweep["bem_explicit"].items():
+        ac = sweep["bem_area_change"]
+        for step in steps:
+            add("bem", n, f"BEM explicit n={n} area_change={ac:g}", step, ac,
+                paper=(n, step, ac) == (pb["n"], pb["step"], pb["area_change"]))
+    for n in sweep["mdr_n"]:
+        add("mdr", n, "MDR implicit", paper=n == pm["n"])
+    n = sweep["mdr_explicit_n"]
+    for ac in sweep["mdr_area_changes"]:
+        for step in sweep["mdr_steps"]:
+            add("mdr", n, f"MDR explicit n={n} area_change={ac:g}", step, ac,
+                paper=(n, step, ac) == (pm["n"], pm["step"], pm["area_change"]))
+        for m in sweep["mdr_explicit_cross_n"]:
+            add("mdr", m, f"MDR explicit n={m} area_change={ac:g}", sweep["cross_step"], ac)
+    return rows
+
+
+def _rod_sweep(sweep, run):
+    """Rows of the rod: one solve per resolution (its contact never changes)."""
+    scene = Scene(indenter=Rod(radius=ROD_RADIUS), medium=Viscous(eta=ETA), force=FORCE,
+                  duration=1.0, times=[1.0])
+    exact = {"velocity": analytic.rod_velocity(FORCE, ROD_RADIUS, ETA),
+             "central_pressure": analytic.rod_central_pressure(FORCE, ROD_RADIUS)}
+    paper = PAPER_SETTINGS["rod"]
+    rows = []
+    for method, ns, n_paper in (("bem", sweep["rod_bem_n"], paper["n_bem"]),
+                                ("mdr", sweep["rod_mdr_n"], paper["n_mdr"])):
+        for n in ns:
+            result, wall = _timed(run, f"study: rod {method.upper()} n={n}", scene, method, n)
+            for q in ("velocity", "central_pressure"):
+                rows.append(_row("rod", q, result, wall, getattr(result, q), exact[q],
+                                 f"{method.upper()} one solve", paper=n == n_paper,
+                                 integrator="one solve"))
+    return rows
+
+
+def _fit_order(x, err):
+    """(least-squares order, order of the two finest points) of |err| ~ x^order; x
+    decreasing towards the finest. None where fewer than two errors are above rounding."""
+    x, err = np.asarray(x, dtype=float), np.abs(np.asarray(err, dtype=float))
+    keep = err > ROUNDING
+    x, err = x[keep], err[keep]
+    if x.size < 2:
+        return None, None
+    order = float(np.polyfit(np.log(x), np.log(err), 1)[0])
+    last = float(math.log(err[-2] / err[-1]) / math.log(x[-2] / x[-1]))
+    return order, last
+
+
+def _order_entry(group, variable, against, fixed):
+    key = "error" if against == "closed form" else "error_vs_implicit"
+    group = sorted(group, key=lambda r: -r[variable])  # coarse to fine
+    x = [r[variable] for r in group]
+    err = [r[key] for r in group]
+    order, last = _fit_order(x, err)
+    first = group[0]
+    note = ""
+    if all(abs(e) <= ROUNDING for e in err):
+        note = "exact to rounding" if against == "closed form" else "equals the implicit answer"
+    elif order is None:
+        note = "fewer than two errors above rounding"
+    elif any(np.sign(err[i]) != np.sign(err[i + 1]) for i in range(len(err) - 1)):
+        note = "error changes sign"
+    return {"method": first["method"], "integrator": first["integrator"], "case": first["case"],
+            "quantity": first["quantity"], "fixed": fixed, "variable": variable,
+            "against": against, "points": len(group), "from": x[0], "to": x[-1],
+            "error_finest": float(abs(err[-1])), "order": order, "order_last": last, "note": note}
+
+
+def convergence_orders(rows, cross_step=0.01):
+    """Observed orders |error| ~ variable^order of the study's ``rows``: along dx for every
+    implicit (and one-solve) series, along dx for the explicit runs at step ``cross_step``, and
+    along the step for every explicit series of more than one step (against the closed form
+    and against the implicit answer at the same n)."""
+    groups = {}
+    for r in rows:
+        if r["integrator"] == "explicit":
+            groups.setdefault(("step", r["series"], r["case"], r["quantity"]), []).append(r)
+            if r["step"] == cross_step:
+                key = (r["method"], r["area_change"])
+                groups.setdefault(("dx", key, r["case"], r["quantity"]), []).append(r)
+        else:
+            groups.setdefault(("dx", r["series"], r["case"], r["quantity"]), []).append(r)
+    orders = []
+    for (variable, series, _, _), group in groups.items():
+        if len(group) < 2:
+            continue
+        first = group[0]
+        if variable == "step":
+            fixed = f"n={first['n']}, area_change={first['area_change']:g}"
+            for against in ("closed form", "implicit, same n"):
+                orders.append(_order_entry(group, "step", against, fixed))
+        else:
+            fixed = ("" if first["integrator"] != "explicit"
+                     else f"step={cross_step:g}, area_change={first['area_change']:g}")
+            orders.append(_order_entry(group, "dx", "closed form", fixed))
+    rank = {"depth": 0, "contact_length": 1, "stiffness_length": 2, "velocity": 3,
+            "central_pressure": 4}
+    orders.sort(key=lambda o: (o["case"], rank[o["quantity"]], o["method"], o["integrator"],
+                               o["variable"], o["fixed"], o["against"]))
+    return orders

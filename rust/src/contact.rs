@@ -215,7 +215,11 @@ impl<O: SurfaceOperator> ContactSolver<O> {
                     gsum += self.g[i] * self.g[i];
                 }
             }
-            let beta = delta * gsum / g_old;
+            let beta = if delta > 0.0 && g_old > 0.0 {
+                gsum / g_old
+            } else {
+                0.0
+            };
             g_old = gsum;
             for i in 0..n {
                 self.t[i] = if self.p[i] > 0.0 {
@@ -245,6 +249,31 @@ impl<O: SurfaceOperator> ContactSolver<O> {
                 }
             }
             let tau = if den > 0.0 { num / den } else { 0.0 };
+            // A degenerate CG step (e.g. a one-element contact, where g = 0 on the set) would
+            // never admit the overlapping elements: seed them with pressures proportional to
+            // their overlap, carrying 1 % of the load, and let the iteration grow them.
+            let tau_overlap = if tau > 0.0 {
+                tau
+            } else {
+                let (load, deficit) =
+                    (0..n)
+                        .filter(|&i| allowed[i])
+                        .fold((0.0, 0.0), |(l, d), i| {
+                            (
+                                l + self.p[i],
+                                if self.p[i] <= 0.0 && self.g[i] < 0.0 {
+                                    d - self.g[i]
+                                } else {
+                                    d
+                                },
+                            )
+                        });
+                if deficit > 0.0 {
+                    0.01 * load / deficit
+                } else {
+                    0.0
+                }
+            };
             self.p_old.copy_from_slice(&self.p);
             let (mut overlap, mut clamped) = (false, false);
             for i in 0..n {
@@ -255,11 +284,12 @@ impl<O: SurfaceOperator> ContactSolver<O> {
                     let v = self.p[i] - tau * self.t[i];
                     clamped |= v <= 0.0;
                     self.p[i] = v.max(0.0);
-                } else if self.g[i] < 0.0 && tau > 0.0 {
-                    self.p[i] = -tau * self.g[i];
+                } else if self.g[i] < 0.0 {
+                    self.p[i] = -tau_overlap * self.g[i];
                     overlap = true;
                 }
             }
+
             delta = if overlap { 0.0 } else { 1.0 };
             let mut factor = 1.0;
             if let Some(w) = force {

@@ -475,3 +475,36 @@ pub fn run_punch(
         surface_velocity,
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::monitor::Silent;
+
+    fn paraboloid_grid(n: usize, c: f64, edge: f64) -> Grid {
+        let dx = edge / n as f64;
+        let x = |i: usize| (i as f64 - 0.5 * (n as f64 - 1.0)) * dx;
+        let h = (0..n * n)
+            .map(|i| c * (x(i % n).powi(2) + x(i / n).powi(2)))
+            .collect();
+        Grid::new(n, n, dx, h, vec![true; n * n]).unwrap()
+    }
+
+    #[test]
+    fn sharp_indenter_grows_from_a_one_element_contact() {
+        let grid = paraboloid_grid(257, 1000.0, 2.56);
+        let times: Vec<f64> = (0..8)
+            .map(|k| 1e-3 * (5e3f64).powf(k as f64 / 7.0))
+            .collect();
+        let req = ViscousRequest {
+            times: times.clone(),
+            rates: false,
+            fields_at: vec![],
+        };
+        let h = ForceHistory::constant(1.0).unwrap();
+        let s = run_implicit(&grid, 1.0, &h, &req, &SolverOptions::default(), &mut Silent).unwrap();
+        let c = 1000.0f64;
+        let exact = (3.0 * 5.0 * (2.0 * c).sqrt() / 16.0).powf(2.0 / 3.0);
+        assert!((s.depth[7] / exact - 1.0).abs() < 0.01);
+    }
+}

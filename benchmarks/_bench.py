@@ -1,0 +1,161 @@
+"""Shared helpers of the benchmark scripts: best-of-N timing, machine/load header, tables.
+
+Timings are wall-clock (``time.perf_counter``). Every script repeats each measurement and
+reports the best (minimum) time, which is the least disturbed by other work on the machine;
+the load average is printed before and after each table so that a disturbed run shows.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import os
+import platform
+import sys
+import time
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+if str(HERE) not in sys.path:  # numpy_reference lives next to the scripts
+    sys.path.insert(0, str(HERE))
+
+
+def best_of(fn, repeats: int, warmup: int = 0):
+    """Calls ``fn()`` ``warmup + repeats`` times; returns (best seconds, last return value)."""
+    value = None
+    for _ in range(warmup):
+        value = fn()
+    best = float("inf")
+    for _ in range(repeats):
+        start = time.perf_counter()
+        value = fn()
+        best = min(best, time.perf_counter() - start)
+    return best, value
+
+
+def _busy_seconds() -> float:
+    """CPU seconds spent busy by all cores since boot (from /proc/stat; 0 if unavailable)."""
+    try:
+        with open("/proc/stat") as f:
+            fields = [int(v) for v in f.readline().split()[1:]]
+    except (OSError, ValueError):
+        return 0.0
+    idle = fields[3] + (fields[4] if len(fields) > 4 else 0)
+    return (sum(fields[:8]) - idle) / os.sysconf("SC_CLK_TCK")
+
+
+def _own_seconds() -> float:
+    t = os.times()
+    return t.user + t.system + t.children_user + t.children_system
+
+
+_mark = [time.perf_counter(), _busy_seconds(), _own_seconds()]
+
+
+def other_work() -> str:
+    """CPU used by *other* processes since the last call (header or table), in cores on
+    average: machine busy time minus this process's (and its waited-for children's) time."""
+    now, busy, own = time.perf_counter(), _busy_seconds(), _own_seconds()
+    wall = now - _mark[0]
+    others = max(0.0, (busy - _mark[1]) - (own - _mark[2]))
+    _mark[:] = [now, busy, own]
+    if wall <= 0 or busy == 0.0:
+        return "other work n/a"
+    return f"other processes used {others / wall:.2f} cores on average over the last {wall:.0f} s"
+
+
+def load() -> str:
+    """The 1-minute load average (and the number of cores) as a short string."""
+    try:
+        one, five, _ = os.getloadavg()
+        return f"load avg {one:.2f} (1 min) {five:.2f} (5 min) on {os.cpu_count()} cores"
+    except OSError:
+        return "load avg n/a"
+
+
+def header(title: str) -> None:
+    """Prints the title, the machine, the library build and the current load."""
+    import numpy
+    import scipy
+
+    import mdrvisc
+    from mdrvisc import _core
+
+    so = Path(_core.__file__)
+    digest = hashlib.sha1(so.read_bytes()).hexdigest()[:10]
+    stamp = time.strftime("%Y-%m-%d %H:%M:%S", time.localtime(so.stat().st_mtime))
+    print(f"== {title}")
+    print(f"   python {platform.python_version()}, numpy {numpy.__version__}, "
+          f"scipy {scipy.__version__}, mdrvisc {mdrvisc.__version__} "
+          f"(_core sha1 {digest}, built {stamp})")
+    threads = os.environ.get("RAYON_NUM_THREADS", "unset (all cores)")
+    print(f"   {platform.machine()}, {os.cpu_count()} cores, RAYON_NUM_THREADS={threads}; "
+          f"{load()}")
+    other_work()  # start the count of other processes' CPU time
+
+
+def table(columns, rows, formats=None) -> None:
+    """Prints ``rows`` (sequences) under ``columns`` with per-column format strings."""
+    formats = formats or ["{}"] * len(columns)
+    cells = [[fmt.format(v) if v is not None else "-" for fmt, v in zip(formats, row)]
+             for row in rows]
+    widths = [max(len(c), *(len(r[i]) for r in cells)) if cells else len(c)
+              for i, c in enumerate(columns)]
+    print("  ".join(c.rjust(w) for c, w in zip(columns, widths)))
+    print("  ".join("-" * w for w in widths))
+    for r in cells:
+        print("  ".join(v.rjust(w) for v, w in zip(r, widths)))
+    print(f"   ({load()}; {other_work()})")
+
+
+def mdrvisc_apply_time(n: int, repeats: int = 3, tol_lo: float = 1e-2, tol_hi: float = 1e-8):
+    """Seconds per DC-FFT operator apply of mdrvisc on an n x n grid, from a CG-heavy call.
+
+    ``_core.surface_deflection`` builds the operator (Love kernel + its FFT, plans, buffers)
+    on every call, so it cannot time an apply alone. Instead this times
+    ``_core.bem_punch`` on the full n x n square with ``dense_limit=0`` (flat-punch CG on the
+    whole grid: one operator apply per iteration plus O(n^2) vector updates, after one
+    operator build and one initial apply) at two tolerances, and takes the difference:
+
+        t_apply = (T(tol_hi) - T(tol_lo)) / (iters(tol_hi) - iters(tol_lo)),
+
+    which cancels the build, the first apply and the Python call. Each T is a best of
+    ``repeats``. Returns a dict: per_apply (s, the differential estimate), per_iter (s, the
+    naive T(tol_hi) / iters(tol_hi), which still carries the build), fixed (s, T(tol_lo) minus
+    its iterations: build + initial apply + call overhead), iters_lo, iters_hi, t_lo, t_hi.
+    """
+    import numpy as np
+
+    from mdrvisc import _core
+
+    mask = np.ones((n, n), dtype=bool)
+    dx = 2.56 / n
+
+    def run(tol):
+        return _core.bem_punch(mask, dx, 1.0, 1.0, tol=tol, max_iter=100000, dense_limit=0)
+
+    t_lo, r_lo = best_of(lambda: run(tol_lo), repeats)
+    t_hi, r_hi = best_of(lambda: run(tol_hi), repeats)
+    it_lo, it_hi = int(r_lo["iterations"]), int(r_hi["iterations"])
+    per_apply = (t_hi - t_lo) / max(it_hi - it_lo, 1)
+    return dict(per_apply=per_apply, per_iter=t_hi / it_hi, fixed=t_lo - it_lo * per_apply,
+                iters_lo=it_lo, iters_hi=it_hi, t_lo=t_lo, t_hi=t_hi)
+
+
+def numpy_apply_time(n: int, workers: int, repeats: int):
+    """Seconds per apply of numpy_reference.FftOperator on n x n (operator built once,
+    outside the timing; pocketfft plans warmed by one untimed apply), and the build time
+    (best of ``repeats``, Love kernel + kernel rfft2)."""
+    import numpy as np
+
+    import numpy_reference as ref
+
+    saved = ref.FFT_WORKERS
+    ref.FFT_WORKERS = workers
+    try:
+        dx = 2.56 / n
+        build, op = best_of(lambda: ref.FftOperator(n, n, dx), max(1, min(repeats, 3)))
+        p = np.random.default_rng(0).random((n, n))
+        apply, _ = best_of(lambda: op.apply(p), repeats, warmup=1)
+    finally:
+        ref.FFT_WORKERS = saved
+    return apply, build

@@ -1,0 +1,168 @@
+"""The paper's Section 6 viscous BEM run: mdrvisc against the plain numpy reference.
+
+Problem (DESIGN.md 1.3): paraboloid h = c r^2 on a 2.56 m x 2.56 m square footprint, n x n
+= 257 x 257 elements, F = 1 N from t = 0, eta = 1 Pa s, outputs t = 1, 2, 3, 4, 5 s; c = 1
+(the paper's figure case), 5 and 20; CG tolerance 1e-10 and 1e-8. Both codes use the same
+implicit impulse stepping (one Polonsky-Keer solve per output time, warm-started) on the same
+grid (``mdrvisc.solve.bem_grid``) and the same stopping rule (relative L1 change of p).
+
+What is timed (wall clock):
+
+* mdrvisc: ``mv.solve(scene, "bem", n, tol=tol)`` end to end (Python grid set-up included),
+  best of 3. It windows each implicit step to the part of the grid the step can touch
+  (exact), and does one operator apply per CG iteration while the active set holds.
+* numpy: ``numpy_reference.viscous_bem`` on the same h, mask, dx and tol (scipy.fft
+  workers=-1), best of 2. It works on the full grid and does two applies per CG iteration
+  (K[p] and K[t]) plus one per solve.
+
+Columns: wall times, solves, total CG iterations, d(5 s) relative error against Lee-Radok
+(``mv.analytic.paraboloid_depth``), end-to-end ratio numpy / mdrvisc, and per-CG-iteration
+times. A second table gives the operator-apply ratio on the full 257^2 grid (numpy
+``FftOperator.apply`` alone vs mdrvisc's apply from a flat-punch CG, see bench_operator.py),
+and splits the end-to-end ratio into that apply ratio and the work mdrvisc avoids (fewer /
+smaller applies).
+
+Run: ``python benchmarks/bench_bem.py [--c 1 5 20] [--tol 1e-10 1e-8] [--quick]``;
+``--mv-only --json`` prints mdrvisc's numbers as JSON (used by bench_threads.py).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+
+import numpy as np
+
+import mdrvisc as mv
+from _bench import best_of, header, mdrvisc_apply_time, numpy_apply_time, table
+
+EDGE, FORCE, ETA, DURATION = 2.56, 1.0, 1.0, 5.0
+
+
+def scene(c: float):
+    return mv.Scene(indenter=mv.Paraboloid(c=c, edge=EDGE), medium=mv.Viscous(eta=ETA),
+                    force=FORCE, duration=DURATION)
+
+
+def run_mdrvisc(c: float, n: int, tol: float, repeats: int) -> dict:
+    sc = scene(c)
+    wall, res = best_of(lambda: mv.solve(sc, "bem", n, tol=tol), repeats, warmup=1)
+    exact = mv.analytic.paraboloid_depth(DURATION, FORCE, c, ETA)
+    return dict(c=c, n=n, tol=tol, wall=wall, solves=int(res.solves),
+                iterations=int(res.iterations), d5=float(res.depth[-1]),
+                err=float(res.depth[-1] - exact) / exact)
+
+
+def run_numpy(c: float, n: int, tol: float, repeats: int) -> dict:
+    import numpy_reference as ref
+
+    ref.FFT_WORKERS = -1
+    sc = scene(c)
+    _, dx, h, mask = _grid(sc, n)
+    wall, res = best_of(lambda: ref.viscous_bem(h, mask, dx, ETA, FORCE, sc.times, tol=tol,
+                                                 max_iter=5000), repeats)
+    exact = mv.analytic.paraboloid_depth(DURATION, FORCE, c, ETA)
+    return dict(wall=wall, solves=int(res["solves"]), iterations=int(res["iterations"]),
+                d5=float(res["depth"][-1]), err=float(res["depth"][-1] - exact) / exact)
+
+
+def _grid(sc, n):
+    from mdrvisc.solve import bem_grid
+
+    return bem_grid(sc, n)
+
+
+def main(argv=None) -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--c", type=float, nargs="+", default=[1.0, 5.0, 20.0])
+    parser.add_argument("--tol", type=float, nargs="+", default=[1e-10, 1e-8])
+    parser.add_argument("--n", type=int, default=257)
+    parser.add_argument("--repeats", type=int, default=3, help="mdrvisc best of (3)")
+    parser.add_argument("--np-repeats", type=int, default=2, help="numpy best of (2)")
+    parser.add_argument("--quick", action="store_true", help="best of 2 / 1")
+    parser.add_argument("--mv-only", action="store_true", help="mdrvisc only")
+    parser.add_argument("--json", action="store_true", help="print JSON (with --mv-only)")
+    args = parser.parse_args(argv)
+    if args.quick:
+        args.repeats, args.np_repeats = 2, 1
+
+    if args.mv_only:
+        out = [run_mdrvisc(c, args.n, tol, args.repeats) for c in args.c for tol in args.tol]
+        print(json.dumps(out) if args.json else "\n".join(map(str, out)))
+        return
+
+    n = args.n
+    header(f"Viscous BEM, paper Section 6: paraboloid on 2.56 m square, {n} x {n}, F = 1 N, "
+           f"eta = 1 Pa s, t = 1..5 s")
+    rows, pairs = [], []
+    for c in args.c:
+        for tol in args.tol:
+            m = run_mdrvisc(c, n, tol, args.repeats)
+            r = run_numpy(c, n, tol, args.np_repeats)
+            pairs.append((m, r))
+            rows.append([c, f"{tol:.0e}", m["wall"], r["wall"], r["wall"] / m["wall"],
+                         m["solves"], f"{m['iterations']}/{r['iterations']}",
+                         m["wall"] / m["iterations"] * 1e3, r["wall"] / r["iterations"] * 1e3,
+                         m["err"], r["err"]])
+    print(f"\nEnd to end (mdrvisc best of {args.repeats}, numpy best of {args.np_repeats}):")
+    table(["c", "tol", "mv s", "np s", "np/mv", "solves", "CG iters mv/np", "mv ms/iter",
+           "np ms/iter", "mv d(5) err", "np d(5) err"], rows,
+          ["{:g}", "{}", "{:.3f}", "{:.3f}", "{:.1f}x", "{}", "{}", "{:.2f}", "{:.2f}",
+           "{:+.2e}", "{:+.2e}"])
+
+    # Operator-apply ratio on the full grid, and what the rest of the speed-up comes from.
+    np_apply, _ = numpy_apply_time(n, -1, 10)
+    cg = mdrvisc_apply_time(n, repeats=3)
+    apply_ratio = np_apply / cg["per_apply"]
+    print(f"\nOperator apply on the full {n}^2 grid (padded {2 * n - 2}^2): numpy "
+          f"{np_apply * 1e3:.3f} ms (FftOperator.apply, workers=-1, best of 10), mdrvisc "
+          f"{cg['per_apply'] * 1e3:.3f} ms (flat-punch CG differential, {cg['iters_lo']}->"
+          f"{cg['iters_hi']} iterations): apply ratio {apply_ratio:.2f}x")
+    rows = []
+    for m, r in pairs:
+        np_applies = 2 * r["iterations"] + r["solves"]
+        np_in_apply = np_applies * np_apply
+        # full-grid apply-equivalents mdrvisc's wall time would buy
+        mv_equiv = m["wall"] / cg["per_apply"]
+        rows.append([m["c"], f"{m['tol']:.0e}", r["wall"] / m["wall"], apply_ratio,
+                     r["wall"] / m["wall"] / apply_ratio, np_applies, np_in_apply / r["wall"],
+                     mv_equiv, mv_equiv / m["iterations"]])
+    table(["c", "tol", "end-to-end", "apply ratio", "rest (work avoided)", "np applies",
+           "np time in applies", "mv wall in full applies", "per mv CG iter"], rows,
+          ["{:g}", "{}", "{:.1f}x", "{:.2f}x", "{:.1f}x", "{}", "{:.0%}", "{:.0f}", "{:.2f}"])
+    print("   'rest' = end-to-end / apply ratio: the factor from doing fewer and smaller applies "
+          "(windowing, one apply per CG iteration)\n   and from the O(n) work. 'mv wall in full "
+          "applies' = mdrvisc wall time / one full-grid mdrvisc apply; numpy needs "
+          "2 iters + solves full applies.")
+    first_step_table(args.c, args.tol[0], n, args.repeats, args.np_repeats)
+
+
+def first_step_table(cs, tol, n, repeats, np_repeats):
+    """The first implicit step (t = 0 -> 1 s) alone: mdrvisc solves it on the whole grid from a
+    uniform start (no window yet), like numpy; the later steps are windowed and warm-started."""
+    import numpy_reference as ref
+    from mdrvisc import _core
+
+    rows = []
+    for c in cs:
+        sc = scene(c)
+        _, dx, h, mask = _grid(sc, n)
+        ft, fv = sc.history
+        full = _core.bem_viscous(h, mask, dx, ETA, sc.times, ft, fv, tol=tol)
+        one = np.array([1.0])
+        t1, r1 = best_of(lambda: _core.bem_viscous(h, mask, dx, ETA, one, ft, fv, tol=tol),
+                         repeats)
+        tn1, rn1 = best_of(lambda: ref.viscous_bem(h, mask, dx, ETA, FORCE, one, tol=tol),
+                           np_repeats)
+        rows.append([c, f"{tol:.0e}", " ".join(str(int(i)) for i in full["iterations"]),
+                     int(full["solves"]), t1, int(r1["iterations"][0]), tn1,
+                     int(rn1["iterations"]), tn1 / t1])
+    print("\nFirst step alone (t = 0 -> 1 s, whole grid, cold start) and mdrvisc's per-step CG "
+          "iterations of the full run:")
+    table(["c", "tol", "mv iters per step", "mv solves", "mv step-1 s", "mv step-1 iters",
+           "np step-1 s", "np step-1 iters", "np/mv step 1"], rows,
+          ["{:g}", "{}", "{}", "{}", "{:.3f}", "{}", "{:.3f}", "{}", "{:.1f}x"])
+
+
+if __name__ == "__main__":
+    main()
