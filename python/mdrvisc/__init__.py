@@ -10,7 +10,7 @@ elements (BEM) and by the method of dimensionality reduction (MDR), side by side
 Units are SI: m, s, N, Pa, Pa s. Depths and deflections are positive into the body.
 """
 
-from . import analytic
+from . import analytic, arrays
 from .errors import ConvergenceError, DomainError, InvalidInputError, MdrviscError
 from .geometry import Axisymmetric, Cone, Indenter, Paraboloid, Rod, Sphere
 from .media import Elastic, Viscous
@@ -20,5 +20,5 @@ from .solve import solve
 __version__ = "0.1.0"
 
 __all__ = ["Scene", "Result", "OUTPUTS", "solve", "Rod", "Paraboloid", "Cone", "Sphere",
-           "Axisymmetric", "Indenter", "Viscous", "Elastic", "analytic", "MdrviscError",
+           "Axisymmetric", "Indenter", "Viscous", "Elastic", "analytic", "arrays", "MdrviscError",
            "InvalidInputError", "ConvergenceError", "DomainError", "__version__"]

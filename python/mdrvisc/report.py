@@ -245,3 +245,256 @@ def plot_paraboloids(par, path):
                  f"eta = {p['eta']:g} Pa s")
     fig.savefig(path, dpi=150)
     plt.close(fig)
+
+
+# ----------------------------------------------------------------------------- error vs run time
+_QUANTITY_ORDER = ("depth", "contact_length", "stiffness_length", "velocity", "central_pressure")
+_QUANTITY_TITLES = {
+    "depth": "indentation depth d(5 s)",
+    "contact_length": "contact length l(5 s): BEM 2 sqrt(A/pi), MDR count x dx",
+    "stiffness_length": "contact length l(5 s) by Eq. 23, l = F / (4 eta dd/dt) (BEM)",
+    "velocity": "penetration rate dd/dt",
+    "central_pressure": "central pressure p0",
+}
+
+
+def _cases(rows):
+    """The study's (case, quantity) pairs in order of appearance, quantities ranked."""
+    seen = []
+    for r in rows:
+        if r["case"] not in seen:
+            seen.append(r["case"])
+    return [(c, q) for c in seen for q in _QUANTITY_ORDER
+            if any(r["case"] == c and r["quantity"] == q for r in rows)]
+
+
+def error_table(study):
+    """The error-vs-run-time rows (:func:`mdrvisc.studies.error_vs_runtime`) as aligned text:
+    one table per case and quantity; ``*`` marks the paper's settings."""
+    p = study["parameters"]
+    lines = [f"Error against run time ({'quick' if study['quick'] else 'full'}; "
+             f"{study['total_wall_time']:.1f} s): paraboloids h = c r^2 on a {p['edge']:g} m "
+             f"square and a rod a = {p['rod_radius']:g} m, F = {p['force']:g} N, "
+             f"eta = {p['eta']:g} Pa s",
+             "error = value / closed form - 1 (Lee-Radok at t = 5 s; rod closed form); "
+             "vs impl = value / implicit at the same n - 1 (time-stepping error alone);",
+             "step = dt / t of the explicit loop; area = its re-solve threshold; wall: best of "
+             "3 below 0.1 s; * = the paper's setting (explicit step 0.01 assumed)"]
+    columns = [("method", "method", ""), ("integrator", "integrator", ""), ("n", "n", "d"),
+               ("dx [m]", "dx", ".3e"), ("step", "step", "g"), ("area", "area_change", "g"),
+               ("wall [s]", "wall_time", ".2e"), ("value", "value", ".8g"),
+               ("error", "error", "+.2e"), ("vs impl", "error_vs_implicit", "+.2e"),
+               ("steps", "steps", "d"), ("solves", "solves", "d"), ("", "mark", "")]
+    for case, quantity in _cases(study["rows"]):
+        rows = [dict(r, mark="*" if r["paper"] else "") for r in study["rows"]
+                if r["case"] == case and r["quantity"] == quantity]
+        label, unit = QUANTITIES[quantity]
+        lines += ["", f"{case}: {label} [{unit}], closed form {rows[0]['exact']:.8g} {unit}",
+                  _table(columns, rows)]
+    return "\n".join(lines)
+
+
+def orders_table(study):
+    """The observed convergence orders of the study as aligned text."""
+    columns = [("case", "case", ""), ("quantity", "quantity", ""), ("method", "method", ""),
+               ("integrator", "integrator", ""), ("fixed", "fixed", ""),
+               ("in", "variable", ""), ("against", "against", ""), ("pts", "points", "d"),
+               ("from", "from", ".3g"), ("to", "to", ".3g"), ("|err| finest", "error_finest", ".2e"),
+               ("order (fit)", "order", "+.2f"), ("order (last)", "order_last", "+.2f"),
+               ("note", "note", "")]
+    return ("Observed convergence orders: |error| ~ dx^order or step^order (least squares over "
+            "the points; 'last': the two finest)\n" + _table(columns, study["orders"]))
+
+
+def study_document(study):
+    """The JSON document of :func:`mdrvisc.studies.error_vs_runtime`'s result."""
+    return to_jsonable({"quick": study["quick"], "parameters": study["parameters"],
+                        "settings": study["settings"], "paper_settings": study["paper_settings"],
+                        "total_wall_time": study["total_wall_time"],
+                        "units": ERROR_UNITS, "rows": study["rows"],
+                        "order_units": ORDER_UNITS, "orders": study["orders"]})
+
+
+def write_error_vs_runtime(study, out):
+    """Writes error_vs_runtime.csv (rows), error_vs_runtime_orders.csv, error_vs_runtime.json
+    and error_vs_runtime.png into the folder ``out`` (created if missing); returns the paths."""
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    names = ("error_vs_runtime.csv", "error_vs_runtime_orders.csv", "error_vs_runtime.json",
+             "error_vs_runtime.png")
+    paths = {name: out / name for name in names}
+    write_csv(paths[names[0]], study["rows"], ERROR_UNITS)
+    write_csv(paths[names[1]], study["orders"], ORDER_UNITS)
+    paths[names[2]].write_text(json.dumps(study_document(study), indent=1) + "\n",
+                               encoding="utf-8")
+    plot_error_vs_runtime(study, paths[names[3]])
+    return list(paths.values())
+
+
+#: Errors below this are drawn at it (log axes); the MDR rod is exact to rounding.
+ERROR_FLOOR = 1e-16
+
+
+def _style(row, bem_explicit_n):
+    """(legend label, colour, marker, line style) of a row's series."""
+    method, integrator = row["method"], row["integrator"]
+    if integrator == "one solve":
+        return (f"{method} (rod: one solve)", "C0" if method == "BEM" else "C2",
+                "o" if method == "BEM" else "s", "-")
+    if integrator == "implicit":
+        return (f"{method} implicit (n varies)", "C0" if method == "BEM" else "C2",
+                "o" if method == "BEM" else "s", "-")
+    if method == "BEM":
+        k = bem_explicit_n.index(row["n"])
+        shades = ["#fdae6b", "#f16913", "#a63603", "#7f2704"]
+        return (f"BEM explicit n={row['n']}, area {row['area_change']:g} (step varies)",
+                shades[min(k + max(0, 3 - len(bem_explicit_n)), 3)], "^", "--")
+    if row["area_change"] > 0:
+        return (f"MDR explicit, area {row['area_change']:g} (step varies)", "C4", "v", "--")
+    return (f"MDR explicit, area {row['area_change']:g} (step varies)", "C3", "D", "--")
+
+
+def plot_error_vs_runtime(study, path):
+    """|relative error| against wall time (s), log-log: one panel per case and quantity, one
+    curve per method x integrator (explicit: per n or area rule, the step varying; dotted:
+    explicit at the fixed step with n varying); stars mark the paper's settings. Saves a PNG."""
+    plt = _pyplot()
+    rows = study["rows"]
+    cross_step = study["settings"]["cross_step"]
+    bem_explicit_n = sorted(study["settings"]["bem_explicit"])
+    cases = _cases(rows)
+    paraboloids = [c for c in dict.fromkeys(c for c, _ in cases) if c != "rod"]
+    quantities = [q for q in ("depth", "contact_length", "stiffness_length")
+                  if any(q == qq for _, qq in cases)]
+    ncols = len(quantities) + (1 if any(c == "rod" for c, _ in cases) else 0)
+    nrows = max(len(paraboloids), 2)
+    fig, axes = plt.subplots(nrows, ncols, figsize=(4.6 * ncols, 4.0 * nrows + 1.2),
+                             layout="constrained", squeeze=False)
+    panels = {(c, q): axes[i, j] for i, c in enumerate(paraboloids)
+              for j, q in enumerate(quantities)}
+    rod_quantities = [q for c, q in cases if c == "rod"]
+    for i, q in enumerate(rod_quantities):
+        panels[("rod", q)] = axes[i, ncols - 1]
+    handles = {}
+    letters = iter("abcdefghijklmnop")
+    walls = [r["wall_time"] for r in rows]
+    xlim = (10 ** (math.floor(math.log10(min(walls)) * 2) / 2),
+            10 ** (math.ceil(math.log10(max(walls)) * 2) / 2))
+    for i in range(nrows):
+        for j in range(ncols):
+            ax = axes[i, j]
+            key = next((k for k, v in panels.items() if v is ax), None)
+            if key is None:
+                ax.set_visible(False)
+                continue
+            _error_panel(ax, key, rows, cross_step, bem_explicit_n, handles, next(letters), xlim)
+    handles["paper"] = plt.Line2D([], [], color="w", marker="*", mec="k", mfc="0.6", ms=13,
+                                  ls="none", label="paper's setting (BEM 257 explicit area 0.01, "
+                                  "MDR 66049, rod BEM 200; step 0.01 assumed)")
+    handles["cross"] = plt.Line2D([], [], color="k", ls=":", lw=1.2, alpha=0.6,
+                                  label=f"explicit at step {cross_step:g}, n varies")
+    fig.legend(handles=list(handles.values()), loc="outside lower center", ncol=3, fontsize=8)
+    p = study["parameters"]
+    fig.suptitle(f"Error against run time{' (quick)' if study['quick'] else ''}: paraboloids "
+                 f"h = c r^2 on a {p['edge']:g} m square and a rod a = {p['rod_radius']:g} m, "
+                 f"F = {p['force']:g} N, eta = {p['eta']:g} Pa s; closed forms: Lee-Radok at "
+                 f"t = {p['duration']:g} s, flat punch")
+    fig.savefig(path, dpi=130)
+    plt.close(fig)
+
+
+def _sweep_key(row):
+    """Coarse to fine along a series: n up (implicit), step down (explicit)."""
+    return (row["n"], -(row["step"] or 0.0))
+
+
+def _error_panel(ax, key, rows, cross_step, bem_explicit_n, handles, letter, xlim):
+    """One panel of :func:`plot_error_vs_runtime`. Errors below :data:`ERROR_FLOOR` (exact to
+    rounding) are drawn as down triangles on the bottom edge."""
+    case, quantity = key
+    mine = [r for r in rows if r["case"] == case and r["quantity"] == quantity]
+    shown = [abs(r["error"]) for r in mine if abs(r["error"]) >= ERROR_FLOOR]
+    ylim = (10 ** math.floor(math.log10(min(shown)) - 0.3), 10 ** math.ceil(math.log10(max(shown)) + 0.2))
+    bottom = ax.get_xaxis_transform()  # x in data, y in axes fraction
+    series = {}
+    for r in mine:
+        series.setdefault(r["series"], []).append(r)
+    floored = False
+    for group in series.values():
+        label, color, marker, ls = _style(group[0], bem_explicit_n)
+        group = sorted(group, key=_sweep_key)
+        exact = [r for r in group if abs(r["error"]) < ERROR_FLOOR]
+        group = [r for r in group if abs(r["error"]) >= ERROR_FLOOR]
+        if exact:
+            floored = True
+            (line,) = ax.plot([r["wall_time"] for r in exact], [0.0] * len(exact), transform=bottom,
+                              marker="v", color=color, ms=7, ls="none", clip_on=False,
+                              label=label)
+            handles.setdefault(label, line)
+            for r in exact:
+                if r["paper"]:
+                    ax.plot(r["wall_time"], 0.0, transform=bottom, marker="*", ms=15, mfc=color,
+                            mec="k", mew=0.8, ls="none", zorder=5, clip_on=False)
+        if not group:
+            continue
+        t = [r["wall_time"] for r in group]
+        e = [abs(r["error"]) for r in group]
+        (line,) = ax.plot(t, e, ls=ls if len(group) > 1 else "none", marker=marker, color=color,
+                          ms=5, lw=1.3, label=label)
+        handles.setdefault(label, line)
+        for r, tt, ee in zip(group, t, e):
+            if r["paper"]:
+                ax.plot(tt, ee, marker="*", ms=15, mfc=color, mec="k", mew=0.8, ls="none",
+                        zorder=5)
+                what = (f"paper: {r['method']} n={r['n']}" if r["step"] is None
+                        else f"paper: {r['method']} n={r['n']}\nstep {r['step']:g}, "
+                             f"area {r['area_change']:g}")
+                ax.annotate(what, (tt, ee), xytext=(8, 4), textcoords="offset points",
+                            fontsize=6.5, color="k", zorder=6,
+                            bbox={"boxstyle": "round,pad=0.15", "fc": "w", "ec": "none",
+                                  "alpha": 0.75})
+    # explicit runs at the fixed step, n varying
+    cross = {}
+    for r in mine:
+        if r["integrator"] == "explicit" and r["step"] == cross_step:
+            cross.setdefault((r["method"], r["area_change"]), []).append(r)
+    for group in cross.values():
+        if len(group) > 1:
+            group = sorted(group, key=lambda r: r["n"])
+            ax.plot([r["wall_time"] for r in group], [abs(r["error"]) for r in group],
+                    ls=":", color="k", lw=1.2, alpha=0.6)
+    # resolution labels at the ends of the implicit and one-solve curves
+    for group in series.values():
+        if group[0]["integrator"] in ("implicit", "one solve") and len(group) > 1:
+            group = sorted(group, key=lambda r: r["n"])
+            for r in (group[0], group[-1]):
+                if abs(r["error"]) < ERROR_FLOOR:
+                    ax.annotate(f"n={r['n']}", (r["wall_time"], 0.0), xycoords=bottom,
+                                xytext=(0, 7), textcoords="offset points", fontsize=6.5,
+                                ha="center", color="0.3")
+                else:
+                    ax.annotate(f"n={r['n']}", (r["wall_time"], abs(r["error"])),
+                                xytext=(0, -11), textcoords="offset points", fontsize=6.5,
+                                ha="center", color="0.3")
+    if floored:
+        ax.text(0.98, 0.1, "MDR: exact to rounding\n(error 0, triangles on the axis)",
+                transform=ax.transAxes, ha="right", va="bottom", fontsize=7, color="0.3")
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlim(xlim)
+    ax.set_ylim(ylim)
+    label, unit = QUANTITIES[quantity]
+    title = _QUANTITY_TITLES[quantity]
+    where = "rod a = 1 m" if case == "rod" else case.replace("paraboloid ", "") + " 1/m"
+    ax.set_title(f"({letter}) {where}: {title}", fontsize=8.5)
+    ax.set(xlabel="wall time [s]", ylabel=f"|relative error of {label}| [-]")
+    ax.grid(alpha=0.3, which="major", lw=0.5)
+    ax.grid(alpha=0.12, which="minor", lw=0.4)
+    ax.xaxis.set_minor_formatter(_null_formatter())
+    ax.yaxis.set_minor_formatter(_null_formatter())
+
+
+def _null_formatter():
+    from matplotlib.ticker import NullFormatter
+
+    return NullFormatter()

@@ -134,7 +134,9 @@ class Result:
     """What a solve computed, and how.
 
     Units: t in s, depth and lengths in m, velocity in m/s, pressure in Pa, area in m^2.
-    Fields not asked for are None.
+    Fields not asked for are None. ``saturated``: the contact covers the whole indenter
+    (BEM: every footprint element; MDR: every element); ``at_edge`` (BEM): the contact
+    reached the outermost ring of the grid.
     """
 
     method: str
@@ -149,6 +151,7 @@ class Result:
     central_pressure: float = None
     fields: dict = None
     saturated: np.ndarray = None
+    at_edge: np.ndarray = None
     steps: int = 0
     solves: int = 0
     iterations: int = 0
@@ -156,6 +159,7 @@ class Result:
     wall_time: float = 0.0
     grid_shape: tuple = None
     integrator: str = "implicit"
+    warnings: list = field(default_factory=list)
     units: dict = field(default_factory=lambda: {
         "t": "s", "depth": "m", "contact_length": "m", "area": "m^2", "velocity": "m/s",
         "stiffness_length": "m", "central_pressure": "Pa", "dx": "m", "wall_time": "s"})

@@ -19,7 +19,9 @@ UNBOUNDED_MARGIN = 1.2
 
 
 def _progress_printer(stage, done, total):
-    print(f"\r  {stage}: {done}/{total}", end="" if done < total else "\n", file=sys.stderr, flush=True)
+    """Prints one self-overwriting progress line per stage to stderr."""
+    end = "\n" if done >= total else ""
+    print(f"\r  {stage}: {done}/{total}".ljust(48), end=end, file=sys.stderr, flush=True)
 
 
 def _final_contact_radius(scene):
@@ -122,8 +124,24 @@ def solve(scene, method="bem", n=None, tol=1e-10, max_iter=5000, progress=None,
     else:
         result = _solve_mdr(scene, n, callback, explicit)
     result.integrator = integrator
+    result.warnings = _resolution_warnings(result)
     result.wall_time = time.perf_counter() - start
     return result
+
+
+#: Contacts narrower than this many elements are flagged as under-resolved.
+MIN_CONTACT_ELEMENTS = 10
+
+
+def _resolution_warnings(result):
+    """Flags output times whose contact spans fewer than MIN_CONTACT_ELEMENTS elements."""
+    spans = np.atleast_1d(result.contact_length) / result.dx
+    thin = np.flatnonzero(spans < MIN_CONTACT_ELEMENTS)
+    if thin.size == 0:
+        return []
+    return [f"{result.method.upper()}: the contact spans fewer than {MIN_CONTACT_ELEMENTS} elements "
+            f"(min {spans[thin].min():.1f}) at t = {np.atleast_1d(result.t)[thin].tolist()} s; "
+            "expect errors of several percent there (refine n)"]
 
 
 def _field_steps(scene):
@@ -160,9 +178,15 @@ def _solve_bem(scene, n, tol, max_iter, callback, explicit):
     return Result("bem", n, dx, r["t"], r["depth"], r["contact_length"], area=r["area"],
                   velocity=r["velocity"] if scene.wants("velocity") else None,
                   stiffness_length=r["stiffness_length"] if scene.wants("stiffness_length") else None,
-                  fields=fields, saturated=r["at_border"], steps=r["steps"], solves=r["solves"],
+                  fields=fields, saturated=_covers(r["area"], mask, dx), at_edge=r["at_border"],
+                  steps=r["steps"], solves=r["solves"],
                   iterations=int(np.sum(r["iterations"])), residual=float(np.max(r["residual"])),
                   grid_shape=h.shape)
+
+
+def _covers(area, mask, dx):
+    """Whether each contact area is the whole footprint."""
+    return np.asarray(area) >= mask.sum() * dx * dx * (1 - 1e-12)
 
 
 def _pick(scene, fields):

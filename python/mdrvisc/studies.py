@@ -229,7 +229,7 @@ def _paraboloid_rows(c, times, bem, mdr, at):
         "length_mdr_vs_lee_radok": _rel(l_m, length_lr),
     }
     rows = [{k: float(v[i]) for k, v in columns.items()} for i in range(times.size)]
-    for row, edge, full in zip(rows, bem.saturated, mdr.saturated[at]):
+    for row, edge, full in zip(rows, bem.at_edge, mdr.saturated[at]):
         row["bem_at_edge"] = bool(edge)
         row["mdr_saturated"] = bool(full)
     return rows

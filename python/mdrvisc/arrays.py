@@ -1,0 +1,92 @@
+"""Array-level BEM entry points for any height map: off-centre, tilted, asymmetric or
+non-square indenters that the axisymmetric geometry classes do not describe.
+
+Height maps are (ny, nx) arrays of the indenter's height above its tip at element centres
+(m, >= 0), with square elements of side ``dx`` (m). Inputs of any real dtype and memory
+layout are accepted (copied to contiguous float64); complex, object or non-finite entries
+are errors.
+"""
+
+import time
+
+import numpy as np
+
+from . import _core
+from .analytic import _positive
+from .errors import DomainError, InvalidInputError
+from .scene import Result, _history
+
+__all__ = ["contact", "viscous"]
+
+
+def _grid(name, a):
+    """``a`` as a C-contiguous 2-D float64 array; InvalidInputError naming ``name`` else."""
+    arr = np.asarray(a)
+    if arr.dtype.kind not in "biuf":
+        raise InvalidInputError(f"{name} must hold real numbers, got dtype {arr.dtype}")
+    if arr.ndim != 2 or arr.size == 0:
+        raise InvalidInputError(f"{name} must be a non-empty 2-D array, got shape {arr.shape}")
+    arr = np.ascontiguousarray(arr, dtype=np.float64)
+    bad = np.argwhere(~np.isfinite(arr))
+    if bad.size:
+        raise InvalidInputError(f"{name} must be finite, got {arr[tuple(bad[0])]} at index {tuple(bad[0].tolist())}")
+    return arr
+
+
+def _mask(mask, shape):
+    if mask is None:
+        return np.ones(shape, dtype=bool)
+    m = np.asarray(mask)
+    if m.dtype != bool or m.shape != shape:
+        raise InvalidInputError(f"mask must be a boolean array of shape {shape}, got {m.dtype} {m.shape}")
+    return np.ascontiguousarray(m)
+
+
+def contact(height, dx, G, force=None, depth=None, mask=None, tol=1e-10, max_iter=5000):
+    """Static elastic contact (Polonsky–Keer) of a rigid indenter on an incompressible
+    half-space of shear modulus ``G`` (Pa) under ``force`` (N) or at ``depth`` (m).
+
+    Returns a dict: depth (m), force (N), pressure (Pa, (ny, nx)), deflection (m),
+    iterations, residual, contact_count, wall_time (s).
+    """
+    h = _grid("height", height)
+    dx = _positive("contact", "dx", dx)
+    G = _positive("contact", "G", G)
+    if (force is None) == (depth is None):
+        raise InvalidInputError("contact: give exactly one of force and depth")
+    if force is not None:
+        force = _positive("contact", "force", force)
+    start = time.perf_counter()
+    r = _core.contact_solve(h, _mask(mask, h.shape), dx, 1.0 / G, force=force,
+                            depth=None if depth is None else float(depth), tol=tol, max_iter=max_iter)
+    r["wall_time"] = time.perf_counter() - start
+    return r
+
+
+def viscous(height, dx, eta, force, times, mask=None, rates=False, tol=1e-10, max_iter=5000,
+            unbounded=False, progress=None):
+    """Implicit viscous BEM run for any height map: a rigid indenter under ``force`` (N, a
+    number or (times, forces) samples) on a half-space of viscosity ``eta`` (Pa s), with
+    output at ``times`` (s).
+
+    With ``unbounded=True`` the grid is a window onto a larger indenter, and a contact that
+    reaches the grid's edge raises DomainError instead of being a finite indenter's edge.
+    Returns a :class:`Result` (contact_length from the contact area).
+    """
+    h = _grid("height", height)
+    m = _mask(mask, h.shape)
+    dx = _positive("viscous", "dx", dx)
+    eta = _positive("viscous", "eta", eta)
+    ft, fv = _history(force)
+    t = np.asarray(times, dtype=np.float64).ravel()
+    start = time.perf_counter()
+    r = _core.bem_viscous(h, m, dx, eta, np.ascontiguousarray(t), ft, fv, rates=rates,
+                          tol=tol, max_iter=max_iter, progress=progress)
+    if unbounded and np.any(r["at_border"]):
+        raise DomainError(f"BEM: the contact reached the edge of the grid at t = {r['t'][np.argmax(r['at_border'])]} s")
+    return Result("bem", max(h.shape), dx, r["t"], r["depth"], r["contact_length"], area=r["area"],
+                  velocity=r["velocity"] if rates else None,
+                  stiffness_length=r["stiffness_length"] if rates else None, saturated=r["area"] >= m.sum() * dx * dx * (1 - 1e-12), at_edge=r["at_border"],
+                  steps=r["steps"], solves=r["solves"], iterations=int(np.sum(r["iterations"])),
+                  residual=float(np.max(r["residual"])), wall_time=time.perf_counter() - start,
+                  grid_shape=h.shape)
