@@ -268,6 +268,12 @@ def _cases(rows):
             if any(r["case"] == c and r["quantity"] == q for r in rows)]
 
 
+def _row_order(row):
+    """Table order: method; implicit before explicit; larger area rule first; n up; step down."""
+    return (row["method"], row["integrator"] == "explicit", -(row["area_change"] or 0.0),
+            row["n"], -(row["step"] or 0.0))
+
+
 def error_table(study):
     """The error-vs-run-time rows (:func:`mdrvisc.studies.error_vs_runtime`) as aligned text:
     one table per case and quantity; ``*`` marks the paper's settings."""
@@ -286,8 +292,8 @@ def error_table(study):
                ("error", "error", "+.2e"), ("vs impl", "error_vs_implicit", "+.2e"),
                ("steps", "steps", "d"), ("solves", "solves", "d"), ("", "mark", "")]
     for case, quantity in _cases(study["rows"]):
-        rows = [dict(r, mark="*" if r["paper"] else "") for r in study["rows"]
-                if r["case"] == case and r["quantity"] == quantity]
+        rows = sorted((dict(r, mark="*" if r["paper"] else "") for r in study["rows"]
+                       if r["case"] == case and r["quantity"] == quantity), key=_row_order)
         label, unit = QUANTITIES[quantity]
         lines += ["", f"{case}: {label} [{unit}], closed form {rows[0]['exact']:.8g} {unit}",
                   _table(columns, rows)]
@@ -477,8 +483,8 @@ def _error_panel(ax, key, rows, cross_step, bem_explicit_n, handles, letter, xli
                                 xytext=(0, -11), textcoords="offset points", fontsize=6.5,
                                 ha="center", color="0.3")
     if floored:
-        ax.text(0.98, 0.1, "MDR: exact to rounding\n(error 0, triangles on the axis)",
-                transform=ax.transAxes, ha="right", va="bottom", fontsize=7, color="0.3")
+        ax.text(0.03, 0.97, "MDR: exact to rounding\n(error 0: triangles on the axis)",
+                transform=ax.transAxes, ha="left", va="top", fontsize=7, color="0.3")
     ax.set_xscale("log")
     ax.set_yscale("log")
     ax.set_xlim(xlim)

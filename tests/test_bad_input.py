@@ -1,0 +1,100 @@
+"""Bad input gets a clear exception naming the bad value (issue: stability and bad input)."""
+
+import numpy as np
+import pytest
+
+import mdrvisc as mv
+from mdrvisc import _core
+
+VISCOUS = mv.Viscous(eta=1.0)
+PARA = mv.Paraboloid(c=1.0, edge=2.56)
+
+
+@pytest.mark.parametrize("make,match", [
+    (lambda: mv.Viscous(eta=0.0), "eta"),
+    (lambda: mv.Viscous(eta=-1.0), "eta"),
+    (lambda: mv.Viscous(eta=float("nan")), "eta"),
+    (lambda: mv.Elastic(G=float("inf")), "G"),
+    (lambda: mv.Rod(radius=0.0), "radius"),
+    (lambda: mv.Paraboloid(c=-1.0), "c"),
+    (lambda: mv.Scene(indenter=PARA, medium=VISCOUS, force=0.0, duration=1.0), "force"),
+    (lambda: mv.Scene(indenter=PARA, medium=VISCOUS, force=-1.0, duration=1.0), "force"),
+    (lambda: mv.Scene(indenter=PARA, medium=VISCOUS, force=1.0, duration=0.0), "duration"),
+    (lambda: mv.Scene(indenter=PARA, medium=VISCOUS, force=1.0, duration=-5.0), "duration"),
+    (lambda: mv.Scene(indenter=PARA, medium=VISCOUS, force=1.0), "duration"),
+    (lambda: mv.Scene(indenter=PARA, medium=VISCOUS, force=1.0, duration=1.0, times=[0.5, 0.2]), "times"),
+    (lambda: mv.Scene(indenter=PARA, medium=VISCOUS, force=1.0, duration=1.0, times=[np.nan]), "times"),
+    (lambda: mv.Scene(indenter=PARA, medium=VISCOUS, force=1.0, duration=1.0, times=[2.0]), "times"),
+    (lambda: mv.Scene(indenter=PARA, medium=VISCOUS, force=([0, 1], [1, -1]), duration=1.0), "forces"),
+    (lambda: mv.Scene(indenter=PARA, medium=VISCOUS, force=([0, 0], [1, 1]), duration=1.0), "times"),
+    (lambda: mv.Scene(indenter=PARA, medium=VISCOUS, force=1.0, duration=1.0, outputs=("stress",)), "stress"),
+    (lambda: mv.Scene(indenter="cone", medium=VISCOUS, force=1.0, duration=1.0), "indenter"),
+])
+def test_bad_parameters_raise_invalid_input(make, match):
+    with pytest.raises(mv.InvalidInputError, match=match) as info:
+        make()
+    assert isinstance(info.value, ValueError)
+
+
+@pytest.mark.parametrize("n", [0, -3, 2.5, True, "257", 10**6])
+def test_bad_grid_sizes(n):
+    scene = mv.Scene(indenter=PARA, medium=VISCOUS, force=1.0, duration=1.0)
+    with pytest.raises(mv.InvalidInputError, match="n"):
+        mv.solve(scene, "bem", n)
+
+
+def test_bad_method_and_tolerances():
+    scene = mv.Scene(indenter=PARA, medium=VISCOUS, force=1.0, duration=1.0)
+    with pytest.raises(mv.InvalidInputError, match="method"):
+        mv.solve(scene, "fem", 33)
+    with pytest.raises(mv.InvalidInputError, match="tolerance"):
+        mv.solve(scene, "bem", 33, tol=0.0)
+    with pytest.raises(mv.InvalidInputError, match="max_iter"):
+        mv.solve(scene, "bem", 33, max_iter=0)
+
+
+@pytest.mark.parametrize("height,match", [
+    (np.array([[0.0, np.nan], [0.0, 0.0]]), "finite"),
+    (np.array([[0.0, np.inf], [0.0, 0.0]]), "finite"),
+    (np.zeros((2, 2), dtype=complex), "real"),
+    (np.array([["a", "b"]]), "real"),
+    (np.zeros(4), "2-D"),
+    (np.zeros((0, 3)), "2-D"),
+    (-np.ones((2, 2)), ">= 0"),
+])
+def test_bad_height_maps(height, match):
+    with pytest.raises(mv.InvalidInputError, match=match):
+        mv.arrays.viscous(height, 0.1, 1.0, 1.0, [1.0])
+
+
+def test_layouts_and_integer_dtypes_are_accepted():
+    x = (np.arange(33) - 16) * 0.08
+    h = x[None, :] ** 2 + x[:, None] ** 2
+    ref = mv.arrays.viscous(h, 0.08, 1.0, 1.0, [1.0]).depth
+    strided = np.zeros((66, 66))
+    strided[::2, ::2] = h
+    assert mv.arrays.viscous(strided[::2, ::2], 0.08, 1.0, 1.0, [1.0]).depth == pytest.approx(ref, rel=1e-12)
+    assert mv.arrays.viscous(np.asfortranarray(h), 0.08, 1.0, 1.0, [1.0]).depth == pytest.approx(ref, rel=1e-12)
+    flat = mv.arrays.viscous(np.zeros((5, 5), dtype=np.int32), 0.08, 1.0, 1.0, [1.0])
+    assert flat.depth[0] > 0
+
+
+def test_core_rejects_non_contiguous_and_mismatched_arrays_clearly():
+    h = np.zeros((8, 8))
+    with pytest.raises(mv.InvalidInputError, match="shape"):
+        _core.bem_viscous(h, np.ones((8, 7), bool), 0.1, 1.0, np.array([1.0]), np.array([0.0]), np.array([1.0]))
+    with pytest.raises(ValueError, match="contiguous"):
+        _core.bem_viscous(h, np.ones((8, 8), bool), 0.1, 1.0, np.array([1.0, 9.0, 2.0, 9.0])[::2], np.array([0.0]),
+                          np.array([1.0]))
+    with pytest.raises(mv.InvalidInputError, match="dx"):
+        _core.bem_viscous(h, np.ones((8, 8), bool), -0.1, 1.0, np.array([1.0]), np.array([0.0]), np.array([1.0]))
+    with pytest.raises(mv.InvalidInputError, match="footprint"):
+        _core.bem_viscous(h, np.zeros((8, 8), bool), 0.1, 1.0, np.array([1.0]), np.array([0.0]), np.array([1.0]))
+
+
+def test_non_convergence_is_an_exception_with_its_numbers():
+    scene = mv.Scene(indenter=PARA, medium=VISCOUS, force=1.0, duration=1.0)
+    with pytest.raises(mv.ConvergenceError) as info:
+        mv.solve(scene, "bem", 65, max_iter=2)
+    assert info.value.iterations == 2 and np.isfinite(info.value.residual)
+    assert "residual" in str(info.value) and "2 iterations" in str(info.value)
