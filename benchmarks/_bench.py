@@ -51,16 +51,18 @@ def _own_seconds() -> float:
 _mark = [time.perf_counter(), _busy_seconds(), _own_seconds()]
 
 
-def other_work() -> str:
-    """CPU used by *other* processes since the last call (header or table), in cores on
-    average: machine busy time minus this process's (and its waited-for children's) time."""
+def other_work(reset: bool = False) -> str:
+    """CPU used by *other* processes since the last reset (the header), in cores on average:
+    machine busy time minus this process's (and its waited-for children's) CPU time."""
     now, busy, own = time.perf_counter(), _busy_seconds(), _own_seconds()
     wall = now - _mark[0]
     others = max(0.0, (busy - _mark[1]) - (own - _mark[2]))
-    _mark[:] = [now, busy, own]
+    if reset:
+        _mark[:] = [now, busy, own]
     if wall <= 0 or busy == 0.0:
         return "other work n/a"
-    return f"other processes used {others / wall:.2f} cores on average over the last {wall:.0f} s"
+    return (f"other processes used {others / wall:.2f} cores on average "
+            f"during the {wall:.0f} s since the header")
 
 
 def load() -> str:
@@ -90,7 +92,7 @@ def header(title: str) -> None:
     threads = os.environ.get("RAYON_NUM_THREADS", "unset (all cores)")
     print(f"   {platform.machine()}, {os.cpu_count()} cores, RAYON_NUM_THREADS={threads}; "
           f"{load()}")
-    other_work()  # start the count of other processes' CPU time
+    other_work(reset=True)  # start the count of other processes' CPU time
 
 
 def table(columns, rows, formats=None) -> None:

@@ -72,7 +72,7 @@ def main(argv=None) -> None:
     a1, a2 = best(op[1], "per_apply"), best(op[2], "per_apply")
     b1, b2 = best(op[1], "build_apply"), best(op[2], "build_apply")
     rows = [[f"{r['n']}^2", x * 1e3, y * 1e3, x / y, u * 1e3, v * 1e3, u / v,
-             "yes" if r["n"] < 513 or x / y >= 1.6 else "NO"]
+             "n/a" if r["n"] < 513 else "yes" if x / y >= 1.6 else "NO"]
             for r, x, y, u, v in zip(op[1][0], a1, a2, b1, b2)]
     table(["grid", "apply 1t ms", "apply 2t ms", "speed-up", "build+apply 1t ms",
            "build+apply 2t ms", "speed-up", ">=1.6x (513+)"], rows,

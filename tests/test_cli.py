@@ -18,6 +18,8 @@ from mdrvisc.scenefile import load_scene, parse_scene
 
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
 FILES = ("rod.csv", "paraboloids.csv", "paper.json", "fig3_rod.png", "fig4_paraboloids.png")
+STUDY_FILES = ("error_vs_runtime.csv", "error_vs_runtime_orders.csv", "error_vs_runtime.json",
+               "error_vs_runtime.png")
 
 
 def run_cli(*argv):
@@ -40,9 +42,10 @@ def paper_quick(tmp_path_factory):
 # ------------------------------------------------------------------ mdrvisc paper
 def test_paper_writes_all_files(paper_quick):
     folder, _ = paper_quick
-    for name in FILES:
+    assert sorted(p.name for p in folder.iterdir()) == sorted(FILES + STUDY_FILES)
+    for name in FILES + STUDY_FILES:
         assert (folder / name).stat().st_size > 0, name
-    for name in ("fig3_rod.png", "fig4_paraboloids.png"):
+    for name in ("fig3_rod.png", "fig4_paraboloids.png", "error_vs_runtime.png"):
         assert (folder / name).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 
 
@@ -50,6 +53,9 @@ def test_paper_json_file_matches_stdout(paper_quick):
     folder, doc = paper_quick
     assert json.loads((folder / "paper.json").read_text()) == doc
     assert doc["quick"] is True
+    study = doc["error_vs_runtime"]
+    assert study["quick"] is True and study["rows"] and study["orders"]
+    assert json.loads((folder / "error_vs_runtime.json").read_text()) == study
 
 
 def test_paper_rod_numbers(paper_quick):
@@ -99,11 +105,12 @@ def test_paper_csv(paper_quick):
     assert "velocity [m/s]" in rod[0]
 
 
-def test_paper_text_tables(tmp_path):
-    status, out, err = run_cli("paper", "--quick", "--out", str(tmp_path))
+def test_paper_text_tables_without_the_study(tmp_path):
+    status, out, err = run_cli("paper", "--quick", "--no-study", "--out", str(tmp_path))
     assert status == 0, err
     assert "p0 [Pa]" in out and "dd/dt [m/s]" in out and "Lee-Radok [m]" in out
     assert "paraboloid c=20 MDR" in err  # progress
+    assert "study:" not in err and "Error against run time" not in out
     assert sorted(p.name for p in tmp_path.iterdir()) == sorted(FILES)
 
 

@@ -1,4 +1,4 @@
-"""Command line: ``mdrvisc paper [--out DIR] [--quick] [--json]`` and
+"""Command line: ``mdrvisc paper [--out DIR] [--quick] [--no-study] [--json]`` and
 ``mdrvisc run SCENE.toml [--json]`` (also ``python -m mdrvisc ...``).
 
 Results go to stdout (tables, or one JSON document with ``--json``), progress to stderr.
@@ -54,7 +54,10 @@ def _parser():
     paper.add_argument("--out", default="mdrvisc-paper",
                        help="output folder (default: ./mdrvisc-paper)")
     paper.add_argument("--quick", action="store_true",
-                       help="coarse resolutions (BEM rod 50, paraboloids 65, MDR 4097): seconds")
+                       help="coarse resolutions (BEM rod 50, paraboloids 65, MDR 4097) and the "
+                            "quick error-vs-run-time study: seconds")
+    paper.add_argument("--no-study", action="store_true",
+                       help="skip the error-vs-run-time study (error_vs_runtime.* files)")
     paper.add_argument("--json", action="store_true",
                        help="print the tables as one JSON document instead of text")
     run = commands.add_parser("run", help="run one scene file (TOML)")
@@ -66,14 +69,23 @@ def _parser():
 def _paper(args):
     progress = _Progress()
     results = studies.paper(quick=args.quick, progress=progress)
+    study = None if args.no_study else studies.error_vs_runtime(quick=args.quick,
+                                                                 progress=progress)
     progress("writing files")
-    paths = report.write_paper(results, args.out)
+    paths = report.write_paper(results, args.out, study)
+    if study is not None:
+        paths += report.write_error_vs_runtime(study, args.out)
     if args.json:
-        print(json.dumps(report.paper_document(results)))
+        print(json.dumps(report.paper_document(results, study)))
     else:
         print(report.rod_table(results["rod"]))
         print()
         print(report.paraboloid_tables(results["paraboloids"]))
+        if study is not None:
+            print()
+            print(report.error_table(study))
+            print()
+            print(report.orders_table(study))
     print(f"wrote {', '.join(str(p) for p in paths)}", file=sys.stderr)
     progress("done")
 

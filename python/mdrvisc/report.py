@@ -10,7 +10,8 @@ from pathlib import Path
 
 import numpy as np
 
-from .studies import ERROR_UNITS, ORDER_UNITS, PARABOLOID_UNITS, QUANTITIES, ROD_UNITS
+from .studies import (ERROR_UNITS, ORDER_UNITS, PARABOLOID_UNITS, QUANTITIES, ROD_UNITS,
+                      ROUNDING)
 
 __all__ = ["rod_table", "paraboloid_tables", "result_table", "to_jsonable", "write_csv",
            "paper_document", "write_paper", "plot_rod", "plot_paraboloids",
@@ -337,8 +338,9 @@ def write_error_vs_runtime(study, out):
     return list(paths.values())
 
 
-#: Errors below this are drawn at it (log axes); the MDR rod is exact to rounding.
-ERROR_FLOOR = 1e-16
+#: Errors at or below this (:data:`mdrvisc.studies.ROUNDING`) count as exact and are drawn
+#: on the bottom axis (log axes); the MDR rod is exact to rounding.
+ERROR_FLOOR = ROUNDING
 
 
 def _style(row, bem_explicit_n):
@@ -367,7 +369,7 @@ def plot_error_vs_runtime(study, path):
     plt = _pyplot()
     rows = study["rows"]
     cross_step = study["settings"]["cross_step"]
-    bem_explicit_n = sorted(study["settings"]["bem_explicit"])
+    bem_explicit_n = sorted(int(n) for n in study["settings"]["bem_explicit"])
     cases = _cases(rows)
     paraboloids = [c for c in dict.fromkeys(c for c, _ in cases) if c != "rod"]
     quantities = [q for q in ("depth", "contact_length", "stiffness_length")
@@ -419,7 +421,7 @@ def _error_panel(ax, key, rows, cross_step, bem_explicit_n, handles, letter, xli
     rounding) are drawn as down triangles on the bottom edge."""
     case, quantity = key
     mine = [r for r in rows if r["case"] == case and r["quantity"] == quantity]
-    shown = [abs(r["error"]) for r in mine if abs(r["error"]) >= ERROR_FLOOR]
+    shown = [abs(r["error"]) for r in mine if abs(r["error"]) > ERROR_FLOOR]
     ylim = (10 ** math.floor(math.log10(min(shown)) - 0.3), 10 ** math.ceil(math.log10(max(shown)) + 0.2))
     bottom = ax.get_xaxis_transform()  # x in data, y in axes fraction
     series = {}
@@ -429,8 +431,8 @@ def _error_panel(ax, key, rows, cross_step, bem_explicit_n, handles, letter, xli
     for group in series.values():
         label, color, marker, ls = _style(group[0], bem_explicit_n)
         group = sorted(group, key=_sweep_key)
-        exact = [r for r in group if abs(r["error"]) < ERROR_FLOOR]
-        group = [r for r in group if abs(r["error"]) >= ERROR_FLOOR]
+        exact = [r for r in group if abs(r["error"]) <= ERROR_FLOOR]
+        group = [r for r in group if abs(r["error"]) > ERROR_FLOOR]
         if exact:
             floored = True
             (line,) = ax.plot([r["wall_time"] for r in exact], [0.0] * len(exact), transform=bottom,
@@ -452,10 +454,7 @@ def _error_panel(ax, key, rows, cross_step, bem_explicit_n, handles, letter, xli
             if r["paper"]:
                 ax.plot(tt, ee, marker="*", ms=15, mfc=color, mec="k", mew=0.8, ls="none",
                         zorder=5)
-                what = (f"paper: {r['method']} n={r['n']}" if r["step"] is None
-                        else f"paper: {r['method']} n={r['n']}\nstep {r['step']:g}, "
-                             f"area {r['area_change']:g}")
-                ax.annotate(what, (tt, ee), xytext=(8, 4), textcoords="offset points",
+                ax.annotate("paper", (tt, ee), xytext=(8, 4), textcoords="offset points",
                             fontsize=6.5, color="k", zorder=6,
                             bbox={"boxstyle": "round,pad=0.15", "fc": "w", "ec": "none",
                                   "alpha": 0.75})
@@ -474,7 +473,7 @@ def _error_panel(ax, key, rows, cross_step, bem_explicit_n, handles, letter, xli
         if group[0]["integrator"] in ("implicit", "one solve") and len(group) > 1:
             group = sorted(group, key=lambda r: r["n"])
             for r in (group[0], group[-1]):
-                if abs(r["error"]) < ERROR_FLOOR:
+                if abs(r["error"]) <= ERROR_FLOOR:
                     ax.annotate(f"n={r['n']}", (r["wall_time"], 0.0), xycoords=bottom,
                                 xytext=(0, 7), textcoords="offset points", fontsize=6.5,
                                 ha="center", color="0.3")
@@ -495,12 +494,9 @@ def _error_panel(ax, key, rows, cross_step, bem_explicit_n, handles, letter, xli
     ax.set_title(f"({letter}) {where}: {title}", fontsize=8.5)
     ax.set(xlabel="wall time [s]", ylabel=f"|relative error of {label}| [-]")
     ax.grid(alpha=0.3, which="major", lw=0.5)
-    ax.grid(alpha=0.12, which="minor", lw=0.4)
-    ax.xaxis.set_minor_formatter(_null_formatter())
-    ax.yaxis.set_minor_formatter(_null_formatter())
+    # whole decades only: minor log ticks over ten decades cost seconds of drawing
+    from matplotlib.ticker import LogLocator, NullLocator
 
-
-def _null_formatter():
-    from matplotlib.ticker import NullFormatter
-
-    return NullFormatter()
+    for axis in (ax.xaxis, ax.yaxis):
+        axis.set_major_locator(LogLocator(base=10.0, numticks=12))
+        axis.set_minor_locator(NullLocator())

@@ -94,7 +94,7 @@ class Scene:
             raise InvalidInputError("Scene: a viscous scene needs a duration (s)")
         duration = _positive("Scene", "duration", self.duration)
         object.__setattr__(self, "duration", duration)
-        times = (duration * np.arange(1, 6) / 5.0 if self.times is None
+        times = (np.linspace(duration / 5.0, duration, 5) if self.times is None
                  else np.asarray(self.times, dtype=np.float64).ravel())
         fields = (np.array([duration]) if self.field_times is None
                   else np.asarray(self.field_times, dtype=np.float64).ravel())
@@ -104,7 +104,9 @@ class Scene:
         if np.any(np.diff(times) <= 0):
             raise InvalidInputError(f"Scene: times must increase, got {times}")
         if any(o in FIELD_OUTPUTS for o in outputs):
-            times = np.union1d(times, fields)
+            # a field time within round-off of an output time is served by that output time
+            near = (np.abs(times[None, :] - fields[:, None]) <= 1e-12 * duration).any(axis=1)
+            times = np.union1d(times, fields[~near])
         object.__setattr__(self, "times", np.ascontiguousarray(times))
         object.__setattr__(self, "field_times", fields)
 

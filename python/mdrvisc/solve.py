@@ -145,7 +145,9 @@ def _resolution_warnings(result):
 
 
 def _field_steps(scene):
-    return [int(np.searchsorted(scene.times, ft)) for ft in scene.field_times] if scene.wants_fields else []
+    if not scene.wants_fields:
+        return []
+    return [int(np.argmin(np.abs(scene.times - ft))) for ft in scene.field_times]
 
 
 def _solve_bem(scene, n, tol, max_iter, callback, explicit):
@@ -174,7 +176,8 @@ def _solve_bem(scene, n, tol, max_iter, callback, explicit):
                           f"at t = {r['t'][np.argmax(r['at_border'])]} s; the grid is too small")
     fields = None
     if steps:
-        fields = {float(scene.times[k]): {"x": x, "y": x, **_pick(scene, r["fields"][k])} for k in set(steps)}
+        fields = {float(ft): {"x": x, "y": x, **_pick(scene, r["fields"][k])}
+                  for ft, k in zip(scene.field_times, steps)}
     return Result("bem", n, dx, r["t"], r["depth"], r["contact_length"], area=r["area"],
                   velocity=r["velocity"] if scene.wants("velocity") else None,
                   stiffness_length=r["stiffness_length"] if scene.wants("stiffness_length") else None,
@@ -230,16 +233,14 @@ def _solve_mdr(scene, n, callback, explicit):
     elastic = isinstance(scene.medium, Elastic)
     medium, param = ("elastic", scene.medium.G) if elastic else ("viscous", scene.medium.eta)
     times = np.array([1.0]) if elastic else scene.times
-    steps = [0] if elastic else _field_steps(scene)
-    if scene.indenter.is_flat and not elastic:
-        steps = sorted(set(steps) | {0})
-    if explicit is not None:
-        steps = []
-    r = _core.mdr_run(g, dx, medium, param, times, ft, fv, fields_at=steps, progress=callback,
+    keys, steps = ([None], [0]) if elastic else ([float(t) for t in scene.field_times], _field_steps(scene))
+    rod = scene.indenter.is_flat and not elastic
+    core_steps = [] if explicit is not None else sorted(set(steps) | ({0} if rod else set()))
+    r = _core.mdr_run(g, dx, medium, param, times, ft, fv, fields_at=core_steps, progress=callback,
                       explicit=explicit)
     fields = None
-    if steps and scene.wants_fields:
-        fields = {float(times[k]) if not elastic else None: _mdr_fields(scene, x, dx, r, k) for k in set(steps)}
+    if core_steps and scene.wants_fields:
+        fields = {key: _mdr_fields(scene, x, dx, r, k) for key, k in zip(keys, steps)}
     central = None
     if scene.indenter.is_flat and not elastic and 0 in r["fields"]:
         central = float(_core.mdr_pressure(r["fields"][0]["line_load"], dx, np.array([0.0]))[0])

@@ -301,6 +301,9 @@ REPEAT_BELOW = 0.1
 BEST_OF = 3
 #: Relative errors below this count as exact (rounding).
 ROUNDING = 1e-14
+#: Explicit and implicit answers closer than this (relative) count as equal: the same final
+#: contact set, differing by the contact solver's tolerance (1e-10) only.
+SAME_AS_IMPLICIT = 1e-9
 
 #: Quantities of the study: (label, unit).
 QUANTITIES = {"depth": ("d(5 s)", "m"), "contact_length": ("l(5 s)", "m"),
@@ -463,37 +466,47 @@ def _rod_sweep(sweep, run):
     return rows
 
 
-def _fit_order(x, err):
-    """(least-squares order, order of the two finest points) of |err| ~ x^order; x
-    decreasing towards the finest. None where fewer than two errors are above rounding."""
+def _fit_order(x, err, floor):
+    """(least-squares order, order of the two finest points) of |err| ~ x^order, the points
+    ordered coarse to fine; errors at or below ``floor`` are left out of the fit, and the
+    two-point order is None unless both finest errors are above it. None where fewer than two
+    errors are above ``floor``."""
     x, err = np.asarray(x, dtype=float), np.abs(np.asarray(err, dtype=float))
-    keep = err > ROUNDING
-    x, err = x[keep], err[keep]
-    if x.size < 2:
+    keep = err > floor
+    if keep.sum() < 2:
         return None, None
-    order = float(np.polyfit(np.log(x), np.log(err), 1)[0])
-    last = float(math.log(err[-2] / err[-1]) / math.log(x[-2] / x[-1]))
+    order = float(np.polyfit(np.log(x[keep]), np.log(err[keep]), 1)[0])
+    last = None
+    if keep[-1] and keep[-2]:
+        last = float(math.log(err[-2] / err[-1]) / math.log(x[-2] / x[-1]))
     return order, last
 
 
 def _order_entry(group, variable, against, fixed):
-    key = "error" if against == "closed form" else "error_vs_implicit"
+    closed = against == "closed form"
+    key, floor = ("error", ROUNDING) if closed else ("error_vs_implicit", SAME_AS_IMPLICIT)
     group = sorted(group, key=lambda r: -r[variable])  # coarse to fine
     x = [r[variable] for r in group]
     err = [r[key] for r in group]
-    order, last = _fit_order(x, err)
+    order, last = _fit_order(x, err, floor)
     first = group[0]
-    note = ""
-    if all(abs(e) <= ROUNDING for e in err):
-        note = "exact to rounding" if against == "closed form" else "equals the implicit answer"
-    elif order is None:
-        note = "fewer than two errors above rounding"
-    elif any(np.sign(err[i]) != np.sign(err[i + 1]) for i in range(len(err) - 1)):
-        note = "error changes sign"
+    zero = sum(abs(e) <= floor for e in err)
+    note = []
+    if zero == len(err):
+        note.append("exact to rounding" if closed else "equals the implicit answer")
+    elif zero:
+        note.append(f"{zero} of {len(err)} " + ("exact to rounding" if closed
+                                                else "equal the implicit answer"))
+    if zero < len(err) - 1 and order is None:
+        note.append("fewer than two errors to fit")
+    signs = [np.sign(e) for e in err if abs(e) > floor]
+    if any(a != b for a, b in zip(signs, signs[1:])):
+        note.append("error changes sign")
     return {"method": first["method"], "integrator": first["integrator"], "case": first["case"],
             "quantity": first["quantity"], "fixed": fixed, "variable": variable,
             "against": against, "points": len(group), "from": x[0], "to": x[-1],
-            "error_finest": float(abs(err[-1])), "order": order, "order_last": last, "note": note}
+            "error_finest": float(abs(err[-1])), "order": order, "order_last": last,
+            "note": "; ".join(note)}
 
 
 def convergence_orders(rows, cross_step=0.01):
@@ -525,6 +538,11 @@ def convergence_orders(rows, cross_step=0.01):
             orders.append(_order_entry(group, "dx", "closed form", fixed))
     rank = {"depth": 0, "contact_length": 1, "stiffness_length": 2, "velocity": 3,
             "central_pressure": 4}
+
+    def fixed_n(entry):
+        head = entry["fixed"].split(",")[0]
+        return int(head[2:]) if head.startswith("n=") else -1
+
     orders.sort(key=lambda o: (o["case"], rank[o["quantity"]], o["method"], o["integrator"],
-                               o["variable"], o["fixed"], o["against"]))
+                               o["variable"], fixed_n(o), o["fixed"], o["against"]))
     return orders

@@ -125,7 +125,10 @@ impl<O: SurfaceOperator> ContactSolver<O> {
 
     /// Solves the contact problem for separation `h` on the elements where `allowed` is
     /// true. With `warm`, starts from the current pressure (rescaled to the target force),
-    /// else from a uniform pressure.
+    /// else from a uniform pressure. The residual is measured against the larger of this
+    /// solve's load and `reference` (N): a time step passes the load accumulated so far, so
+    /// that a small increment is converged relative to the state it changes, not to itself
+    /// (below that, round-off of the accumulated separation dominates).
     #[allow(clippy::too_many_arguments)]
     pub fn solve(
         &mut self,
@@ -134,6 +137,7 @@ impl<O: SurfaceOperator> ContactSolver<O> {
         compliance: f64,
         target: Target,
         warm: bool,
+        reference: f64,
         opts: &SolverOptions,
         monitor: &mut dyn Monitor,
     ) -> Result<ContactSummary> {
@@ -193,11 +197,19 @@ impl<O: SurfaceOperator> ContactSolver<O> {
                 });
             }
         }
+        // Overlaps below round-off of the separation are no overlaps: without this, a step
+        // whose load is tiny against the accumulated separation flips edge elements forever.
+        let gap_tol = 1e-12
+            * h.iter()
+                .zip(allowed)
+                .filter(|(_, &a)| a)
+                .fold(0.0f64, |m, (h, _)| m.max(h.abs()));
         let mut delta = 0.0;
         let mut g_old = 1.0;
         let mut residual = f64::INFINITY;
-        // u = K[p] is refreshed by an operator apply only when the active set changed;
-        // otherwise it follows p by the same linear update (one apply per iteration).
+        // u = K[p] is refreshed by an operator apply when the active set changed and every
+        // 32 iterations (bounding round-off drift); otherwise it follows p by the same linear
+        // update, so most iterations cost one apply.
         self.op.apply(&self.p, &mut self.u);
         for it in 1..=opts.max_iter {
             let shift = match target {
@@ -261,7 +273,7 @@ impl<O: SurfaceOperator> ContactSolver<O> {
                         .fold((0.0, 0.0), |(l, d), i| {
                             (
                                 l + self.p[i],
-                                if self.p[i] <= 0.0 && self.g[i] < 0.0 {
+                                if self.p[i] <= 0.0 && self.g[i] < -gap_tol {
                                     d - self.g[i]
                                 } else {
                                     d
@@ -284,7 +296,7 @@ impl<O: SurfaceOperator> ContactSolver<O> {
                     let v = self.p[i] - tau * self.t[i];
                     clamped |= v <= 0.0;
                     self.p[i] = v.max(0.0);
-                } else if self.g[i] < 0.0 {
+                } else if self.g[i] < -gap_tol {
                     self.p[i] = -tau_overlap * self.g[i];
                     overlap = true;
                 }
@@ -303,7 +315,7 @@ impl<O: SurfaceOperator> ContactSolver<O> {
                     clamped = true;
                 }
             }
-            if overlap || clamped {
+            if overlap || clamped || it % 32 == 0 {
                 self.op.apply(&self.p, &mut self.u);
             } else {
                 for i in 0..n {
@@ -317,7 +329,11 @@ impl<O: SurfaceOperator> ContactSolver<O> {
                 .zip(&self.p_old)
                 .map(|(a, b)| (a - b).abs())
                 .sum();
-            residual = if total > 0.0 { change / total } else { 0.0 };
+            residual = if total > 0.0 {
+                change / total.max(reference / area)
+            } else {
+                0.0
+            };
             if it % 16 == 0 {
                 monitor.progress("contact iterations", it, opts.max_iter)?;
             }

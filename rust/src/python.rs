@@ -419,6 +419,7 @@ fn contact_solve<'py>(
             compliance,
             target,
             false,
+            0.0,
             &opts,
             &mut monitor,
         )?;

@@ -270,6 +270,7 @@ pub fn run_implicit(
                     1.0 / eta,
                     Target::Force(impulse),
                     warm,
+                    history.impulse(t),
                     opts,
                     monitor,
                 )?;
