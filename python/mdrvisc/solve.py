@@ -112,7 +112,7 @@ def solve(scene, method="bem", n=None, tol=1e-10, max_iter=5000, progress=None,
     if integrator not in ("implicit", "explicit"):
         raise InvalidInputError(f"solve: integrator must be 'implicit' or 'explicit', got {integrator!r}")
     explicit = None
-    if integrator == "explicit":
+    if integrator == "explicit" and not scene.indenter.is_flat:
         if not isinstance(scene.medium, Viscous):
             raise InvalidInputError("solve: the explicit integrator needs a viscous medium")
         explicit = (_positive("solve", "step", step), float(area_change), 1e-6)
@@ -123,7 +123,8 @@ def solve(scene, method="bem", n=None, tol=1e-10, max_iter=5000, progress=None,
         result = _solve_bem(scene, n, tol, max_iter, callback, explicit)
     else:
         result = _solve_mdr(scene, n, callback, explicit)
-    result.integrator = integrator
+    # a flat punch's contact never changes: one solve, whatever integrator was named
+    result.integrator = "one solve" if scene.indenter.is_flat else integrator
     result.warnings = _resolution_warnings(result)
     result.wall_time = time.perf_counter() - start
     return result

@@ -1,0 +1,80 @@
+//! The binary: paper scenes, scene files, and clear errors with a non-zero exit.
+
+use std::process::Command;
+
+fn mdrvisc(args: &[&str]) -> (i32, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_mdrvisc"))
+        .args(args)
+        .output()
+        .expect("binary runs");
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+fn scene_file(name: &str, text: &str) -> String {
+    let path = std::env::temp_dir().join(format!("mdrvisc-cli-{}-{name}.toml", std::process::id()));
+    std::fs::write(&path, text).expect("temp file");
+    path.to_string_lossy().into_owned()
+}
+
+const GOOD: &str = r#"
+method = "mdr"
+n = 4097
+force = 1.0
+duration = 5.0
+[indenter]
+type = "paraboloid"
+c = 1.0
+[medium]
+type = "viscous"
+eta = 1.0
+"#;
+
+#[test]
+fn quick_paper_prints_json_close_to_the_closed_forms() {
+    let (code, out, err) = mdrvisc(&["paper", "--quick", "--json"]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).expect("JSON");
+    let rod_mdr = &v[1]["result"];
+    assert!((rod_mdr["velocity"][0].as_f64().unwrap() - 0.125).abs() < 1e-12);
+    let rod_bem = &v[0]["result"];
+    assert!((rod_bem["velocity"][0].as_f64().unwrap() / 0.125 - 1.0).abs() < 0.01);
+}
+
+#[test]
+fn scene_file_runs() {
+    let path = scene_file("good", GOOD);
+    let (code, out, err) = mdrvisc(&["run", &path, "--json"]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).expect("JSON");
+    let d = v[0]["result"]["depth"][4].as_f64().unwrap();
+    let exact = (3.0f64 * 5.0 * 2f64.sqrt() / 16.0).powf(2.0 / 3.0);
+    assert!((d / exact - 1.0).abs() < 1e-5);
+}
+
+#[test]
+fn bad_scene_files_exit_non_zero_naming_the_problem() {
+    let cases = [
+        ("unknown", GOOD.replace("n = 4097", "n = 4097\ncolour = \"red\""), "colour"),
+        ("missing", GOOD.replace("force = 1.0\n", ""), "force"),
+        ("type", GOOD.replace("n = 4097", "n = \"many\""), "n"),
+        ("negative", GOOD.replace("eta = 1.0", "eta = -2.0"), "eta"),
+        ("zero", GOOD.replace("duration = 5.0", "duration = 0.0"), "duration"),
+        ("indenter", GOOD.replace("paraboloid", "teapot"), "teapot"),
+    ];
+    for (name, text, word) in cases {
+        let path = scene_file(name, &text);
+        let (code, _, err) = mdrvisc(&["run", &path]);
+        assert_eq!(code, 2, "{name}: {err}");
+        assert!(err.contains(word), "{name}: {err}");
+    }
+    let (code, _, err) = mdrvisc(&["run", "/nonexistent/scene.toml"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("cannot read"));
+    let (code, _, err) = mdrvisc(&["frobnicate"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("usage"));
+}
