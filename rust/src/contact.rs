@@ -288,10 +288,7 @@ impl<O: SurfaceOperator> ContactSolver<O> {
             };
             self.p_old.copy_from_slice(&self.p);
             let (mut overlap, mut clamped) = (false, false);
-            for i in 0..n {
-                if !allowed[i] {
-                    continue;
-                }
+            for i in (0..n).filter(|&i| allowed[i]) {
                 if self.p[i] > 0.0 {
                     let v = self.p[i] - tau * self.t[i];
                     clamped |= v <= 0.0;

@@ -377,7 +377,7 @@ fn surface_deflection<'py>(
         Ok(u)
     });
     let u = r.map_err(|e| to_pyerr(py, e))?;
-    Ok(u.into_pyarray(py).reshape(shape)?)
+    u.into_pyarray(py).reshape(shape)
 }
 
 /// Static Polonsky–Keer contact solve: separation h (m), footprint mask, element size dx

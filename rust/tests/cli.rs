@@ -58,11 +58,19 @@ fn scene_file_runs() {
 #[test]
 fn bad_scene_files_exit_non_zero_naming_the_problem() {
     let cases = [
-        ("unknown", GOOD.replace("n = 4097", "n = 4097\ncolour = \"red\""), "colour"),
+        (
+            "unknown",
+            GOOD.replace("n = 4097", "n = 4097\ncolour = \"red\""),
+            "colour",
+        ),
         ("missing", GOOD.replace("force = 1.0\n", ""), "force"),
         ("type", GOOD.replace("n = 4097", "n = \"many\""), "n"),
         ("negative", GOOD.replace("eta = 1.0", "eta = -2.0"), "eta"),
-        ("zero", GOOD.replace("duration = 5.0", "duration = 0.0"), "duration"),
+        (
+            "zero",
+            GOOD.replace("duration = 5.0", "duration = 0.0"),
+            "duration",
+        ),
         ("indenter", GOOD.replace("paraboloid", "teapot"), "teapot"),
     ];
     for (name, text, word) in cases {
