@@ -65,6 +65,20 @@ def other_work(reset: bool = False) -> str:
             f"during the {wall:.0f} s since the header")
 
 
+def wait_quiet(limit: float, threshold: float = 0.1, sample: float = 3.0) -> float:
+    """Waits (at most ``limit`` s) until other processes use less than ``threshold`` cores
+    over ``sample`` s; returns the last sampled use (cores). Does nothing when limit <= 0."""
+    use = float("nan")
+    start = time.perf_counter()
+    while limit > 0 and time.perf_counter() - start < limit:
+        b0, o0 = _busy_seconds(), _own_seconds()
+        time.sleep(sample)
+        use = max(0.0, (_busy_seconds() - b0) - (_own_seconds() - o0)) / sample
+        if use < threshold:
+            break
+    return use
+
+
 def load() -> str:
     """The 1-minute load average (and the number of cores) as a short string."""
     try:
@@ -89,6 +103,11 @@ def header(title: str) -> None:
     print(f"   python {platform.python_version()}, numpy {numpy.__version__}, "
           f"scipy {scipy.__version__}, mdrvisc {mdrvisc.__version__} "
           f"(_core sha1 {digest}, built {stamp})")
+    quiet = float(os.environ.get("BENCH_WAIT_QUIET", "0") or 0)
+    if quiet > 0:
+        use = wait_quiet(quiet)
+        print(f"   waited for a quiet machine (BENCH_WAIT_QUIET={quiet:g} s): other processes "
+              f"at {use:.2f} cores when starting")
     threads = os.environ.get("RAYON_NUM_THREADS", "unset (all cores)")
     print(f"   {platform.machine()}, {os.cpu_count()} cores, RAYON_NUM_THREADS={threads}; "
           f"{load()}")

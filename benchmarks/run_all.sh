@@ -2,6 +2,8 @@
 # Runs every mdrvisc benchmark and prints its tables (see benchmarks/README.md).
 # Usage: benchmarks/run_all.sh [--quick]   (--quick: fewer repeats, for a smoke run)
 # Needs the package installed (pip install . or maturin develop --release) in the active env.
+# BENCH_WAIT_QUIET=SECONDS: each script first waits (up to that long) until other processes
+# use < 0.1 cores; bench_threads.py also waits before each subprocess (--wait-quiet, 60 s).
 set -euo pipefail
 cd "$(dirname "$0")"
 PY=${PYTHON:-python}

@@ -115,6 +115,11 @@ impl<O: SurfaceOperator> ContactSolver<O> {
         &self.u
     }
 
+    /// Sets the pressure to zero everywhere (the indenter has left the surface).
+    pub fn clear_pressure(&mut self) {
+        self.p.fill(0.0);
+    }
+
     /// Sets the starting pressure for a warm-started solve.
     pub fn set_pressure(&mut self, p: &[f64]) -> Result<()> {
         check_len("starting pressure", p.len(), self.p.len())?;

@@ -8,6 +8,7 @@ pub mod error;
 pub mod influence;
 pub mod monitor;
 pub mod operator;
+pub mod rheology;
 
 pub use error::{Error, Result};
 pub mod contact;
@@ -18,5 +19,6 @@ pub mod mdr;
 mod python;
 pub mod scenes;
 pub mod transforms;
+pub mod viscoelastic;
 pub mod viscous;
 pub mod window;

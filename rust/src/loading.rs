@@ -84,6 +84,42 @@ impl ForceHistory {
     }
 }
 
+/// A prescribed depth history d(t) (m), piecewise linear between samples, constant after
+/// the last; time starts at t = 0. Negative depths hold the indenter above the surface.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DepthHistory {
+    samples: ForceHistory,
+    offset: f64,
+}
+
+impl DepthHistory {
+    /// Samples (t_i, d_i): times start at 0 and strictly increase, depths finite.
+    pub fn piecewise_linear(times: Vec<f64>, depths: Vec<f64>) -> Result<Self> {
+        check_finite("depth history depths", &depths)?;
+        // Stored shifted to be >= 0 so that the force-history checks apply unchanged.
+        let offset = depths.iter().copied().fold(0.0f64, f64::min);
+        let shifted = depths.iter().map(|d| d - offset).collect();
+        Ok(DepthHistory {
+            samples: ForceHistory::piecewise_linear(times, shifted)?,
+            offset,
+        })
+    }
+
+    /// Depth (m) at time `t` (s).
+    pub fn depth(&self, t: f64) -> f64 {
+        self.samples.force(t) + self.offset
+    }
+}
+
+/// What drives the indenter.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Loading {
+    /// Prescribed force F(t) (N, >= 0).
+    Force(ForceHistory),
+    /// Prescribed depth d(t) (m).
+    Depth(DepthHistory),
+}
+
 /// Fails unless `times` are finite, > 0 and strictly increasing.
 pub fn check_output_times(times: &[f64]) -> Result<()> {
     if times.is_empty() {

@@ -3,13 +3,16 @@
 //! work from the calling thread.
 
 use crate::contact::{ContactSolver, SolverOptions, Target};
+use crate::error::check_finite;
 use crate::error::Error;
 use crate::integrator::ExplicitControl;
-use crate::loading::ForceHistory;
+use crate::loading::{DepthHistory, ForceHistory, Loading};
 use crate::mdr::{self, Foundation, Medium};
 use crate::monitor::Monitor;
 use crate::operator::{DenseOperator, FftOperator, SurfaceOperator};
+use crate::rheology::Rheology;
 use crate::transforms;
+use crate::viscoelastic;
 use crate::viscous::{self, Grid, ViscousRequest};
 use numpy::{
     IntoPyArray, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods,
@@ -438,12 +441,108 @@ fn contact_solve<'py>(
     Ok(d)
 }
 
+fn loading(py: Python<'_>, kind: &str, times: Vec<f64>, values: Vec<f64>) -> PyResult<Loading> {
+    let r = match kind {
+        "force" => ForceHistory::piecewise_linear(times, values).map(Loading::Force),
+        "depth" => DepthHistory::piecewise_linear(times, values).map(Loading::Depth),
+        other => Err(Error::InvalidInput(format!(
+            "loading must be 'force' or 'depth', got {other:?}"
+        ))),
+    };
+    r.map_err(|e| to_pyerr(py, e))
+}
+
+fn series_dict<'py>(py: Python<'py>, s: viscoelastic::Series) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("t", s.t.into_pyarray(py))?;
+    d.set_item("depth", s.depth.into_pyarray(py))?;
+    d.set_item("force", s.force.into_pyarray(py))?;
+    d.set_item("contact_length", s.contact_length.into_pyarray(py))?;
+    d.set_item("iterations", s.iterations.into_pyarray(py))?;
+    d.set_item("steps", s.steps)?;
+    Ok(d)
+}
+
+/// Viscoelastic MDR run: 1D profile (m) spaced dx (m); medium G(t) = g_inf + sum G_k
+/// exp(-t/tau_k) + eta delta(t); loading "force" (N) or "depth" (m) samples; output times
+/// (s); steps no longer than dt (s).
+#[pyfunction]
+#[pyo3(signature = (profile, dx, g_inf, terms, eta, kind, load_times, load_values, times, dt, progress=None))]
+#[allow(clippy::too_many_arguments)]
+fn viscoelastic_mdr<'py>(
+    py: Python<'py>,
+    profile: PyReadonlyArray1<'py, f64>,
+    dx: f64,
+    g_inf: f64,
+    terms: Vec<(f64, f64)>,
+    eta: f64,
+    kind: &str,
+    load_times: PyReadonlyArray1<'py, f64>,
+    load_values: PyReadonlyArray1<'py, f64>,
+    times: PyReadonlyArray1<'py, f64>,
+    dt: f64,
+    progress: Option<Py<PyAny>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let medium = Rheology::new(g_inf, terms, eta).map_err(|e| to_pyerr(py, e))?;
+    let load = loading(
+        py,
+        kind,
+        slice1(&load_times, "load_times")?,
+        slice1(&load_values, "load_values")?,
+    )?;
+    let (g, times) = (slice1(&profile, "profile")?, slice1(&times, "times")?);
+    check_finite("1D profile", &g).map_err(|e| to_pyerr(py, e))?;
+    let mut monitor = PyMonitor::new(progress);
+    let r = py.detach(|| viscoelastic::run_mdr(&g, dx, &medium, &load, &times, dt, &mut monitor));
+    let s = monitor.finish(py, r)?;
+    series_dict(py, s)
+}
+
+/// Viscoelastic BEM run on a height map (m, (ny, nx)) with footprint mask; medium, loading,
+/// output times and step as for `viscoelastic_mdr`.
+#[pyfunction]
+#[pyo3(signature = (height, allowed, dx, g_inf, terms, eta, kind, load_times, load_values, times, dt, tol=1e-10, max_iter=5000, progress=None))]
+#[allow(clippy::too_many_arguments)]
+fn viscoelastic_bem<'py>(
+    py: Python<'py>,
+    height: PyReadonlyArray2<'py, f64>,
+    allowed: PyReadonlyArray2<'py, bool>,
+    dx: f64,
+    g_inf: f64,
+    terms: Vec<(f64, f64)>,
+    eta: f64,
+    kind: &str,
+    load_times: PyReadonlyArray1<'py, f64>,
+    load_values: PyReadonlyArray1<'py, f64>,
+    times: PyReadonlyArray1<'py, f64>,
+    dt: f64,
+    tol: f64,
+    max_iter: usize,
+    progress: Option<Py<PyAny>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let grid = grid_from(py, &height, &allowed, dx)?;
+    let medium = Rheology::new(g_inf, terms, eta).map_err(|e| to_pyerr(py, e))?;
+    let load = loading(
+        py,
+        kind,
+        slice1(&load_times, "load_times")?,
+        slice1(&load_values, "load_values")?,
+    )?;
+    let times = slice1(&times, "times")?;
+    let opts = options(tol, max_iter, 128);
+    let mut monitor = PyMonitor::new(progress);
+    let r =
+        py.detach(|| viscoelastic::run_bem(&grid, &medium, &load, &times, dt, &opts, &mut monitor));
+    let s = monitor.finish(py, r)?;
+    series_dict(py, s)
+}
+
 /// The compiled core of mdrvisc.
 #[pymodule(name = "_core")]
 mod core_module {
     #[pymodule_export]
     use super::{
         bem_punch, bem_viscous, contact_solve, mdr_deflection, mdr_pressure, mdr_run,
-        surface_deflection,
+        surface_deflection, viscoelastic_bem, viscoelastic_mdr,
     };
 }

@@ -1,0 +1,301 @@
+//! Linear viscoelastic contact by BEM and MDR under force or depth control, unloading
+//! included.
+//!
+//! Both methods carry a strain-like history variable per point: MDR the element
+//! displacement w; BEM the elastic-equivalent pressure x = K^-1[u] at G = 1 (so that
+//! u = K[x]). The stress follows the hereditary law s = integral G(t - s) dx(s), advanced by
+//! `Rheology`'s exact exponential update: s_{n+1} = G_eff x_{n+1} + r_n. Each step is then
+//! an elastic contact problem with modulus G_eff: for MDR with the effective profile
+//! g_i - r_i / G_eff (an element touches where the indenter reaches its freely relaxed
+//! surface, and leaves when its force would turn tensile); for BEM with compliance 1/G_eff
+//! and separation h - K[r] / G_eff. Points out of contact relax freely (s = 0).
+
+use crate::contact::{ContactSolver, SolverOptions, Target};
+use crate::error::{check_positive, Error, Result};
+use crate::loading::{check_output_times, Loading};
+use crate::monitor::Monitor;
+use crate::operator::{FftOperator, SurfaceOperator};
+use crate::rheology::Rheology;
+use crate::viscous::Grid;
+
+/// Time series of a viscoelastic run, one entry per output time.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Series {
+    /// Output times (s).
+    pub t: Vec<f64>,
+    /// Indentation depth (m); under force control with zero force, the depth at which the
+    /// indenter just touches the relaxing surface.
+    pub depth: Vec<f64>,
+    /// Total force (N).
+    pub force: Vec<f64>,
+    /// Contact length: BEM 2 sqrt(A / pi), MDR elements in contact times dx (m).
+    pub contact_length: Vec<f64>,
+    /// Solver iterations per output interval (BEM).
+    pub iterations: Vec<usize>,
+    /// Time steps taken.
+    pub steps: usize,
+}
+
+/// Step times: the output times, each interval cut into equal steps no longer than `dt`.
+fn step_times(times: &[f64], dt: f64) -> Result<Vec<(f64, Option<usize>)>> {
+    check_output_times(times)?;
+    check_positive("time step dt", dt)?;
+    let mut out = vec![];
+    let mut t0 = 0.0;
+    for (k, &t1) in times.iter().enumerate() {
+        let m = ((t1 - t0) / dt).ceil().max(1.0) as usize;
+        for j in 1..=m {
+            let t = if j == m {
+                t1
+            } else {
+                t0 + (t1 - t0) * j as f64 / m as f64
+            };
+            out.push((t, (j == m).then_some(k)));
+        }
+        t0 = t1;
+    }
+    Ok(out)
+}
+
+/// MDR: a viscoelastic foundation (elements 4 dx times the medium) under a 1D profile `g`
+/// (m, spacing dx m), output at `times` (s), steps no longer than `dt` (s).
+pub fn run_mdr(
+    g: &[f64],
+    dx: f64,
+    medium: &Rheology,
+    loading: &Loading,
+    times: &[f64],
+    dt: f64,
+    monitor: &mut dyn Monitor,
+) -> Result<Series> {
+    check_positive("element spacing dx", dx)?;
+    let n = g.len();
+    if n == 0 {
+        return Err(Error::InvalidInput("the 1D profile has no elements".into()));
+    }
+    let steps = step_times(times, dt)?;
+    let m = medium.internal();
+    let (mut w, mut q) = (vec![0.0; n], vec![0.0; n * m]);
+    let mut surface = vec![0.0; n];
+    let mut sorted = vec![0.0; n];
+    let mut out = Series::default();
+    let mut t_prev = 0.0;
+    let mut rule = medium.step(1.0);
+    let mut rule_dt = f64::NAN;
+    for (s, &(t, output)) in steps.iter().enumerate() {
+        let h = t - t_prev;
+        if h != rule_dt {
+            rule = medium.step(h);
+            rule_dt = h;
+        }
+        let c = 4.0 * dx * rule.g_eff;
+        for i in 0..n {
+            // where the indenter meets the element's freely relaxed surface
+            surface[i] = g[i] - rule.history(w[i], &q[i * m..(i + 1) * m]) / rule.g_eff;
+        }
+        sorted.copy_from_slice(&surface);
+        sorted.sort_unstable_by(f64::total_cmp);
+        let (depth, force) = match loading {
+            Loading::Depth(hist) => {
+                let d = hist.depth(t);
+                let k = sorted.partition_point(|&v| v < d);
+                (d, c * (k as f64 * d - sorted[..k].iter().sum::<f64>()))
+            }
+            Loading::Force(hist) => {
+                let f = hist.force(t);
+                (depth_for_force(&sorted, f / c), f)
+            }
+        };
+        let mut count = 0;
+        for i in 0..n {
+            let w_new = if depth > surface[i] {
+                count += 1;
+                depth - g[i]
+            } else {
+                surface[i] - g[i]
+            };
+            rule.advance(w[i], w_new, &mut q[i * m..(i + 1) * m]);
+            w[i] = w_new;
+        }
+        if let Some(k) = output {
+            out.t.push(t);
+            out.depth.push(depth);
+            out.force.push(force);
+            out.contact_length.push(count as f64 * dx);
+            out.iterations.push(0);
+            monitor.progress("time steps", k + 1, times.len())?;
+        }
+        out.steps = s + 1;
+        t_prev = t;
+    }
+    Ok(out)
+}
+
+/// Depth d with sum max(d - s_i, 0) = `target` on the ascending `sorted` (exact); the
+/// lowest point when the target is zero.
+fn depth_for_force(sorted: &[f64], target: f64) -> f64 {
+    if target <= 0.0 {
+        return sorted[0];
+    }
+    let (mut k, mut sum) = (0usize, 0.0);
+    while k < sorted.len() {
+        sum += sorted[k];
+        k += 1;
+        let d = (target + sum) / k as f64;
+        if k == sorted.len() || d <= sorted[k] {
+            return d;
+        }
+    }
+    unreachable!("the loop returns at the last element")
+}
+
+/// BEM: a viscoelastic half-space under an indenter on `grid`, output at `times` (s), steps
+/// no longer than `dt` (s).
+pub fn run_bem(
+    grid: &Grid,
+    medium: &Rheology,
+    loading: &Loading,
+    times: &[f64],
+    dt: f64,
+    opts: &SolverOptions,
+    monitor: &mut dyn Monitor,
+) -> Result<Series> {
+    let steps = step_times(times, dt)?;
+    let n = grid.nx * grid.ny;
+    let m = medium.internal();
+    let mut solver = ContactSolver::new(FftOperator::new(grid.nx, grid.ny, grid.dx)?);
+    let (mut x, mut q) = (vec![0.0; n], vec![0.0; n * m]);
+    let (mut hist, mut k_hist, mut sep) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+    let mut out = Series::default();
+    let (mut t_prev, mut iterations) = (0.0, 0usize);
+    let mut warm = false;
+    for (s, &(t, output)) in steps.iter().enumerate() {
+        let rule = medium.step(t - t_prev);
+        for i in 0..n {
+            hist[i] = rule.history(x[i], &q[i * m..(i + 1) * m]);
+        }
+        solver.operator().apply(&hist, &mut k_hist);
+        for i in 0..n {
+            sep[i] = grid.height[i] - k_hist[i] / rule.g_eff;
+        }
+        let target = match loading {
+            Loading::Depth(h) => Target::Depth(h.depth(t)),
+            Loading::Force(h) => Target::Force(h.force(t)),
+        };
+        let (depth, force) = match target {
+            Target::Force(f) if f <= 0.0 => {
+                // separated: the indenter rests where it touches the relaxed surface
+                let lowest = (0..n)
+                    .filter(|&i| grid.allowed[i])
+                    .map(|i| sep[i])
+                    .fold(f64::INFINITY, f64::min);
+                solver.clear_pressure();
+                warm = false;
+                (lowest, 0.0)
+            }
+            _ => {
+                let r = solver.solve(
+                    &sep,
+                    &grid.allowed,
+                    1.0 / rule.g_eff,
+                    target,
+                    warm,
+                    0.0,
+                    opts,
+                    monitor,
+                )?;
+                iterations += r.iterations;
+                warm = r.contact_count > 0;
+                (r.depth, r.force)
+            }
+        };
+        let p = solver.pressure();
+        let mut count = 0;
+        for i in 0..n {
+            let x_new = (p[i] - hist[i]) / rule.g_eff;
+            rule.advance(x[i], x_new, &mut q[i * m..(i + 1) * m]);
+            x[i] = x_new;
+            count += usize::from(p[i] > 0.0);
+        }
+        if let Some(k) = output {
+            let area = count as f64 * grid.dx * grid.dx;
+            out.t.push(t);
+            out.depth.push(depth);
+            out.force.push(force);
+            out.contact_length
+                .push(2.0 * (area / std::f64::consts::PI).sqrt());
+            out.iterations.push(iterations);
+            iterations = 0;
+            monitor.progress("time steps", k + 1, times.len())?;
+        }
+        out.steps = s + 1;
+        t_prev = t;
+    }
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::loading::{DepthHistory, ForceHistory};
+    use crate::monitor::Silent;
+
+    fn parabola(n: usize, c: f64, half: f64) -> (Vec<f64>, f64) {
+        let dx = 2.0 * half / n as f64;
+        (
+            (0..n)
+                .map(|i| {
+                    let x = (i as f64 + 0.5) * dx - half;
+                    2.0 * c * x * x
+                })
+                .collect(),
+            dx,
+        )
+    }
+
+    /// Creep of a paraboloid under a step force on a standard solid (Lee–Radok):
+    /// d^(3/2) = 3 F J(t) / (16 sqrt R), J(t) = 1/G_inf + (1/G0 - 1/G_inf) exp(-G_inf t / (G0 tau)).
+    #[test]
+    fn mdr_creep_of_a_standard_solid_follows_lee_radok() {
+        let (g_inf, g1, tau, c, f) = (1.0, 3.0, 0.5, 1.0, 1.0);
+        let medium = Rheology::new(g_inf, vec![(g1, tau)], 0.0).unwrap();
+        let (g, dx) = parabola(8001, c, 1.5);
+        let times: Vec<f64> = (0..40)
+            .map(|k| 1e-7 * (5e7f64).powf(k as f64 / 39.0))
+            .collect();
+        let loading = Loading::Force(ForceHistory::constant(f).unwrap());
+        let s = run_mdr(&g, dx, &medium, &loading, &times, 1e-2, &mut Silent).unwrap();
+        let g0 = g_inf + g1;
+        let r = 1.0 / (2.0 * c);
+        for (t, d) in s.t.iter().zip(&s.depth) {
+            let j = 1.0 / g_inf + (1.0 / g0 - 1.0 / g_inf) * (-g_inf * t / (g0 * tau)).exp();
+            let exact = (3.0 * f * j / (16.0 * r.sqrt())).powf(2.0 / 3.0);
+            assert!((d / exact - 1.0).abs() < 2e-4, "t={t}: {d} vs {exact}");
+        }
+    }
+
+    /// Depth held after a ramp on a Maxwell body: the force relaxes as exp(-t / tau) while
+    /// the contact stays (Lee–Radok with fixed contact).
+    #[test]
+    fn mdr_force_relaxes_under_a_held_depth() {
+        let (g, tau) = (2.0, 0.3);
+        let medium = Rheology::new(0.0, vec![(g, tau)], 0.0).unwrap();
+        let (prof, dx) = parabola(4001, 1.0, 1.0);
+        let hist = DepthHistory::piecewise_linear(vec![0.0, 1e-6], vec![0.0, 0.2]).unwrap();
+        let times = [1e-6, 0.1, 0.5, 1.0];
+        let s = run_mdr(
+            &prof,
+            dx,
+            &medium,
+            &Loading::Depth(hist),
+            &times,
+            1e-3,
+            &mut Silent,
+        )
+        .unwrap();
+        for (t, f) in s.t.iter().zip(&s.force).skip(1) {
+            let expected = s.force[0] * (-(t - 1e-6) / tau).exp();
+            assert!((f / expected - 1.0).abs() < 1e-6, "t={t}");
+        }
+    }
+}
