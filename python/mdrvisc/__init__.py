@@ -13,12 +13,12 @@ Units are SI: m, s, N, Pa, Pa s. Depths and deflections are positive into the bo
 from . import analytic, arrays
 from .errors import ConvergenceError, DomainError, InvalidInputError, MdrviscError
 from .geometry import Axisymmetric, Cone, Indenter, Paraboloid, Rod, Sphere
-from .media import Elastic, Viscous
+from .media import Elastic, KelvinVoigt, Maxwell, Prony, StandardSolid, Viscous
 from .scene import OUTPUTS, Result, Scene
 from .solve import solve
 
 __version__ = "0.1.0"
 
 __all__ = ["Scene", "Result", "OUTPUTS", "solve", "Rod", "Paraboloid", "Cone", "Sphere",
-           "Axisymmetric", "Indenter", "Viscous", "Elastic", "analytic", "arrays", "MdrviscError",
+           "Axisymmetric", "Indenter", "Viscous", "Elastic", "KelvinVoigt", "Maxwell", "StandardSolid", "Prony", "analytic", "arrays", "MdrviscError",
            "InvalidInputError", "ConvergenceError", "DomainError", "__version__"]

@@ -1,14 +1,65 @@
-"""Half-space media. All are incompressible (Poisson ratio 1/2, E* = 4 G)."""
+"""Half-space media. All are incompressible (Poisson ratio 1/2, E* = 4 G).
+
+Each medium has a shear relaxation modulus G(t) and creep compliance J(t); the
+viscoelastic ones are written as G(t) = G_inf + sum_k G_k exp(-t / tau_k) + eta delta(t)
+(:meth:`rheology`), which is what the solvers step.
+"""
 
 from dataclasses import dataclass
 
-from .analytic import _positive
+import numpy as np
 
-__all__ = ["Viscous", "Elastic"]
+from .analytic import _positive
+from .errors import InvalidInputError
+
+__all__ = ["Viscous", "Elastic", "KelvinVoigt", "Maxwell", "StandardSolid", "Prony"]
+
+
+def _times(t):
+    t = np.asarray(t, dtype=np.float64)
+    if not np.all(np.isfinite(t)) or np.any(t < 0):
+        raise InvalidInputError(f"times must be finite and >= 0, got {t}")
+    return t
+
+
+class _Medium:
+    """Shared interface: relaxation modulus G(t) (Pa) and creep compliance J(t) (1/Pa)."""
+
+    def rheology(self):
+        """(G_inf, [(G_k, tau_k), ...], eta): the medium as a Prony series with a dashpot."""
+        raise NotImplementedError
+
+    def relaxation_modulus(self, t):
+        """G(t) (Pa) for t > 0 (the dashpot's delta at t = 0 left out)."""
+        g_inf, terms, _ = self.rheology()
+        t = _times(t)
+        return g_inf + sum(g * np.exp(-t / tau) for g, tau in terms)
+
+    def creep_compliance(self, t):
+        """J(t) (1/Pa): strain under a unit step of stress, by exact-exponential stepping of
+        the hereditary law on a fine geometric time grid (closed forms in the subclasses)."""
+        g_inf, terms, eta = self.rheology()
+        t = _times(t)
+        end = max(float(np.max(t, initial=0.0)), 1e-300)
+        taus = [tau for _, tau in terms] or [end]
+        grid = np.unique(np.concatenate([[0.0], np.geomspace(min(taus) * 1e-6, end, 20000), t.ravel()]))
+        x, q, out = 0.0, np.zeros(len(terms)), np.empty(grid.size)
+        out[0] = 0.0 if eta > 0 else 1.0 / (g_inf + sum(g for g, _ in terms))
+        x = out[0]
+        q = np.array([g * x for g, _ in terms])
+        for i in range(1, grid.size):
+            dt = grid[i] - grid[i - 1]
+            e = np.array([np.exp(-dt / tau) for _, tau in terms])
+            a = np.array([g * (tau / dt) * (1 - np.exp(-dt / tau)) for g, tau in terms])
+            g_eff = g_inf + a.sum() + eta / dt
+            x_new = (1.0 - (e @ q - (a.sum() + eta / dt) * x)) / g_eff
+            q = e * q + a * (x_new - x)
+            x = out[i] = x_new
+        return np.interp(t, grid, out)
 
 
 @dataclass(frozen=True)
-class Viscous:
+class Viscous(_Medium):
     """Newtonian viscous half-space of shear viscosity ``eta`` (Pa s).
 
     Radok's correspondence: every elastic result for a fixed contact holds for deflection
@@ -20,9 +71,16 @@ class Viscous:
     def __post_init__(self):
         object.__setattr__(self, "eta", _positive("Viscous", "eta", self.eta))
 
+    def rheology(self):
+        return 0.0, [], self.eta
+
+    def creep_compliance(self, t):
+        """J(t) = t / eta (1/Pa)."""
+        return _times(t) / self.eta
+
 
 @dataclass(frozen=True)
-class Elastic:
+class Elastic(_Medium):
     """Linear elastic half-space of shear modulus ``G`` (Pa); a scene with it and no duration
     is one static contact solve."""
 
@@ -30,3 +88,99 @@ class Elastic:
 
     def __post_init__(self):
         object.__setattr__(self, "G", _positive("Elastic", "G", self.G))
+
+    def rheology(self):
+        return self.G, [], 0.0
+
+    def creep_compliance(self, t):
+        """J(t) = 1 / G (1/Pa)."""
+        return np.full(np.shape(_times(t)), 1.0 / self.G)
+
+
+@dataclass(frozen=True)
+class KelvinVoigt(_Medium):
+    """Spring ``G`` (Pa) parallel to a dashpot ``eta`` (Pa s)."""
+
+    G: float
+    eta: float
+
+    def __post_init__(self):
+        object.__setattr__(self, "G", _positive("KelvinVoigt", "G", self.G))
+        object.__setattr__(self, "eta", _positive("KelvinVoigt", "eta", self.eta))
+
+    def rheology(self):
+        return self.G, [], self.eta
+
+    def creep_compliance(self, t):
+        """J(t) = (1 - exp(-G t / eta)) / G (1/Pa)."""
+        return -np.expm1(-self.G * _times(t) / self.eta) / self.G
+
+
+@dataclass(frozen=True)
+class Maxwell(_Medium):
+    """Spring ``G`` (Pa) in series with a dashpot ``eta`` (Pa s); tau = eta / G."""
+
+    G: float
+    eta: float
+
+    def __post_init__(self):
+        object.__setattr__(self, "G", _positive("Maxwell", "G", self.G))
+        object.__setattr__(self, "eta", _positive("Maxwell", "eta", self.eta))
+
+    def rheology(self):
+        return 0.0, [(self.G, self.eta / self.G)], 0.0
+
+    def creep_compliance(self, t):
+        """J(t) = 1 / G + t / eta (1/Pa)."""
+        return 1.0 / self.G + _times(t) / self.eta
+
+
+@dataclass(frozen=True)
+class StandardSolid(_Medium):
+    """Standard linear solid: G(t) = G_inf + G1 exp(-t / tau1) (Pa, s)."""
+
+    G_inf: float
+    G1: float
+    tau1: float
+
+    def __post_init__(self):
+        for name in ("G_inf", "G1", "tau1"):
+            object.__setattr__(self, name, _positive("StandardSolid", name, getattr(self, name)))
+
+    def rheology(self):
+        return self.G_inf, [(self.G1, self.tau1)], 0.0
+
+    def creep_compliance(self, t):
+        """J(t) = 1/G_inf + (1/G0 - 1/G_inf) exp(-G_inf t / (G0 tau1)), G0 = G_inf + G1."""
+        g0 = self.G_inf + self.G1
+        return 1.0 / self.G_inf + (1.0 / g0 - 1.0 / self.G_inf) * np.exp(-self.G_inf * _times(t) / (g0 * self.tau1))
+
+
+@dataclass(frozen=True)
+class Prony(_Medium):
+    """Generalised Maxwell body: G(t) = G_inf + sum_k G_k exp(-t / tau_k) (Pa, s)."""
+
+    G_inf: float
+    terms: tuple
+
+    def __post_init__(self):
+        g_inf = float(self.G_inf)
+        if not (np.isfinite(g_inf) and g_inf >= 0):
+            raise InvalidInputError(f"Prony: G_inf must be finite and >= 0, got {self.G_inf!r}")
+        try:
+            terms = tuple((_positive("Prony", "G_k", g), _positive("Prony", "tau_k", tau)) for g, tau in self.terms)
+        except (TypeError, ValueError) as exc:
+            if isinstance(exc, InvalidInputError):
+                raise
+            raise InvalidInputError(f"Prony: terms must be pairs (G_k, tau_k), got {self.terms!r}") from exc
+        if g_inf == 0 and not terms:
+            raise InvalidInputError("Prony: the medium has no stiffness (G_inf = 0 and no terms)")
+        object.__setattr__(self, "G_inf", g_inf)
+        object.__setattr__(self, "terms", terms)
+
+    def rheology(self):
+        return self.G_inf, list(self.terms), 0.0
+
+
+#: Media solved by the general viscoelastic stepping (not the exact viscous impulse step).
+VISCOELASTIC = (KelvinVoigt, Maxwell, StandardSolid, Prony)

@@ -7,7 +7,7 @@ import numpy as np
 from .analytic import _positive
 from .errors import InvalidInputError
 from .geometry import Indenter
-from .media import Elastic, Viscous
+from .media import VISCOELASTIC, Elastic, Viscous
 
 __all__ = ["Scene", "Result", "OUTPUTS"]
 
@@ -21,24 +21,25 @@ OUTPUTS = ("depth", "contact_length", "velocity", "stiffness_length", "pressure"
 FIELD_OUTPUTS = ("pressure", "surface_velocity", "deflection")
 
 
-def _history(force):
-    """(times, forces) float arrays of a force history given as a number or (t, F) samples."""
+def _history(force, name="force"):
+    """(times, values) float arrays of a force (N, >= 0) or depth (m) history given as a
+    number or (t, value) samples."""
     if isinstance(force, (int, float, np.floating, np.integer)) and not isinstance(force, bool):
-        f = _positive("Scene", "force", force)
+        f = _positive("Scene", name, force)
         return np.array([0.0]), np.array([f])
     try:
         t, f = (np.ascontiguousarray(a, dtype=np.float64) for a in force)
     except (TypeError, ValueError) as exc:
         raise InvalidInputError(
-            f"Scene: force must be a positive number or a pair (times, forces), got {force!r}"
+            f"Scene: {name} must be a positive number or a pair (times, values), got {force!r}"
         ) from exc
     if t.ndim != 1 or t.shape != f.shape or t.size == 0:
-        raise InvalidInputError("Scene: force history needs two 1-D arrays of equal, non-zero length")
+        raise InvalidInputError(f"Scene: {name} history needs two 1-D arrays of equal, non-zero length")
     if not (np.all(np.isfinite(t)) and np.all(np.isfinite(f))):
-        raise InvalidInputError("Scene: force history must be finite")
+        raise InvalidInputError(f"Scene: {name} history must be finite")
     if t[0] != 0.0 or np.any(np.diff(t) <= 0):
-        raise InvalidInputError(f"Scene: force history times must start at 0 and increase, got {t}")
-    if np.any(f < 0):
+        raise InvalidInputError(f"Scene: {name} history times must start at 0 and increase, got {t}")
+    if name == "force" and np.any(f < 0):
         raise InvalidInputError(f"Scene: forces must be >= 0 (no adhesion), got {f}")
     return t, f
 
@@ -55,6 +56,9 @@ class Scene:
     force : float or (array, array)
         Constant force (N) from first touch at t = 0, or a piecewise-linear history
         (times in s from 0, forces in N, >= 0), held constant after its last sample.
+    depth : float or (array, array)
+        Instead of ``force``: a prescribed depth history (m; piecewise linear, negative =
+        above the surface), for the viscoelastic media. Give exactly one of the two.
     duration : float, optional
         Simulated time (s); required for a viscous medium, absent for a static elastic solve.
     times : array_like, optional
@@ -68,19 +72,25 @@ class Scene:
 
     indenter: Indenter
     medium: object
-    force: object
+    force: object = None
     duration: float = None
     times: object = None
     outputs: tuple = ("depth", "contact_length")
     field_times: object = None
+    depth: object = None
     history: tuple = field(init=False, repr=False, compare=False)
 
     def __post_init__(self):
         if not isinstance(self.indenter, Indenter):
             raise InvalidInputError(f"Scene: indenter must be an mdrvisc indenter, got {self.indenter!r}")
-        if not isinstance(self.medium, (Viscous, Elastic)):
-            raise InvalidInputError(f"Scene: medium must be Viscous or Elastic, got {self.medium!r}")
-        object.__setattr__(self, "history", _history(self.force))
+        if not isinstance(self.medium, (Viscous, Elastic) + VISCOELASTIC):
+            raise InvalidInputError(f"Scene: medium must be an mdrvisc medium, got {self.medium!r}")
+        if (self.force is None) == (self.depth is None):
+            raise InvalidInputError("Scene: give exactly one of force and depth")
+        if self.depth is not None and not isinstance(self.medium, VISCOELASTIC + (Viscous,)):
+            raise InvalidInputError(f"Scene: depth control needs a time-dependent medium, got {self.medium!r}")
+        object.__setattr__(self, "history", _history(self.force) if self.depth is None
+                           else _history(self.depth, "depth"))
         outputs = (self.outputs,) if isinstance(self.outputs, str) else tuple(self.outputs)
         bad = [o for o in outputs if o not in OUTPUTS]
         if bad:
@@ -91,7 +101,7 @@ class Scene:
                 raise InvalidInputError("Scene: an elastic scene is static: give no duration or times")
             return
         if self.duration is None:
-            raise InvalidInputError("Scene: a viscous scene needs a duration (s)")
+            raise InvalidInputError("Scene: a time-dependent scene needs a duration (s)")
         duration = _positive("Scene", "duration", self.duration)
         object.__setattr__(self, "duration", duration)
         times = (np.linspace(duration / 5.0, duration, 5) if self.times is None
@@ -109,6 +119,11 @@ class Scene:
             times = np.union1d(times, fields[~near])
         object.__setattr__(self, "times", np.ascontiguousarray(times))
         object.__setattr__(self, "field_times", fields)
+
+    @property
+    def controlled_by(self):
+        """"force" or "depth"."""
+        return "force" if self.depth is None else "depth"
 
     def wants(self, output):
         """Whether the scene asks for ``output``."""
@@ -148,6 +163,7 @@ class Result:
     depth: np.ndarray
     contact_length: np.ndarray
     area: np.ndarray = None
+    force: np.ndarray = None
     velocity: object = None
     stiffness_length: np.ndarray = None
     central_pressure: float = None
@@ -164,7 +180,7 @@ class Result:
     warnings: list = field(default_factory=list)
     units: dict = field(default_factory=lambda: {
         "t": "s", "depth": "m", "contact_length": "m", "area": "m^2", "velocity": "m/s",
-        "stiffness_length": "m", "central_pressure": "Pa", "dx": "m", "wall_time": "s"})
+        "stiffness_length": "m", "central_pressure": "Pa", "dx": "m", "wall_time": "s", "force": "N"})
 
     def summary(self):
         """One line: method, resolution, steps, solves, iterations, residual, wall time."""

@@ -9,7 +9,7 @@ import numpy as np
 from . import _core
 from .analytic import _positive, lee_radok_depth_from_impulse
 from .errors import InvalidInputError
-from .media import Elastic, Viscous
+from .media import VISCOELASTIC, Elastic, Viscous
 from .scene import Result, Scene
 
 __all__ = ["solve", "bem_grid", "mdr_grid"]
@@ -27,6 +27,8 @@ def _progress_printer(stage, done, total):
 def _final_contact_radius(scene):
     """Contact radius (m) at the last output time of an unbounded indenter (from MDR)."""
     ind = scene.indenter
+    if hasattr(scene, "depth") and not hasattr(scene, "final_load"):
+        return ind.contact_radius_at_depth(scene.depth)
     modulus = scene.medium.eta if isinstance(scene.medium, Viscous) else scene.medium.G
     depth = lee_radok_depth_from_impulse(scene.final_load, ind, modulus)
     return ind.contact_radius_at_depth(depth)
@@ -75,7 +77,7 @@ def _check_n(n, method):
 
 
 def solve(scene, method="bem", n=None, tol=1e-10, max_iter=5000, progress=None,
-          integrator="implicit", step=0.01, area_change=0.01):
+          integrator="implicit", step=0.01, area_change=0.01, dt=None):
     """Solves ``scene`` by ``method`` ("bem" or "mdr") at resolution ``n``.
 
     Parameters
@@ -98,6 +100,9 @@ def solve(scene, method="bem", n=None, tol=1e-10, max_iter=5000, progress=None,
         re-solved only when its area grew by more than ``area_change`` (paper: 1 %).
     step, area_change : float
         Controls of the explicit integrator (ignored by the implicit one).
+    dt : float, optional
+        Longest time step (s) of the viscoelastic stepping (KelvinVoigt, Maxwell,
+        StandardSolid, Prony, or depth control); default duration / 500.
 
     Returns
     -------
@@ -119,7 +124,9 @@ def solve(scene, method="bem", n=None, tol=1e-10, max_iter=5000, progress=None,
         if not (math.isfinite(explicit[1]) and explicit[1] >= 0):
             raise InvalidInputError(f"solve: area_change must be finite and >= 0, got {area_change!r}")
     start = time.perf_counter()
-    if method == "bem":
+    if isinstance(scene.medium, VISCOELASTIC) or scene.controlled_by == "depth":
+        result = _solve_viscoelastic(scene, method, n, tol, max_iter, callback, dt)
+    elif method == "bem":
         result = _solve_bem(scene, n, tol, max_iter, callback, explicit)
     else:
         result = _solve_mdr(scene, n, callback, explicit)
@@ -273,3 +280,50 @@ def _mdr_fields(scene, x, dx, r, k):
         u[inside] = float(r["depth"][k]) - scene.indenter._height(radius[inside])
         out["deflection"] = u
     return out
+
+
+def _solve_viscoelastic(scene, method, n, tol, max_iter, callback, dt):
+    """General linear viscoelastic stepping (exact exponential updates, dt-limited steps)."""
+    dt = scene.duration / 500 if dt is None else _positive("solve", "dt", dt)
+    g_inf, terms, eta = scene.medium.rheology()
+    lt, lv = scene.history
+    common = (g_inf, [tuple(map(float, term)) for term in terms], eta, scene.controlled_by, lt, lv,
+              scene.times, dt)
+    if method == "mdr":
+        x, dx, g = mdr_grid(_sizing_scene(scene), n)
+        r = _core.viscoelastic_mdr(g, dx, *common, progress=callback)
+        shape = None
+    else:
+        x, dx, h, mask = bem_grid(_sizing_scene(scene), n)
+        r = _core.viscoelastic_bem(h, mask, dx, *common, tol=tol, max_iter=max_iter, progress=callback)
+        shape = h.shape
+    return Result(method, n, dx, r["t"], r["depth"], r["contact_length"], force=r["force"], steps=r["steps"],
+                  solves=r["steps"] if method == "bem" else 0, iterations=int(np.sum(r["iterations"])),
+                  grid_shape=shape)
+
+
+def _sizing_scene(scene):
+    """A scene whose final load sizes the grid of an unbounded indenter: the largest contact
+    is the elastic one at the largest force with the modulus 1 / J(duration) (the creep
+    compliance at the end), or the one at the largest depth."""
+    if scene.indenter.footprint_half_width is not None and scene.indenter.mdr_half_length is not None:
+        return scene
+    _, values = scene.history
+    if scene.controlled_by == "depth":
+        return _DepthSizing(scene.indenter, float(np.max(values)))
+    modulus = 1.0 / float(scene.medium.creep_compliance(scene.duration))
+    return _ForceSizing(scene.indenter, float(np.max(values)), modulus)
+
+
+class _ForceSizing:
+    """Stands in for a Scene when sizing grids: the elastic problem at the largest force."""
+
+    def __init__(self, indenter, force, modulus):
+        self.indenter, self.final_load, self.medium = indenter, force, Elastic(G=modulus)
+
+
+class _DepthSizing:
+    """Stands in for a Scene when sizing grids: the contact at the largest depth."""
+
+    def __init__(self, indenter, depth):
+        self.indenter, self.depth = indenter, depth

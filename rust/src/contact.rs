@@ -7,6 +7,7 @@
 //! is g = compliance * K[p] + h - d >= 0 with p >= 0 and p g = 0 on the allowed elements.
 
 use crate::error::{check_finite, check_len, check_positive, Error, Result};
+use crate::influence;
 use crate::monitor::Monitor;
 use crate::operator::{DenseOperator, SurfaceOperator};
 use faer::linalg::solvers::Solve;
@@ -174,10 +175,25 @@ impl<O: SurfaceOperator> ContactSolver<O> {
             }
         };
         let warm = warm && self.p.iter().zip(allowed).any(|(&p, &a)| a && p > 0.0);
+        let self_influence = influence::coefficient(0, 0, self.op.dx());
         if !warm {
-            let start = force.unwrap_or(1.0) / (n_allowed as f64 * area);
-            for (p, &a) in self.p.iter_mut().zip(allowed) {
-                *p = if a { start } else { 0.0 };
+            match target {
+                Target::Force(w) => {
+                    let start = w / (n_allowed as f64 * area);
+                    for (p, &a) in self.p.iter_mut().zip(allowed) {
+                        *p = if a { start } else { 0.0 };
+                    }
+                }
+                // Each overlapping element alone: the pressure that closes its own gap.
+                Target::Depth(d) => {
+                    for i in 0..n {
+                        self.p[i] = if allowed[i] {
+                            (d - h[i]).max(0.0) / (compliance * self_influence)
+                        } else {
+                            0.0
+                        };
+                    }
+                }
             }
         }
         for (p, &a) in self.p.iter_mut().zip(allowed) {
@@ -306,16 +322,26 @@ impl<O: SurfaceOperator> ContactSolver<O> {
 
             delta = if overlap { 0.0 } else { 1.0 };
             let mut factor = 1.0;
-            if let Some(w) = force {
-                let sum: f64 = self.p.iter().sum();
-                if sum > 0.0 {
+            let sum: f64 = self.p.iter().sum();
+            match force {
+                Some(w) if sum > 0.0 => {
                     factor = w / area / sum;
                     self.p.iter_mut().for_each(|v| *v *= factor);
-                } else {
+                }
+                Some(w) => {
                     let imin = argmin_gap(&self.g, allowed);
                     self.p[imin] = w / area;
                     clamped = true;
                 }
+                // Everything released while elements still overlap: restart from the
+                // pressures that close each overlap alone.
+                None if sum == 0.0 && (0..n).any(|i| allowed[i] && self.g[i] < -gap_tol) => {
+                    for i in (0..n).filter(|&i| allowed[i]) {
+                        self.p[i] = (-self.g[i]).max(0.0) / (compliance * self_influence);
+                    }
+                    clamped = true;
+                }
+                None => {}
             }
             if overlap || clamped || it % 32 == 0 {
                 self.op.apply(&self.p, &mut self.u);
