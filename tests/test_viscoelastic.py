@@ -1,0 +1,93 @@
+"""General linear viscoelasticity: creep (Lee–Radok), held depth, loading and unloading,
+BEM against MDR, stiff relaxation times."""
+
+import numpy as np
+import pytest
+
+import mdrvisc as mv
+
+C, FORCE = 1.0, 1.0
+R = 1.0 / (2 * C)
+TIMES = np.geomspace(1e-4, 5.0, 12)
+
+
+def creep_depth(medium, t):
+    """Lee–Radok creep of a paraboloid under a step force: d^(3/2) = 3 F J(t) / (16 sqrt R)."""
+    return (3 * FORCE * medium.creep_compliance(t) / (16 * np.sqrt(R))) ** (2 / 3)
+
+
+MEDIA = [mv.StandardSolid(G_inf=1.0, G1=3.0, tau1=0.5), mv.Maxwell(G=2.0, eta=1.0),
+         mv.Prony(G_inf=0.5, terms=[(1.0, 0.1), (2.0, 2.0)])]
+
+
+@pytest.mark.parametrize("medium", MEDIA, ids=lambda m: type(m).__name__)
+@pytest.mark.parametrize("method,n,tol", [("mdr", 8001, 3e-4), ("bem", 65, 1e-3)])
+def test_creep_under_a_step_force_follows_lee_radok(medium, method, n, tol):
+    scene = mv.Scene(indenter=mv.Paraboloid(c=C), medium=medium, force=FORCE, duration=5.0, times=TIMES)
+    r = mv.solve(scene, method, n, dt=0.02)
+    assert np.max(np.abs(r.depth / creep_depth(medium, TIMES) - 1)) < tol
+
+
+def test_kelvin_voigt_creep_converges_first_order_in_the_step():
+    medium = mv.KelvinVoigt(G=1.0, eta=0.5)
+    scene = mv.Scene(indenter=mv.Paraboloid(c=C), medium=medium, force=FORCE, duration=5.0, times=TIMES)
+    # the dashpot is stepped by backward Euler: error ~ dt / (G / eta)^-1, first order
+    errs = [np.max(np.abs(mv.solve(scene, "mdr", 8001, dt=dt).depth / creep_depth(medium, TIMES) - 1))
+            for dt in (0.04, 0.01)]
+    assert 2.5 < errs[0] / errs[1] < 6
+    assert errs[1] < 0.5 * 0.01 / (medium.eta / medium.G)
+
+
+def test_creep_compliance_closed_forms_match_the_generic_stepping():
+    t = np.array([0.0, 0.05, 0.7, 4.0])
+    for medium in (mv.StandardSolid(1.0, 3.0, 0.5), mv.Maxwell(2.0, 0.6)):
+        generic = mv.media._Medium.creep_compliance(medium, t)
+        assert np.allclose(generic, medium.creep_compliance(t), rtol=1e-6)
+    sls = mv.StandardSolid(1.0, 3.0, 0.5)
+    assert sls.relaxation_modulus(0.0) == pytest.approx(4.0)
+    assert sls.creep_compliance(1e9) == pytest.approx(1.0)
+
+
+def test_held_depth_relaxes_the_force_of_a_maxwell_body():
+    medium = mv.Maxwell(G=2.0, eta=0.6)
+    scene = mv.Scene(indenter=mv.Paraboloid(c=C), medium=medium, depth=([0.0, 1e-6], [0.0, 0.2]), duration=1.0,
+                     times=[1e-6, 0.1, 0.5, 1.0])
+    for method, n in (("mdr", 4001), ("bem", 65)):
+        r = mv.solve(scene, method, n, dt=0.01)
+        expected = r.force[0] * np.exp(-(r.t - 1e-6) / (medium.eta / medium.G))
+        assert np.allclose(r.force, expected, rtol=1e-6)
+
+
+def test_loading_then_unloading_bem_agrees_with_mdr_and_separates():
+    scene = mv.Scene(indenter=mv.Paraboloid(c=C), medium=mv.StandardSolid(1.0, 3.0, 0.5),
+                     depth=([0.0, 1.0, 2.0], [0.0, 0.2, 0.0]), duration=3.0, times=np.linspace(0.1, 3.0, 30))
+    mdr = mv.solve(scene, "mdr", 8001, dt=0.005)
+    bem = mv.solve(scene, "bem", 65, dt=0.005)
+    assert np.max(np.abs(bem.force - mdr.force)) < 2e-3 * mdr.force.max()
+    # the viscoelastic surface lags behind the withdrawing indenter: contact is lost
+    # before the depth returns to zero, and the force never turns tensile
+    lost = mdr.t[np.argmax((mdr.force == 0) & (mdr.t > 1.0))]
+    assert 1.0 < lost < 2.0
+    assert np.all(mdr.force >= 0) and np.all(bem.force >= 0)
+    assert np.all(bem.force[bem.t > 2.0] == 0) and np.all(mdr.contact_length[mdr.t > 2.0] == 0)
+
+
+@pytest.mark.parametrize("tau", [1e-6, 1e6])
+def test_relaxation_times_far_from_the_step_are_stable(tau):
+    # tau << dt: the Prony term has relaxed (modulus G_inf); tau >> dt: it is glassy
+    medium = mv.StandardSolid(G_inf=1.0, G1=3.0, tau1=tau)
+    scene = mv.Scene(indenter=mv.Paraboloid(c=C), medium=medium, force=FORCE, duration=5.0, times=[1.0, 5.0])
+    r = mv.solve(scene, "mdr", 8001, dt=0.1)
+    modulus = 1.0 if tau < 1 else 4.0
+    elastic = (3 * FORCE / (16 * np.sqrt(R) * modulus)) ** (2 / 3)
+    assert np.allclose(r.depth, elastic, rtol=2e-3)
+    assert np.all(np.isfinite(r.depth))
+
+
+def test_depth_control_needs_a_time_dependent_medium():
+    with pytest.raises(mv.InvalidInputError, match="depth"):
+        mv.Scene(indenter=mv.Paraboloid(c=C), medium=mv.Elastic(G=1.0), depth=0.1)
+    with pytest.raises(mv.InvalidInputError, match="exactly one"):
+        mv.Scene(indenter=mv.Paraboloid(c=C), medium=mv.Maxwell(1.0, 1.0), force=1.0, depth=0.1, duration=1.0)
+    with pytest.raises(mv.InvalidInputError, match="tau_k"):
+        mv.Prony(G_inf=1.0, terms=[(1.0, -2.0)])
