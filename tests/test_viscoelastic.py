@@ -91,3 +91,32 @@ def test_depth_control_needs_a_time_dependent_medium():
         mv.Scene(indenter=mv.Paraboloid(c=C), medium=mv.Maxwell(1.0, 1.0), force=1.0, depth=0.1, duration=1.0)
     with pytest.raises(mv.InvalidInputError, match="tau_k"):
         mv.Prony(G_inf=1.0, terms=[(1.0, -2.0)])
+
+
+@pytest.mark.parametrize("medium", [mv.Maxwell(G=2.0, eta=1.0), mv.StandardSolid(1.0, 3.0, 0.5)],
+                         ids=lambda m: type(m).__name__)
+def test_constant_indentation_rate_follows_lee_radok(medium):
+    # d = v t: F(t) = (16/3) sqrt(R) integral_0^t G(t - s) d/ds (v s)^(3/2) ds
+    from scipy.integrate import quad
+
+    v, times = 0.1, np.array([0.25, 1.0, 2.0])
+    scene = mv.Scene(indenter=mv.Paraboloid(c=C), medium=medium, depth=([0.0, 1.0], [0.0, v]), duration=2.0,
+                     times=times)
+    # the depth history is held after t = 1 s: integrate the hereditary law piecewise
+    def force(t):
+        rate = lambda s: 1.5 * v**1.5 * np.sqrt(s) if s < 1.0 else 0.0
+        val, _ = quad(lambda s: medium.relaxation_modulus(t - s) * rate(s), 0.0, min(t, 1.0), limit=200)
+        return 16.0 / 3.0 * np.sqrt(R) * val
+
+    exact = np.array([force(t) for t in times])
+    r = mv.solve(scene, "mdr", 8001, dt=0.002)
+    assert np.allclose(r.force, exact, rtol=2e-3)
+
+
+def test_elastic_limit_is_hertz_and_callables_are_histories():
+    medium = mv.Prony(G_inf=2.0, terms=[])
+    scene = mv.Scene(indenter=mv.Paraboloid(c=C), medium=medium, force=lambda t: min(t, 1.0), duration=2.0,
+                     times=[0.5, 2.0])
+    r = mv.solve(scene, "mdr", 8001)
+    for f, d in zip((0.5, 1.0), r.depth):
+        assert d == pytest.approx(mv.analytic.hertz(f, R, 4 * 2.0)[1], rel=1e-5)

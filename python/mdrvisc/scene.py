@@ -19,6 +19,8 @@ __all__ = ["Scene", "Result", "OUTPUTS"]
 OUTPUTS = ("depth", "contact_length", "velocity", "stiffness_length", "pressure",
            "surface_velocity", "deflection")
 FIELD_OUTPUTS = ("pressure", "surface_velocity", "deflection")
+#: Samples taken of a loading history given as a callable.
+CALLABLE_SAMPLES = 4001
 
 
 def _history(force, name="force"):
@@ -53,9 +55,10 @@ class Scene:
     indenter : Indenter
         Rod, Paraboloid, Cone, Sphere or Axisymmetric (see :mod:`mdrvisc.geometry`).
     medium : Viscous or Elastic
-    force : float or (array, array)
+    force : float, (array, array) or callable
         Constant force (N) from first touch at t = 0, or a piecewise-linear history
-        (times in s from 0, forces in N, >= 0), held constant after its last sample.
+        (times in s from 0, forces in N, >= 0), held constant after its last sample, or a
+        callable F(t) (sampled at 4001 points over the duration).
     depth : float or (array, array)
         Instead of ``force``: a prescribed depth history (m; piecewise linear, negative =
         above the surface), for the viscoelastic media. Give exactly one of the two.
@@ -89,8 +92,15 @@ class Scene:
             raise InvalidInputError("Scene: give exactly one of force and depth")
         if self.depth is not None and not isinstance(self.medium, VISCOELASTIC + (Viscous,)):
             raise InvalidInputError(f"Scene: depth control needs a time-dependent medium, got {self.medium!r}")
-        object.__setattr__(self, "history", _history(self.force) if self.depth is None
-                           else _history(self.depth, "depth"))
+        load, name = (self.force, "force") if self.depth is None else (self.depth, "depth")
+        if callable(load):
+            # a callable history is sampled finely and then followed piecewise linearly
+            if self.duration is None:
+                raise InvalidInputError(f"Scene: a callable {name} history needs a duration")
+            span = np.linspace(0.0, _positive("Scene", "duration", self.duration), CALLABLE_SAMPLES)
+            values = np.asarray([load(float(t)) for t in span], dtype=np.float64)
+            load = (span, values)
+        object.__setattr__(self, "history", _history(load, name))
         outputs = (self.outputs,) if isinstance(self.outputs, str) else tuple(self.outputs)
         bad = [o for o in outputs if o not in OUTPUTS]
         if bad:
