@@ -120,3 +120,34 @@ def test_elastic_limit_is_hertz_and_callables_are_histories():
     r = mv.solve(scene, "mdr", 8001)
     for f, d in zip((0.5, 1.0), r.depth):
         assert d == pytest.approx(mv.analytic.hertz(f, R, 4 * 2.0)[1], rel=1e-5)
+
+
+@pytest.mark.parametrize("method,n,tol", [("mdr", 8001, 3e-4), ("bem", 100, 3e-3)])
+def test_creep_of_rod_and_cone_follows_lee_radok(method, n, tol):
+    medium = mv.StandardSolid(G_inf=1.0, G1=3.0, tau1=0.5)
+    times = np.geomspace(1e-4, 5.0, 8)
+    j = medium.creep_compliance(times)
+    rod = mv.Scene(indenter=mv.Rod(radius=0.5), medium=medium, force=FORCE, duration=5.0, times=times)
+    # flat punch: F = 8 G a d, so d(t) = F J(t) / (8 a)
+    assert np.max(np.abs(mv.solve(rod, method, n, dt=0.02).depth / (FORCE * j / (8 * 0.5)) - 1)) < tol
+    slope = 0.5
+    cone = mv.Scene(indenter=mv.Cone(slope=slope), medium=medium, force=FORCE, duration=5.0, times=times)
+    # cone: F = 8 G d^2 / (pi s), so d(t)^2 = pi s F J(t) / 8
+    exact = np.sqrt(np.pi * slope * FORCE * j / 8)
+    assert np.max(np.abs(mv.solve(cone, method, n, dt=0.02).depth / exact - 1)) < 5 * tol
+
+
+def test_depth_controlled_viscous_medium_matches_the_viscous_engine():
+    # the general stepping under the depth history that the exact viscous run produced
+    viscous = mv.Viscous(eta=1.0)
+    t = np.linspace(0.05, 5.0, 100)
+    forward = mv.solve(mv.Scene(indenter=mv.Paraboloid(c=C), medium=viscous, force=FORCE, duration=5.0,
+                                times=t), "mdr", 8001)
+    back = mv.solve(mv.Scene(indenter=mv.Paraboloid(c=C), medium=viscous,
+                             depth=(np.concatenate([[0.0], t]), np.concatenate([[0.0], forward.depth])),
+                             duration=5.0, times=t[1:]), "mdr", 8001, dt=0.01)
+    # the depth history is sampled every 0.05 s and d ~ t^(2/3) curves most early: the
+    # sampled history's force error falls as the sampling gets finer relative to t
+    err = np.abs(back.force / FORCE - 1)
+    assert err[5] < 2.5e-2 and err[-1] < err[5] / 8
+    assert np.all(np.diff(err[5:]) < 1e-4)
