@@ -100,7 +100,7 @@ def _run(args):
     finally:
         progress.close()
     if args.json:
-        fields = {"method", "n", "dx", "t", "depth", "contact_length", "velocity",
+        fields = {"method", "n", "dx", "t", "depth", "force", "contact_length", "velocity",
                   "stiffness_length", "central_pressure", "area", "steps", "solves",
                   "iterations", "residual", "wall_time", "units"}
         out = {k: v for k, v in vars(result).items() if k in fields and v is not None}

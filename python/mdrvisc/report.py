@@ -89,10 +89,11 @@ def result_table(name, result):
     lines = [f"{name}: {result.summary()}"]
     if result.central_pressure is not None:
         lines.append(f"central pressure p0 = {result.central_pressure:.6f} Pa")
-    series = {"t": result.t, "depth": result.depth, "contact_length": result.contact_length,
-              "velocity": result.velocity, "stiffness_length": result.stiffness_length}
+    series = {"t": result.t, "depth": result.depth, "force": result.force,
+              "contact_length": result.contact_length, "velocity": result.velocity,
+              "stiffness_length": result.stiffness_length}
     series = {k: np.broadcast_to(v, result.t.shape) for k, v in series.items() if v is not None}
-    headers = {"t": "t [s]", "depth": "d [m]", "contact_length": "l [m]",
+    headers = {"t": "t [s]", "depth": "d [m]", "force": "F [N]", "contact_length": "l [m]",
                "velocity": "dd/dt [m/s]", "stiffness_length": "l Eq.23 [m]"}
     columns = [(headers[k], k, ".8g") for k in series]
     rows = [{k: float(v[i]) for k, v in series.items()} for i in range(result.t.size)]

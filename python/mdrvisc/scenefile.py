@@ -18,6 +18,11 @@
     type = "viscous"
     eta = 1.0               # Pa s
 
+Viscoelastic media: ``type = "kelvinvoigt"`` (G, eta), ``"maxwell"`` (G, eta),
+``"standardsolid"`` (G_inf, G1, tau1), ``"prony"`` (G_inf, terms = [[G_k, tau_k], ...]).
+Instead of ``force`` a scene may give ``depth = [[t, d], ...]`` (s, m; piecewise linear from
+t = 0) for a time-dependent medium.
+
 Lengths in m, c in 1/m, force in N, times in s, eta in Pa s. Unknown keys, missing keys and
 values of the wrong type raise :class:`mdrvisc.InvalidInputError` naming the key.
 """
@@ -29,7 +34,7 @@ except ImportError:  # Python 3.10
 
 from .errors import InvalidInputError
 from .geometry import Cone, Paraboloid, Rod, Sphere
-from .media import Viscous
+from .media import KelvinVoigt, Maxwell, Prony, StandardSolid, Viscous
 from .scene import Scene
 
 __all__ = ["load_scene", "read_scene", "parse_scene"]
@@ -40,9 +45,11 @@ _STRING = "a string"
 _NUMBERS = "a list of numbers"
 _STRINGS = "a list of strings"
 _TABLE = "a table"
+_PAIRS = "a list of [number, number] pairs"
 
 #: Top-level keys: (kind, required).
-_TOP = {"method": (_STRING, True), "n": (_INTEGER, True), "force": (_NUMBER, True),
+_TOP = {"method": (_STRING, True), "n": (_INTEGER, True), "force": (_NUMBER, False),
+        "depth": (_PAIRS, False),
         "duration": (_NUMBER, True), "times": (_NUMBERS, False), "outputs": (_STRINGS, False),
         "indenter": (_TABLE, True), "medium": (_TABLE, True)}
 #: Indenter types: (class, {key: required}).
@@ -50,7 +57,11 @@ _INDENTERS = {"rod": (Rod, {"radius": True}),
               "paraboloid": (Paraboloid, {"c": True, "edge": False}),
               "cone": (Cone, {"slope": True, "edge": False}), "sphere": (Sphere, {"radius": True})}
 #: Medium types: (class, {key: required}).
-_MEDIA = {"viscous": (Viscous, {"eta": True})}
+_MEDIA = {"viscous": (Viscous, {"eta": True}),
+          "kelvinvoigt": (KelvinVoigt, {"G": True, "eta": True}),
+          "maxwell": (Maxwell, {"G": True, "eta": True}),
+          "standardsolid": (StandardSolid, {"G_inf": True, "G1": True, "tau1": True}),
+          "prony": (Prony, {"G_inf": True, "terms": (_PAIRS, True)})}
 
 
 def _is(kind, value):
@@ -64,6 +75,8 @@ def _is(kind, value):
         return isinstance(value, str)
     if kind == _TABLE:
         return isinstance(value, dict)
+    if kind == _PAIRS:
+        return isinstance(value, list) and all(_is(_NUMBERS, v) and len(v) == 2 for v in value)
     item = _NUMBER if kind == _NUMBERS else _STRING
     return isinstance(value, list) and all(_is(item, v) for v in value)
 
@@ -94,7 +107,8 @@ def _build(source, table, name, choices):
         raise InvalidInputError(
             f"{source}: key '{name}.type' must be one of {', '.join(choices)}, got {kind!r}")
     cls, keys = choices[kind]
-    schema = {"type": (_STRING, True), **{k: (_NUMBER, req) for k, req in keys.items()}}
+    schema = {"type": (_STRING, True),
+              **{k: req if isinstance(req, tuple) else (_NUMBER, req) for k, req in keys.items()}}
     _check(source, table, schema, prefix=f"{name}.")
     return cls(**{k: v for k, v in table.items() if k != "type"})
 
@@ -123,8 +137,16 @@ def parse_scene(data, source="scene"):
     indenter = _build(source, data["indenter"], "indenter", _INDENTERS)
     medium = _build(source, data["medium"], "medium", _MEDIA)
     extra = {k: data[k] for k in ("times", "outputs") if k in data}
-    scene = Scene(indenter=indenter, medium=medium, force=data["force"],
-                  duration=data["duration"], **extra)
+    if "force" not in data and "depth" not in data:
+        raise InvalidInputError(f"{source}: missing key 'force' (or 'depth')")
+    if "force" in data and "depth" in data:
+        raise InvalidInputError(f"{source}: give only one of the keys 'force' and 'depth'")
+    if "depth" in data:
+        samples = data["depth"]
+        extra["depth"] = ([p[0] for p in samples], [p[1] for p in samples])
+    else:
+        extra["force"] = data["force"]
+    scene = Scene(indenter=indenter, medium=medium, duration=data["duration"], **extra)
     return scene, method, data["n"]
 
 
