@@ -63,6 +63,7 @@ def main(argv=None) -> None:
     parser.add_argument("--c", type=float, nargs="+", default=[1.0, 5.0, 20.0])
     parser.add_argument("--rounds", type=int, default=2)
     parser.add_argument("--quick", action="store_true")
+    parser.add_argument("--only", choices=["bem", "operator"], help="run one part only")
     parser.add_argument("--wait-quiet", type=float, default=60.0,
                         help="before each subprocess, wait up to this many seconds for other "
                         "processes to use < 0.1 cores (0: do not wait)")
@@ -76,9 +77,18 @@ def main(argv=None) -> None:
     op = {1: [], 2: []}
     for _ in range(args.rounds):
         for threads in (1, 2):
-            bem[threads].append(run("bench_bem.py", threads, bem_args, args.wait_quiet))
-            op[threads].append(run("bench_operator.py", threads, op_args, args.wait_quiet))
+            if args.only != "operator":
+                bem[threads].append(run("bench_bem.py", threads, bem_args, args.wait_quiet))
+            if args.only != "bem":
+                op[threads].append(run("bench_operator.py", threads, op_args, args.wait_quiet))
 
+    if args.only != "operator":
+        bem_table(bem)
+    if args.only != "bem":
+        operator_table(op)
+
+
+def bem_table(bem):
     print("\nViscous BEM paper run, 257 x 257, mv.solve end to end:")
     w1, w2 = best(bem[1], "wall"), best(bem[2], "wall")
     o1, o2 = others_of_best(bem[1], "wall"), others_of_best(bem[2], "wall")
@@ -88,6 +98,8 @@ def main(argv=None) -> None:
            "others 1t/2t"], rows,
           ["{:g}", "{}", "{}", "{:.3f}", "{:.3f}", "{:.2f}x", "{}"])
 
+
+def operator_table(op):
     print("\nSurface operator (per apply: flat-punch CG differential; build+apply: "
           "surface_deflection):")
     a1, a2 = best(op[1], "per_apply"), best(op[2], "per_apply")

@@ -23,8 +23,11 @@ fn paper_scenes(quick: bool) -> Vec<(String, Scene)> {
             "rod a=1".to_string(),
             Scene {
                 indenter: Indenter::Rod { radius: 1.0 },
-                medium: viscous,
-                force: 1.0,
+                medium: viscous.clone(),
+                force: Some(1.0),
+                depth: None,
+                dt: None,
+                outputs: None,
                 duration: 1.0,
                 method,
                 n,
@@ -41,8 +44,11 @@ fn paper_scenes(quick: bool) -> Vec<(String, Scene)> {
                         c,
                         edge: Some(2.56),
                     },
-                    medium: viscous,
-                    force: 1.0,
+                    medium: viscous.clone(),
+                    force: Some(1.0),
+                    depth: None,
+                    dt: None,
+                    outputs: None,
                     duration: 5.0,
                     method,
                     n,
@@ -66,14 +72,18 @@ fn print_table(name: &str, r: &Report) {
     if let Some(p0) = r.central_pressure {
         println!("  central pressure p0 = {p0:.6} Pa");
     }
+    let (label, last) = match &r.force {
+        Some(f) => ("F [N]", f),
+        None => ("dd/dt [m/s]", &r.velocity),
+    };
     println!(
         "  {:>8} {:>14} {:>14} {:>14}",
-        "t [s]", "d [m]", "l [m]", "dd/dt [m/s]"
+        "t [s]", "d [m]", "l [m]", label
     );
-    for i in 0..r.t.len() {
+    for (i, value) in last.iter().enumerate() {
         println!(
             "  {:>8.3} {:>14.8} {:>14.8} {:>14.8}",
-            r.t[i], r.depth[i], r.contact_length[i], r.velocity[i]
+            r.t[i], r.depth[i], r.contact_length[i], value
         );
     }
 }

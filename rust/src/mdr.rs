@@ -336,7 +336,7 @@ mod tests {
         )
         .unwrap();
         for (t, d) in s.t.iter().zip(&s.depth) {
-            let exact = (3.0 * t * (2.0 * c as f64).sqrt() / 16.0).powf(2.0 / 3.0);
+            let exact = (3.0 * t * (2.0 * c).sqrt() / 16.0).powf(2.0 / 3.0);
             assert!((d / exact - 1.0).abs() < 1e-6, "t={t}: {d} vs {exact}");
         }
     }

@@ -4,9 +4,11 @@
 
 use crate::contact::SolverOptions;
 use crate::error::{check_positive, Error, Result};
-use crate::loading::ForceHistory;
+use crate::loading::{DepthHistory, ForceHistory, Loading};
 use crate::mdr::{self, Foundation, Medium};
 use crate::monitor::Monitor;
+use crate::rheology::Rheology;
+use crate::viscoelastic;
 use crate::viscous::{self, Grid, ViscousRequest};
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
@@ -116,11 +118,15 @@ impl Indenter {
     /// grid is centred on an element ((n + 1) x (n + 1) for even n), so n = 200 puts the
     /// paper's 31417 elements inside the disc.
     pub fn bem_grid(&self, n: usize, impulse: f64, eta: f64) -> Result<Grid> {
+        self.bem_grid_over(n, self.grid_half_width(impulse, eta))
+    }
+
+    /// BEM grid of n x n elements over a square of half-width `half` (m).
+    fn bem_grid_over(&self, n: usize, half: f64) -> Result<Grid> {
         self.validate()?;
         if n == 0 {
             return Err(Error::InvalidInput("grid size n must be >= 1".into()));
         }
-        let half = self.grid_half_width(impulse, eta);
         let dx = 2.0 * half / n as f64;
         let (m, offset) = match self {
             Indenter::Rod { .. } => (2 * (n / 2) + 1, (n / 2) as f64),
@@ -146,18 +152,34 @@ impl Indenter {
     /// MDR foundation of n elements over the 1D indenter (unbounded: 1.2 times the final
     /// contact radius on each side).
     pub fn foundation(&self, n: usize, impulse: f64, eta: f64) -> Result<Foundation> {
+        let (profile, dx) = self.profile_over(n, || 1.2 * self.contact_radius(impulse, eta))?;
+        Foundation::new(profile, dx)
+    }
+
+    /// The 1D profile (m) of n elements and their spacing (m) over the 1D indenter, or over
+    /// `unbounded()` on each side of an unbounded one.
+    fn profile_over(&self, n: usize, unbounded: impl FnOnce() -> f64) -> Result<(Vec<f64>, f64)> {
         self.validate()?;
         if n == 0 {
             return Err(Error::InvalidInput("element count n must be >= 1".into()));
         }
-        let half = self
-            .half_length_1d()
-            .unwrap_or_else(|| 1.2 * self.contact_radius(impulse, eta));
+        let half = self.half_length_1d().unwrap_or_else(unbounded);
         let dx = 2.0 * half / n as f64;
-        let profile = (0..n)
-            .map(|i| self.profile_1d((i as f64 + 0.5) * dx - half))
-            .collect();
-        Foundation::new(profile, dx)
+        Ok((
+            (0..n)
+                .map(|i| self.profile_1d((i as f64 + 0.5) * dx - half))
+                .collect(),
+            dx,
+        ))
+    }
+
+    /// Contact radius (m) at depth `d` (m) of an unbounded indenter (MDR: g(a) = d).
+    fn radius_at_depth(&self, d: f64) -> f64 {
+        match *self {
+            Indenter::Rod { radius } => radius,
+            Indenter::Paraboloid { c, .. } => (d.max(0.0) / (2.0 * c)).sqrt(),
+            Indenter::Cone { slope, .. } => 2.0 * d.max(0.0) / (PI * slope),
+        }
     }
 }
 
@@ -172,7 +194,7 @@ pub enum Method {
 }
 
 /// The medium of a scene file.
-#[derive(Debug, Clone, Copy, PartialEq, Deserialize, Serialize)]
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
 #[serde(tag = "type", rename_all = "lowercase", deny_unknown_fields)]
 pub enum MediumSpec {
     /// Newtonian viscous half-space.
@@ -180,6 +202,67 @@ pub enum MediumSpec {
         /// Shear viscosity (Pa s).
         eta: f64,
     },
+    /// Spring G (Pa) parallel to a dashpot eta (Pa s).
+    KelvinVoigt {
+        /// Shear modulus (Pa).
+        #[serde(rename = "G")]
+        g: f64,
+        /// Viscosity (Pa s).
+        eta: f64,
+    },
+    /// Spring G (Pa) in series with a dashpot eta (Pa s).
+    Maxwell {
+        /// Shear modulus (Pa).
+        #[serde(rename = "G")]
+        g: f64,
+        /// Viscosity (Pa s).
+        eta: f64,
+    },
+    /// G(t) = G_inf + G1 exp(-t / tau1).
+    StandardSolid {
+        /// Long-time modulus (Pa).
+        #[serde(rename = "G_inf")]
+        g_inf: f64,
+        /// Relaxing modulus (Pa).
+        #[serde(rename = "G1")]
+        g1: f64,
+        /// Relaxation time (s).
+        tau1: f64,
+    },
+    /// G(t) = G_inf + sum G_k exp(-t / tau_k).
+    Prony {
+        /// Long-time modulus (Pa).
+        #[serde(rename = "G_inf")]
+        g_inf: f64,
+        /// Terms [G_k (Pa), tau_k (s)].
+        terms: Vec<[f64; 2]>,
+    },
+}
+
+impl MediumSpec {
+    /// The medium as a relaxation modulus.
+    pub fn rheology(&self) -> Result<Rheology> {
+        match self {
+            MediumSpec::Viscous { eta } => Rheology::new(0.0, vec![], *eta),
+            MediumSpec::KelvinVoigt { g, eta } => {
+                check_positive("G", *g)?;
+                check_positive("eta", *eta)?;
+                Rheology::new(*g, vec![], *eta)
+            }
+            MediumSpec::Maxwell { g, eta } => {
+                check_positive("G", *g)?;
+                check_positive("eta", *eta)?;
+                Rheology::new(0.0, vec![(*g, eta / g)], 0.0)
+            }
+            MediumSpec::StandardSolid { g_inf, g1, tau1 } => {
+                check_positive("G_inf", *g_inf)?;
+                Rheology::new(*g_inf, vec![(*g1, *tau1)], 0.0)
+            }
+            MediumSpec::Prony { g_inf, terms } => {
+                Rheology::new(*g_inf, terms.iter().map(|t| (t[0], t[1])).collect(), 0.0)
+            }
+        }
+    }
 }
 
 /// A scene: indenter, medium, constant force, duration, method and resolution.
@@ -190,8 +273,19 @@ pub struct Scene {
     pub indenter: Indenter,
     /// The half-space.
     pub medium: MediumSpec,
-    /// Constant force from first touch (N).
-    pub force: f64,
+    /// Constant force from first touch (N); or give `depth`.
+    #[serde(default)]
+    pub force: Option<f64>,
+    /// Depth history samples [t (s), d (m)], piecewise linear from t = 0.
+    #[serde(default)]
+    pub depth: Option<Vec<[f64; 2]>>,
+    /// Longest time step (s) of the viscoelastic stepping; default duration / 500.
+    #[serde(default)]
+    pub dt: Option<f64>,
+    /// Outputs the Python interface computes; the binary reports depth, force, contact
+    /// length and rates whatever is named here.
+    #[serde(default)]
+    pub outputs: Option<Vec<String>>,
     /// Simulated time (s).
     pub duration: f64,
     /// BEM or MDR.
@@ -218,8 +312,10 @@ pub struct Report {
     pub depth: Vec<f64>,
     /// Contact length from the contact area (BEM) or element count (MDR) (m).
     pub contact_length: Vec<f64>,
-    /// Penetration rate (m/s).
+    /// Penetration rate (m/s); empty for viscoelastic runs.
     pub velocity: Vec<f64>,
+    /// Total force (N) at each output time: viscoelastic runs only.
+    pub force: Option<Vec<f64>>,
     /// Central pressure (Pa): rods only.
     pub central_pressure: Option<f64>,
     /// Solver iterations in total.
@@ -236,8 +332,22 @@ impl Scene {
         let s: Scene =
             toml::from_str(text).map_err(|e| Error::InvalidInput(format!("scene file: {e}")))?;
         s.indenter.validate()?;
-        check_positive("force", s.force)?;
+        match (&s.force, &s.depth) {
+            (Some(f), None) => check_positive("force", *f)?,
+            (None, Some(_)) => {}
+            (None, None) => {
+                return Err(Error::InvalidInput(
+                    "scene file: missing key force (or depth)".into(),
+                ))
+            }
+            (Some(_), Some(_)) => {
+                return Err(Error::InvalidInput(
+                    "scene file: give only one of force and depth".into(),
+                ))
+            }
+        }
         check_positive("duration", s.duration)?;
+        s.medium.rheology()?;
         Ok(s)
     }
 
@@ -247,18 +357,22 @@ impl Scene {
             .unwrap_or_else(|| (1..=5).map(|k| self.duration * k as f64 / 5.0).collect())
     }
 
-    /// Runs the scene.
+    /// Runs the scene: the exact viscous engine for a viscous medium under a force, the
+    /// viscoelastic stepping otherwise.
     pub fn run(&self, opts: &SolverOptions, monitor: &mut dyn Monitor) -> Result<Report> {
-        let MediumSpec::Viscous { eta } = self.medium;
+        let (eta, force) = match (&self.medium, self.force) {
+            (MediumSpec::Viscous { eta }, Some(f)) => (*eta, f),
+            _ => return self.run_viscoelastic(opts, monitor),
+        };
         check_positive("viscosity eta", eta)?;
         let start = Instant::now();
-        let history = ForceHistory::constant(self.force)?;
+        let history = ForceHistory::constant(force)?;
         let times = self.output_times();
         let impulse = history.impulse(*times.last().unwrap_or(&self.duration));
         match (self.method, self.indenter) {
             (Method::Bem, Indenter::Rod { .. }) => {
                 let grid = self.indenter.bem_grid(self.n, impulse, eta)?;
-                let r = viscous::run_punch(&grid, eta, self.force, None, opts, monitor)?;
+                let r = viscous::run_punch(&grid, eta, force, None, opts, monitor)?;
                 Ok(Report {
                     method: Method::Bem,
                     n: self.n,
@@ -274,6 +388,7 @@ impl Scene {
                         times.len()
                     ],
                     velocity: vec![r.velocity; times.len()],
+                    force: None,
                     central_pressure: Some(central_value(&r.pressure, grid.nx, grid.ny)),
                     iterations: r.iterations,
                     residual: r.residual,
@@ -302,6 +417,7 @@ impl Scene {
                     depth: s.depth,
                     contact_length: s.contact_length,
                     velocity: s.velocity,
+                    force: None,
                     central_pressure: None,
                     iterations: s.iterations.iter().sum(),
                     residual: s.residual.iter().fold(0.0, |a: f64, &b| a.max(b)),
@@ -339,6 +455,7 @@ impl Scene {
                     depth: s.depth,
                     contact_length: s.contact_length,
                     velocity: s.velocity,
+                    force: None,
                     central_pressure,
                     iterations: 0,
                     residual: 0.0,
@@ -346,6 +463,73 @@ impl Scene {
                 })
             }
         }
+    }
+}
+
+impl Scene {
+    fn run_viscoelastic(&self, opts: &SolverOptions, monitor: &mut dyn Monitor) -> Result<Report> {
+        let start = Instant::now();
+        let medium = self.medium.rheology()?;
+        let times = self.output_times();
+        let dt = self.dt.unwrap_or(self.duration / 500.0);
+        let (loading, radius) = match (&self.force, &self.depth) {
+            (Some(f), _) => {
+                if medium.g_inf <= 0.0 && self.indenter.half_width().is_none() {
+                    return Err(Error::InvalidInput(
+                        "an unbounded indenter under a force needs a medium with long-time stiffness (G_inf > 0), or an edge".into(),
+                    ));
+                }
+                let r = 1.2
+                    * self
+                        .indenter
+                        .contact_radius(*f, medium.g_inf.max(f64::MIN_POSITIVE));
+                (Loading::Force(ForceHistory::constant(*f)?), r)
+            }
+            (None, Some(samples)) => {
+                let (t, d): (Vec<f64>, Vec<f64>) = samples.iter().map(|p| (p[0], p[1])).unzip();
+                let d_max = d.iter().copied().fold(0.0, f64::max);
+                (
+                    Loading::Depth(DepthHistory::piecewise_linear(t, d)?),
+                    1.2 * self.indenter.radius_at_depth(d_max),
+                )
+            }
+            (None, None) => {
+                return Err(Error::InvalidInput(
+                    "scene: missing force (or depth)".into(),
+                ))
+            }
+        };
+        let (s, dx) = match self.method {
+            Method::Mdr => {
+                let (g, dx) = self.indenter.profile_over(self.n, || radius)?;
+                (
+                    viscoelastic::run_mdr(&g, dx, &medium, &loading, &times, dt, monitor)?,
+                    dx,
+                )
+            }
+            Method::Bem => {
+                let half = self.indenter.half_width().unwrap_or(radius);
+                let grid = self.indenter.bem_grid_over(self.n, half)?;
+                (
+                    viscoelastic::run_bem(&grid, &medium, &loading, &times, dt, opts, monitor)?,
+                    grid.dx,
+                )
+            }
+        };
+        Ok(Report {
+            method: self.method,
+            n: self.n,
+            dx,
+            t: s.t,
+            depth: s.depth,
+            contact_length: s.contact_length,
+            velocity: vec![],
+            force: Some(s.force),
+            central_pressure: None,
+            iterations: s.iterations.iter().sum(),
+            residual: 0.0,
+            wall_time: start.elapsed().as_secs_f64(),
+        })
     }
 }
 

@@ -86,3 +86,34 @@ fn bad_scene_files_exit_non_zero_naming_the_problem() {
     assert_eq!(code, 2);
     assert!(err.contains("usage"));
 }
+
+#[test]
+fn viscoelastic_scene_with_a_depth_history_loads_unloads_and_separates() {
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/examples/standard_solid_unloading.toml"
+    );
+    let (code, out, err) = mdrvisc(&["run", path, "--json"]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).expect("JSON");
+    let force: Vec<f64> = v[0]["result"]["force"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|x| x.as_f64().unwrap())
+        .collect();
+    // loading raises the force, unloading drops it, and contact is lost before d = 0
+    assert!(force[3] > force[2] && force[2] > force[0] && force[0] > 0.0);
+    assert!(force[4] < force[3]);
+    assert_eq!(force[6], 0.0);
+    let both = scene_file(
+        "both",
+        &GOOD.replace(
+            "force = 1.0",
+            "force = 1.0\ndepth = [[0.0, 0.0], [1.0, 0.1]]",
+        ),
+    );
+    let (code, _, err) = mdrvisc(&["run", &both]);
+    assert_eq!(code, 2);
+    assert!(err.contains("only one"), "{err}");
+}
