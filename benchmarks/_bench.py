@@ -62,7 +62,7 @@ def other_work(reset: bool = False) -> str:
     if wall <= 0 or busy == 0.0:
         return "other work n/a"
     return (f"other processes used {others / wall:.2f} cores on average "
-            f"during the {wall:.0f} s since the header")
+            f"during the {wall:.1f} s since the header")
 
 
 def wait_quiet(limit: float, threshold: float = 0.1, sample: float = 3.0) -> float:
@@ -128,7 +128,65 @@ def table(columns, rows, formats=None) -> None:
     print(f"   ({load()}; {other_work()})")
 
 
-def mdrvisc_apply_time(n: int, repeats: int = 3, tol_lo: float = 1e-2, tol_hi: float = 1e-8):
+def interleaved(funcs: dict, rounds: int, warmup: bool = True) -> dict:
+    """Times several callables *interleaved*: each round calls every one of them once, in
+    order, so that all see the same machine state (this machine's speed drifts by up to 2x
+    over minutes). ``funcs`` maps a name to ``fn`` or to ``(fn, inner)``, where ``fn()`` is
+    called ``inner`` times per sample and the sample is divided by ``inner`` (for calls too
+    short to time alone; 0: chosen from the warm-up call for ~20 ms samples). Returns name -> (best seconds per call, last return value). With
+    ``warmup``, every function is called once, untimed, first."""
+    specs = {k: (v if isinstance(v, tuple) else (v, 1)) for k, v in funcs.items()}
+    out = {k: [float("inf"), None] for k in specs}
+    if warmup:
+        for k, (fn, inner) in list(specs.items()):
+            start = time.perf_counter()
+            out[k][1] = fn()
+            if inner == 0:  # auto: samples of about 20 ms
+                specs[k] = (fn, inner_count(time.perf_counter() - start))
+    for _ in range(rounds):
+        for k, (fn, inner) in specs.items():
+            start = time.perf_counter()
+            for _ in range(inner):
+                value = fn()
+            out[k][0] = min(out[k][0], (time.perf_counter() - start) / inner)
+            out[k][1] = value
+    return {k: tuple(v) for k, v in out.items()}
+
+
+def inner_count(seconds_per_call: float, target: float = 0.02) -> int:
+    """Calls per sample so that a sample lasts about ``target`` seconds."""
+    return max(1, int(target / max(seconds_per_call, 1e-7)))
+
+
+def punch_runner(n: int):
+    """The CG-heavy call used to time mdrvisc's operator apply: ``run(tol)`` solves a flat
+    punch on the full n x n square by CG (``dense_limit=0``)."""
+    import numpy as np
+
+    from mdrvisc import _core
+
+    mask = np.ones((n, n), dtype=bool)
+    dx = 2.56 / n
+
+    def run(tol):
+        return _core.bem_punch(mask, dx, 1.0, 1.0, tol=tol, max_iter=100000, dense_limit=0)
+
+    return run
+
+
+TOL_LO, TOL_HI = 1e-2, 1e-8
+
+
+def differential(t_lo, r_lo, t_hi, r_hi) -> dict:
+    """Per-apply time from the flat-punch CG at two tolerances (see mdrvisc_apply_time)."""
+    it_lo, it_hi = int(r_lo["iterations"]), int(r_hi["iterations"])
+    per_apply = (t_hi - t_lo) / max(it_hi - it_lo, 1)
+    return dict(per_apply=per_apply, per_iter=t_hi / it_hi, fixed=t_lo - it_lo * per_apply,
+                iters_lo=it_lo, iters_hi=it_hi, t_lo=t_lo, t_hi=t_hi)
+
+
+def mdrvisc_apply_time(n: int, repeats: int = 3, tol_lo: float = TOL_LO,
+                       tol_hi: float = TOL_HI) -> dict:
     """Seconds per DC-FFT operator apply of mdrvisc on an n x n grid, from a CG-heavy call.
 
     ``_core.surface_deflection`` builds the operator (Love kernel + its FFT, plans, buffers)
@@ -140,43 +198,12 @@ def mdrvisc_apply_time(n: int, repeats: int = 3, tol_lo: float = 1e-2, tol_hi: f
         t_apply = (T(tol_hi) - T(tol_lo)) / (iters(tol_hi) - iters(tol_lo)),
 
     which cancels the build, the first apply and the Python call. Each T is a best of
-    ``repeats``. Returns a dict: per_apply (s, the differential estimate), per_iter (s, the
-    naive T(tol_hi) / iters(tol_hi), which still carries the build), fixed (s, T(tol_lo) minus
-    its iterations: build + initial apply + call overhead), iters_lo, iters_hi, t_lo, t_hi.
+    ``repeats`` (the two interleaved). Returns a dict: per_apply (s, the differential
+    estimate), per_iter (s, the naive T(tol_hi) / iters(tol_hi), which still carries the
+    build), fixed (s, T(tol_lo) minus its iterations: build + initial apply + call
+    overhead), iters_lo, iters_hi, t_lo, t_hi.
     """
-    import numpy as np
-
-    from mdrvisc import _core
-
-    mask = np.ones((n, n), dtype=bool)
-    dx = 2.56 / n
-
-    def run(tol):
-        return _core.bem_punch(mask, dx, 1.0, 1.0, tol=tol, max_iter=100000, dense_limit=0)
-
-    t_lo, r_lo = best_of(lambda: run(tol_lo), repeats)
-    t_hi, r_hi = best_of(lambda: run(tol_hi), repeats)
-    it_lo, it_hi = int(r_lo["iterations"]), int(r_hi["iterations"])
-    per_apply = (t_hi - t_lo) / max(it_hi - it_lo, 1)
-    return dict(per_apply=per_apply, per_iter=t_hi / it_hi, fixed=t_lo - it_lo * per_apply,
-                iters_lo=it_lo, iters_hi=it_hi, t_lo=t_lo, t_hi=t_hi)
-
-
-def numpy_apply_time(n: int, workers: int, repeats: int):
-    """Seconds per apply of numpy_reference.FftOperator on n x n (operator built once,
-    outside the timing; pocketfft plans warmed by one untimed apply), and the build time
-    (best of ``repeats``, Love kernel + kernel rfft2)."""
-    import numpy as np
-
-    import numpy_reference as ref
-
-    saved = ref.FFT_WORKERS
-    ref.FFT_WORKERS = workers
-    try:
-        dx = 2.56 / n
-        build, op = best_of(lambda: ref.FftOperator(n, n, dx), max(1, min(repeats, 3)))
-        p = np.random.default_rng(0).random((n, n))
-        apply, _ = best_of(lambda: op.apply(p), repeats, warmup=1)
-    finally:
-        ref.FFT_WORKERS = saved
-    return apply, build
+    run = punch_runner(n)
+    res = interleaved({"lo": lambda: run(tol_lo), "hi": lambda: run(tol_hi)}, repeats,
+                      warmup=False)
+    return differential(*res["lo"], *res["hi"])

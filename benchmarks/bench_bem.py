@@ -9,11 +9,14 @@ grid (``mdrvisc.solve.bem_grid``) and the same stopping rule (relative L1 change
 What is timed (wall clock):
 
 * mdrvisc: ``mv.solve(scene, "bem", n, tol=tol)`` end to end (Python grid set-up included),
-  best of 3. It windows each implicit step to the part of the grid the step can touch
+  best of 3 (after one warm-up run). It windows each implicit step to the part of the grid the step can touch
   (exact), and does one operator apply per CG iteration while the active set holds.
 * numpy: ``numpy_reference.viscous_bem`` on the same h, mask, dx and tol (scipy.fft
   workers=-1), best of 2. It works on the full grid and does two applies per CG iteration
   (K[p] and K[t]) plus one per solve.
+
+The mdrvisc and numpy runs alternate (mv, np, mv, np, mv) so that both see the same machine
+state; this machine's speed drifts by up to 2x over minutes.
 
 Columns: wall times, solves, total CG iterations, d(5 s) relative error against Lee-Radok
 (``mv.analytic.paraboloid_depth``), end-to-end ratio numpy / mdrvisc, and per-CG-iteration
@@ -34,7 +37,7 @@ import json
 import numpy as np
 
 import mdrvisc as mv
-from _bench import best_of, header, mdrvisc_apply_time, numpy_apply_time, table
+from _bench import best_of, header, interleaved, table
 
 EDGE, FORCE, ETA, DURATION = 2.56, 1.0, 1.0, 5.0
 
@@ -47,23 +50,40 @@ def scene(c: float):
 def run_mdrvisc(c: float, n: int, tol: float, repeats: int) -> dict:
     sc = scene(c)
     wall, res = best_of(lambda: mv.solve(sc, "bem", n, tol=tol), repeats, warmup=1)
+    return summarise_mv(c, n, tol, wall, res)
+
+
+def summarise_mv(c, n, tol, wall, res) -> dict:
     exact = mv.analytic.paraboloid_depth(DURATION, FORCE, c, ETA)
     return dict(c=c, n=n, tol=tol, wall=wall, solves=int(res.solves),
                 iterations=int(res.iterations), d5=float(res.depth[-1]),
                 err=float(res.depth[-1] - exact) / exact)
 
 
-def run_numpy(c: float, n: int, tol: float, repeats: int) -> dict:
+def summarise_np(c, wall, res) -> dict:
+    exact = mv.analytic.paraboloid_depth(DURATION, FORCE, c, ETA)
+    return dict(wall=wall, solves=int(res["solves"]), iterations=int(res["iterations"]),
+                d5=float(res["depth"][-1]), err=float(res["depth"][-1] - exact) / exact)
+
+
+def run_both(c: float, n: int, tol: float, repeats: int, np_repeats: int):
+    """mdrvisc (best of ``repeats``) and numpy (best of ``np_repeats``), interleaved run by
+    run so that both see the same machine state."""
     import numpy_reference as ref
 
     ref.FFT_WORKERS = -1
     sc = scene(c)
     _, dx, h, mask = _grid(sc, n)
-    wall, res = best_of(lambda: ref.viscous_bem(h, mask, dx, ETA, FORCE, sc.times, tol=tol,
-                                                 max_iter=5000), repeats)
-    exact = mv.analytic.paraboloid_depth(DURATION, FORCE, c, ETA)
-    return dict(wall=wall, solves=int(res["solves"]), iterations=int(res["iterations"]),
-                d5=float(res["depth"][-1]), err=float(res["depth"][-1] - exact) / exact)
+    mv_run = lambda: mv.solve(sc, "bem", n, tol=tol)  # noqa: E731
+    np_run = lambda: ref.viscous_bem(h, mask, dx, ETA, FORCE, sc.times, tol=tol,  # noqa: E731
+                                     max_iter=5000)
+    mv_run()  # warm-up (first use of the pool, page faults)
+    both = interleaved({"mv": mv_run, "np": np_run}, np_repeats, warmup=False)
+    wall = both["mv"][0]
+    if repeats > np_repeats:
+        wall = min(wall, best_of(mv_run, repeats - np_repeats)[0])
+    return (summarise_mv(c, n, tol, wall, both["mv"][1]),
+            summarise_np(c, both["np"][0], both["np"][1]))
 
 
 def _grid(sc, n):
@@ -97,8 +117,7 @@ def main(argv=None) -> None:
     rows, pairs = [], []
     for c in args.c:
         for tol in args.tol:
-            m = run_mdrvisc(c, n, tol, args.repeats)
-            r = run_numpy(c, n, tol, args.np_repeats)
+            m, r = run_both(c, n, tol, args.repeats, args.np_repeats)
             pairs.append((m, r))
             rows.append([c, f"{tol:.0e}", m["wall"], r["wall"], r["wall"] / m["wall"],
                          m["solves"], f"{m['iterations']}/{r['iterations']}",
@@ -111,11 +130,13 @@ def main(argv=None) -> None:
            "{:+.2e}", "{:+.2e}"])
 
     # Operator-apply ratio on the full grid, and what the rest of the speed-up comes from.
-    np_apply, _ = numpy_apply_time(n, -1, 10)
-    cg = mdrvisc_apply_time(n, repeats=3)
+    from bench_operator import measure
+
+    cg = measure(n, 5)
+    np_apply = cg["npall"]
     apply_ratio = np_apply / cg["per_apply"]
-    print(f"\nOperator apply on the full {n}^2 grid (padded {2 * n - 2}^2): numpy "
-          f"{np_apply * 1e3:.3f} ms (FftOperator.apply, workers=-1, best of 10), mdrvisc "
+    print(f"\nOperator apply on the full {n}^2 grid (padded {2 * n - 2}^2), interleaved, best "
+          f"of 5: numpy {np_apply * 1e3:.3f} ms (FftOperator.apply, workers=-1), mdrvisc "
           f"{cg['per_apply'] * 1e3:.3f} ms (flat-punch CG differential, {cg['iters_lo']}->"
           f"{cg['iters_hi']} iterations): apply ratio {apply_ratio:.2f}x")
     rows = []
@@ -150,10 +171,11 @@ def first_step_table(cs, tol, n, repeats, np_repeats):
         ft, fv = sc.history
         full = _core.bem_viscous(h, mask, dx, ETA, sc.times, ft, fv, tol=tol)
         one = np.array([1.0])
-        t1, r1 = best_of(lambda: _core.bem_viscous(h, mask, dx, ETA, one, ft, fv, tol=tol),
-                         repeats)
-        tn1, rn1 = best_of(lambda: ref.viscous_bem(h, mask, dx, ETA, FORCE, one, tol=tol),
-                           np_repeats)
+        res = interleaved(
+            {"mv": lambda: _core.bem_viscous(h, mask, dx, ETA, one, ft, fv, tol=tol),
+             "np": lambda: ref.viscous_bem(h, mask, dx, ETA, FORCE, one, tol=tol)},
+            max(repeats, np_repeats))
+        (t1, r1), (tn1, rn1) = res["mv"], res["np"]
         rows.append([c, f"{tol:.0e}", " ".join(str(int(i)) for i in full["iterations"]),
                      int(full["solves"]), t1, int(r1["iterations"][0]), tn1,
                      int(rn1["iterations"]), tn1 / t1])

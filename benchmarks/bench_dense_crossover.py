@@ -11,7 +11,8 @@ K = 0 (CG), tol 1e-10, in two layouts:
   build too);
 * ``alone``: the set is the whole k x k grid.
 
-Also prints the CG iterations and the relative difference of the punch stiffness (velocity)
+The two modes are timed interleaved (dense, CG, dense, CG, ...); short calls are repeated
+within a sample (~20 ms samples). Also prints the CG iterations and the relative difference of the punch stiffness (velocity)
 between the two modes. The crossover is the smallest k from which CG is faster.
 
 Run: ``python benchmarks/bench_dense_crossover.py [--ks 4 8 11 16 23 32 45] [--grid 257]``.
@@ -23,7 +24,7 @@ import argparse
 
 import numpy as np
 
-from _bench import best_of, header, table
+from _bench import header, interleaved, table
 from mdrvisc import _core
 
 HUGE = 10**9
@@ -33,8 +34,8 @@ def punch_times(mask, dx, repeats):
     def run(limit):
         return _core.bem_punch(mask, dx, 1.0, 1.0, tol=1e-10, max_iter=100000, dense_limit=limit)
 
-    t_dense, r_dense = best_of(lambda: run(HUGE), repeats, warmup=1)
-    t_cg, r_cg = best_of(lambda: run(0), repeats, warmup=1)
+    res = interleaved({"dense": (lambda: run(HUGE), 0), "cg": (lambda: run(0), 0)}, repeats)
+    (t_dense, r_dense), (t_cg, r_cg) = res["dense"], res["cg"]
     diff = abs(r_cg["velocity"] - r_dense["velocity"]) / r_dense["velocity"]
     return t_dense, t_cg, int(r_cg["iterations"]), diff
 

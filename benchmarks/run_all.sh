@@ -23,4 +23,4 @@ echo "### bench_dense_crossover.py"
 if [[ ${#QUICK[@]} -gt 0 ]]; then "$PY" bench_dense_crossover.py --repeats 2; else "$PY" bench_dense_crossover.py; fi
 echo
 echo "### bench_threads.py"
-if [[ ${#QUICK[@]} -gt 0 ]]; then "$PY" bench_threads.py --quick --rounds 1; else "$PY" bench_threads.py; fi
+if [[ ${#QUICK[@]} -gt 0 ]]; then "$PY" bench_threads.py --quick --rounds 1; else "$PY" bench_threads.py --rounds 3; fi
