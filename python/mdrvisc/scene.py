@@ -147,10 +147,13 @@ class Scene:
     @property
     def final_load(self):
         """Impulse (N s) up to the last output time (viscous), or the force (N) (elastic)."""
-        t, f = self.history
         if isinstance(self.medium, Elastic):
-            return float(f[-1])
-        end = float(self.times[-1])
+            return float(self.history[1][-1])
+        return self.impulse(float(self.times[-1]))
+
+    def impulse(self, end):
+        """Integral of the force history from 0 to ``end`` (N s)."""
+        t, f = self.history
         grid = np.append(t[t < end], end)
         vals = np.interp(grid, t, f)
         return float(np.sum(0.5 * (vals[1:] + vals[:-1]) * np.diff(grid)))

@@ -8,7 +8,7 @@ import numpy as np
 
 from . import _core
 from .analytic import _positive, lee_radok_depth_from_impulse
-from .errors import InvalidInputError
+from .errors import InvalidInputError, MdrviscError
 from .media import VISCOELASTIC, Elastic, Viscous
 from .scene import Result, Scene
 
@@ -177,7 +177,8 @@ def _solve_bem(scene, n, tol, max_iter, callback, explicit):
     steps = _field_steps(scene)
     rates = scene.wants("velocity") or scene.wants("stiffness_length")
     r = _core.bem_viscous(h, mask, dx, eta, scene.times, ft, fv, rates=rates, fields_at=steps,
-                          tol=tol, max_iter=max_iter, progress=callback, explicit=explicit)
+                          tol=tol, max_iter=max_iter, progress=callback, explicit=explicit,
+                          first_bound=_first_depth_estimate(scene))
     if ind.footprint_half_width is None and np.any(r["at_border"]):
         from .errors import DomainError
         raise DomainError("BEM: the contact reached the edge of the grid of an unbounded indenter "
@@ -193,6 +194,18 @@ def _solve_bem(scene, n, tol, max_iter, callback, explicit):
                   steps=r["steps"], solves=r["solves"],
                   iterations=int(np.sum(r["iterations"])), residual=float(np.max(r["residual"])),
                   grid_shape=h.shape)
+
+
+def _first_depth_estimate(scene):
+    """1.05 times the MDR (Lee–Radok) depth at the first output time, which sizes the first
+    solve's window (the solver checks it and widens the window if it was too small); None
+    where no closed form applies."""
+    try:
+        depth = lee_radok_depth_from_impulse(scene.impulse(float(scene.times[0])), scene.indenter,
+                                             scene.medium.eta)
+    except MdrviscError:
+        return None
+    return 1.05 * float(depth)
 
 
 def _covers(area, mask, dx):

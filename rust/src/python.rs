@@ -149,7 +149,7 @@ fn history(py: Python<'_>, times: Vec<f64>, forces: Vec<f64>) -> PyResult<ForceH
 /// Implicit viscous BEM run on a grid: heights (m, (ny, nx)), footprint mask, element size
 /// dx (m), viscosity eta (Pa s), output times (s), force history samples (s, N).
 #[pyfunction]
-#[pyo3(signature = (height, allowed, dx, eta, times, force_times, force_values, rates=false, fields_at=vec![], tol=1e-10, max_iter=5000, progress=None, explicit=None, dense_limit=128))]
+#[pyo3(signature = (height, allowed, dx, eta, times, force_times, force_values, rates=false, fields_at=vec![], tol=1e-10, max_iter=5000, progress=None, explicit=None, dense_limit=128, first_bound=None))]
 #[allow(clippy::too_many_arguments)]
 fn bem_viscous<'py>(
     py: Python<'py>,
@@ -167,6 +167,7 @@ fn bem_viscous<'py>(
     progress: Option<Py<PyAny>>,
     explicit: Option<(f64, f64, f64)>,
     dense_limit: usize,
+    first_bound: Option<f64>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let grid = grid_from(py, &height, &allowed, dx)?;
     let hist = history(
@@ -178,6 +179,7 @@ fn bem_viscous<'py>(
         times: slice1(&times, "times")?,
         rates,
         fields_at,
+        first_bound,
     };
     let opts = options(tol, max_iter, dense_limit);
     let mut monitor = PyMonitor::new(progress);

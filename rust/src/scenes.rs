@@ -397,10 +397,16 @@ impl Scene {
             }
             (Method::Bem, _) => {
                 let grid = self.indenter.bem_grid(self.n, impulse, eta)?;
+                // MDR's depth at the first output time sizes the first solve's window
+                let first = history.impulse(times[0]);
+                let estimate = self
+                    .indenter
+                    .profile_1d(self.indenter.contact_radius(first, eta));
                 let req = ViscousRequest {
                     times,
                     rates: true,
                     fields_at: vec![],
+                    first_bound: Some(1.05 * estimate),
                 };
                 let s = viscous::run_implicit(&grid, eta, &history, &req, opts, monitor)?;
                 if self.indenter.half_width().is_none() && s.at_border.iter().any(|&b| b) {

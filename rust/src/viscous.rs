@@ -101,6 +101,10 @@ pub struct ViscousRequest {
     pub rates: bool,
     /// Output-time indices at which to build pressure and velocity fields.
     pub fields_at: Vec<usize>,
+    /// An estimate of the depth after the first step (m), e.g. from MDR: the first solve
+    /// runs on the window it implies, and again on a larger one if the depth exceeds it, so
+    /// the result never depends on it. None: the first solve uses the whole grid.
+    pub first_bound: Option<f64>,
 }
 
 /// Time series of a viscous run, one entry per output time.
@@ -253,7 +257,10 @@ pub fn run_implicit(
             let mut bound = if warm {
                 depth + 1.05 * (depth - depth_prev) * impulse / impulse_prev
             } else {
-                f64::INFINITY
+                request
+                    .first_bound
+                    .filter(|b| b.is_finite())
+                    .unwrap_or(f64::INFINITY)
             };
             let (window, s) = loop {
                 let win = Window::around(nx, ny, 2, |i| grid.allowed[i] && sep[i] <= bound);
@@ -501,6 +508,7 @@ mod tests {
             times: times.clone(),
             rates: false,
             fields_at: vec![],
+            first_bound: Some(1e-3),
         };
         let h = ForceHistory::constant(1.0).unwrap();
         let s = run_implicit(&grid, 1.0, &h, &req, &SolverOptions::default(), &mut Silent).unwrap();
