@@ -8,7 +8,7 @@ import numpy as np
 
 from . import _core
 from .analytic import _positive, lee_radok_depth_from_impulse
-from .errors import InvalidInputError, MdrviscError
+from .errors import DomainError, InvalidInputError, MdrviscError
 from .media import VISCOELASTIC, Elastic, Viscous
 from .scene import Result, Scene
 
@@ -180,7 +180,6 @@ def _solve_bem(scene, n, tol, max_iter, callback, explicit):
                           tol=tol, max_iter=max_iter, progress=callback, explicit=explicit,
                           first_bound=_first_depth_estimate(scene))
     if ind.footprint_half_width is None and np.any(r["at_border"]):
-        from .errors import DomainError
         raise DomainError("BEM: the contact reached the edge of the grid of an unbounded indenter "
                           f"at t = {r['t'][np.argmax(r['at_border'])]} s; the grid is too small")
     fields = None
