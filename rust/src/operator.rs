@@ -51,10 +51,14 @@ fn padded_size(n: usize) -> usize {
     }
 }
 
+/// Rows or columns moved together in the blocked transposes.
+const TILE: usize = 16;
+
 /// Per-worker buffers, allocated once with the operator.
 struct Worker {
     real: Vec<f64>,
-    half: Vec<Complex<f64>>,
+    /// TILE half-spectra of rows, for the blocked transpose.
+    halves: Vec<Complex<f64>>,
     r2c_scratch: Vec<Complex<f64>>,
     c2r_scratch: Vec<Complex<f64>>,
     col_scratch: Vec<Complex<f64>>,
@@ -101,7 +105,7 @@ impl FftOperator {
         let workers = (0..nworkers)
             .map(|_| Worker {
                 real: vec![0.0; mx],
-                half: vec![Complex::default(); half],
+                halves: vec![Complex::default(); TILE * half],
                 r2c_scratch: r2c.make_scratch_vec(),
                 c2r_scratch: c2r.make_scratch_vec(),
                 col_scratch: vec![Complex::default(); col_fwd.get_inplace_scratch_len()],
@@ -179,15 +183,19 @@ impl FftOperator {
             .zip(self.workers.par_iter_mut())
             .enumerate()
             .for_each(|(c, (out, w))| {
-                for (k, col) in out.chunks_mut(my).enumerate() {
-                    let kx = c * chunk + k;
-                    for (iy, v) in col.iter_mut().enumerate() {
-                        *v = if iy < nrows {
-                            rows[iy * half + kx]
-                        } else {
-                            Complex::default()
-                        };
+                // Transpose in blocks of TILE columns: each row segment is read contiguously.
+                let (kx0, ncol) = (c * chunk, out.len() / my);
+                for b in (0..ncol).step_by(TILE) {
+                    let end = (b + TILE).min(ncol);
+                    for iy in 0..nrows {
+                        let seg = &rows[iy * half + kx0 + b..iy * half + kx0 + end];
+                        for (k, v) in seg.iter().enumerate() {
+                            out[(b + k) * my + iy] = *v;
+                        }
                     }
+                }
+                for col in out.chunks_mut(my) {
+                    col[nrows..].fill(Complex::default());
                     col_fwd.process_with_scratch(col, &mut w.col_scratch);
                 }
             });
@@ -234,18 +242,27 @@ impl SurfaceOperator for FftOperator {
             .zip(self.workers.par_iter_mut())
             .enumerate()
             .for_each(|(c, (out, w))| {
-                for (r, row_out) in out.chunks_mut(nx).enumerate() {
-                    let iy = c * chunk + r;
-                    for (kx, v) in w.half.iter_mut().enumerate() {
-                        *v = cols[kx * my + iy];
+                // Gather TILE rows at a time: each column segment is read contiguously.
+                let nrow = out.len() / nx;
+                for b in (0..nrow).step_by(TILE) {
+                    let end = (b + TILE).min(nrow);
+                    let iy0 = c * chunk + b;
+                    for kx in 0..half {
+                        let seg = &cols[kx * my + iy0..kx * my + iy0 + (end - b)];
+                        for (r, v) in seg.iter().enumerate() {
+                            w.halves[r * half + kx] = *v;
+                        }
                     }
-                    w.half[0].im = 0.0;
-                    if mx % 2 == 0 {
-                        w.half[half - 1].im = 0.0;
+                    for r in 0..end - b {
+                        let spec = &mut w.halves[r * half..(r + 1) * half];
+                        spec[0].im = 0.0;
+                        if mx % 2 == 0 {
+                            spec[half - 1].im = 0.0;
+                        }
+                        c2r.process_with_scratch(spec, &mut w.real, &mut w.c2r_scratch)
+                            .expect("buffer sizes are fixed at construction");
+                        out[(b + r) * nx..(b + r + 1) * nx].copy_from_slice(&w.real[..nx]);
                     }
-                    c2r.process_with_scratch(&mut w.half, &mut w.real, &mut w.c2r_scratch)
-                        .expect("buffer sizes are fixed at construction");
-                    row_out.copy_from_slice(&w.real[..nx]);
                 }
             });
     }
