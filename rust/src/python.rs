@@ -341,9 +341,23 @@ fn mdr_pressure<'py>(
     dx: f64,
     r: PyReadonlyArray1<'py, f64>,
 ) -> PyResult<Bound<'py, numpy::PyArray1<f64>>> {
-    let p = transforms::pressure_from_line_load(&slice1(&q, "q")?, dx, &slice1(&r, "r")?)
-        .map_err(|e| to_pyerr(py, e))?;
-    Ok(p.into_pyarray(py))
+    radial(py, transforms::pressure_from_line_load, &q, "q", dx, &r)
+}
+
+/// An inverse MDR transform: (1D data, dx, radii) -> 3D values at the radii.
+type RadialTransform = fn(&[f64], f64, &[f64]) -> crate::Result<Vec<f64>>;
+
+/// Applies an inverse transform `f` of 1D data `values` at radii `r` and returns numpy.
+fn radial<'py>(
+    py: Python<'py>,
+    f: RadialTransform,
+    values: &PyReadonlyArray1<'py, f64>,
+    name: &str,
+    dx: f64,
+    r: &PyReadonlyArray1<'py, f64>,
+) -> PyResult<Bound<'py, numpy::PyArray1<f64>>> {
+    let out = f(&slice1(values, name)?, dx, &slice1(r, "r")?).map_err(|e| to_pyerr(py, e))?;
+    Ok(out.into_pyarray(py))
 }
 
 /// Inverse MDR transform: 3D surface deflection (or rate) at radii r (m) outside the
@@ -355,9 +369,7 @@ fn mdr_deflection<'py>(
     dx: f64,
     r: PyReadonlyArray1<'py, f64>,
 ) -> PyResult<Bound<'py, numpy::PyArray1<f64>>> {
-    let u = transforms::deflection_outside(&slice1(&w, "w")?, dx, &slice1(&r, "r")?)
-        .map_err(|e| to_pyerr(py, e))?;
-    Ok(u.into_pyarray(py))
+    radial(py, transforms::deflection_outside, &w, "w", dx, &r)
 }
 
 /// Surface deflection (m) of a half-space with G = 1 Pa under element pressures p (Pa),

@@ -389,9 +389,8 @@ pub fn run_explicit(
             }
             steps += 1;
             if count as f64 > solved_count as f64 * (1.0 + ctrl.area_change) {
-                let start = punch.p_unit.clone();
                 let (p, its, res) =
-                    Punch::solve(&mut solver, &contact, Some(&start), opts, monitor)?;
+                    Punch::solve(&mut solver, &contact, Some(&punch.p_unit), opts, monitor)?;
                 punch = p;
                 solver.operator().apply(&punch.p_unit, &mut v_unit);
                 solved_count = count;
