@@ -208,7 +208,8 @@ def test_missing_key(path):
 
 
 @pytest.mark.parametrize("path, value", [
-    ("n", "101"), ("n", 101.0), ("n", True), ("force", "1"), ("duration", [2.0]),
+    ("n", "101"), ("n", 101.0), ("n", True), ("force", "1"), ("force", [[0.0, 1.0, 2.0]]),
+    ("duration", [2.0]),
     ("times", [1, "2"]), ("times", 2.0), ("outputs", "depth"), ("method", 1),
     ("indenter", "sphere"), ("indenter.radius", "3"), ("medium.eta", False),
     ("method", "fem"), ("indenter.type", "wedge"), ("n", 0)])
@@ -239,3 +240,14 @@ def test_viscoelastic_scene_file_with_a_depth_history(tmp_path):
     both.write_text((EXAMPLES / "standard_solid_unloading.toml").read_text().replace("duration", "force = 1.0\nduration"))
     with pytest.raises(mv.InvalidInputError, match="only one"):
         load_scene(both)
+
+
+def test_force_history_in_a_scene_file_is_the_scene_force_history():
+    scene, method, n = parse_scene(edit("force", [[0.0, 0.0], [1.0, 2.0]]))
+    same = mv.Scene(indenter=scene.indenter, medium=scene.medium, force=([0.0, 1.0], [0.0, 2.0]),
+                    duration=scene.duration, times=scene.times)
+    assert np.array_equal(mv.solve(scene, method, n).depth, mv.solve(same, method, n).depth)
+    # viscous: the depth depends on the impulse alone, 1 N s at t = 1 s as for a constant 1 N
+    # (the grids, sized by the final impulse, differ: fine enough that this is ~1e-8)
+    constant = mv.solve(parse_scene(edit("force", 1.0))[0], method, 20001)
+    assert mv.solve(scene, method, 20001).depth[0] == pytest.approx(constant.depth[0], rel=1e-6)

@@ -4,7 +4,8 @@
 
     method = "bem"          # "bem" or "mdr"
     n = 257                 # BEM: n x n grid; MDR: elements
-    force = 1.0             # N, constant from first touch
+    force = 1.0             # N, constant from first touch; or [[t, F], ...] (s, N),
+                            # piecewise linear from t = 0, held after the last sample
     duration = 5.0          # s
     times = [1, 2, 3, 4, 5] # s, optional (default: 5 equal steps up to duration)
     outputs = ["depth", "contact_length", "stiffness_length"]  # optional, Python only
@@ -46,9 +47,10 @@ _NUMBERS = "a list of numbers"
 _STRINGS = "a list of strings"
 _TABLE = "a table"
 _PAIRS = "a list of [number, number] pairs"
+_FORCE = "a number or a list of [t, F] pairs"
 
 #: Top-level keys: (kind, required).
-_TOP = {"method": (_STRING, True), "n": (_INTEGER, True), "force": (_NUMBER, False),
+_TOP = {"method": (_STRING, True), "n": (_INTEGER, True), "force": (_FORCE, False),
         "depth": (_PAIRS, False),
         "duration": (_NUMBER, True), "times": (_NUMBERS, False), "outputs": (_STRINGS, False),
         "indenter": (_TABLE, True), "medium": (_TABLE, True)}
@@ -75,6 +77,8 @@ def _is(kind, value):
         return isinstance(value, str)
     if kind == _TABLE:
         return isinstance(value, dict)
+    if kind == _FORCE:
+        return _is(_NUMBER, value) or _is(_PAIRS, value)
     if kind == _PAIRS:
         return isinstance(value, list) and all(_is(_NUMBERS, v) and len(v) == 2 for v in value)
     item = _NUMBER if kind == _NUMBERS else _STRING
@@ -141,11 +145,11 @@ def parse_scene(data, source="scene"):
         raise InvalidInputError(f"{source}: missing key 'force' (or 'depth')")
     if "force" in data and "depth" in data:
         raise InvalidInputError(f"{source}: give only one of the keys 'force' and 'depth'")
-    if "depth" in data:
-        samples = data["depth"]
-        extra["depth"] = ([p[0] for p in samples], [p[1] for p in samples])
-    else:
-        extra["force"] = data["force"]
+    for key in ("force", "depth"):
+        if isinstance(data.get(key), list):
+            extra[key] = ([p[0] for p in data[key]], [p[1] for p in data[key]])
+        elif key in data:
+            extra[key] = data[key]
     scene = Scene(indenter=indenter, medium=medium, duration=data["duration"], **extra)
     return scene, method, data["n"]
 

@@ -3,7 +3,7 @@
 
 use mdrvisc::contact::SolverOptions;
 use mdrvisc::monitor::Silent;
-use mdrvisc::scenes::{Indenter, MediumSpec, Method, Report, Scene};
+use mdrvisc::scenes::{ForceSpec, Indenter, MediumSpec, Method, Report, Scene};
 use std::process::ExitCode;
 
 const USAGE: &str =
@@ -24,7 +24,7 @@ fn paper_scenes(quick: bool) -> Vec<(String, Scene)> {
             Scene {
                 indenter: Indenter::Rod { radius: 1.0 },
                 medium: viscous.clone(),
-                force: Some(1.0),
+                force: Some(ForceSpec::Constant(1.0)),
                 depth: None,
                 dt: None,
                 outputs: None,
@@ -45,7 +45,7 @@ fn paper_scenes(quick: bool) -> Vec<(String, Scene)> {
                         edge: Some(2.56),
                     },
                     medium: viscous.clone(),
-                    force: Some(1.0),
+                    force: Some(ForceSpec::Constant(1.0)),
                     depth: None,
                     dt: None,
                     outputs: None,

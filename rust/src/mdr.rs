@@ -78,10 +78,7 @@ impl Foundation {
         let mut sorted = profile.clone();
         sorted.sort_by(f64::total_cmp);
         let mut prefix = Vec::with_capacity(sorted.len() + 1);
-        prefix.push(0.0);
-        for v in &sorted {
-            prefix.push(prefix.last().expect("starts non-empty") + v);
-        }
+        prefix_sums(&sorted, &mut prefix);
         Ok(Foundation {
             dx,
             profile,
@@ -108,33 +105,51 @@ impl Foundation {
     /// Depth d (m) with sum max(d - g_i, 0) = `s` (m, >= 0), and the number of elements
     /// with g_i < d. Exact up to round-off.
     pub fn depth_for(&self, s: f64) -> (f64, usize) {
-        let n = self.sorted.len();
-        if s <= 0.0 {
-            return (self.sorted[0], 0);
-        }
-        // excess(k) = sum_{j<k} (g_(k) - g_j): what depth g_(k) displaces; increasing in k.
-        let excess = |k: usize| k as f64 * self.sorted[k] - self.prefix[k];
-        let k = if excess(n - 1) < s {
-            n
-        } else {
-            let (mut lo, mut hi) = (1usize, n - 1);
-            while lo < hi {
-                let mid = (lo + hi) / 2;
-                if excess(mid) >= s {
-                    hi = mid;
-                } else {
-                    lo = mid + 1;
-                }
-            }
-            lo
-        };
-        let d = (s + self.prefix[k]) / k as f64;
-        (d, k)
+        depth_on_sorted(&self.sorted, &self.prefix, s)
     }
 
     /// Element displacements max(d - g_i, 0) (m) at depth `d`.
     pub fn displacements(&self, d: f64) -> Vec<f64> {
         self.profile.iter().map(|&g| (d - g).max(0.0)).collect()
+    }
+}
+
+/// Depth d with sum max(d - g_i, 0) = `s` (>= 0) on the ascending profile `sorted` with
+/// prefix sums `prefix` (prefix[k] = sum of the first k values), and the number of values
+/// below d: exact up to round-off, by bisection on the displaced excess. The lowest value
+/// and 0 when `s` <= 0.
+pub fn depth_on_sorted(sorted: &[f64], prefix: &[f64], s: f64) -> (f64, usize) {
+    let n = sorted.len();
+    if s <= 0.0 {
+        return (sorted[0], 0);
+    }
+    // excess(k) = sum_{j<k} (g_(k) - g_j): what depth g_(k) displaces; increasing in k.
+    let excess = |k: usize| k as f64 * sorted[k] - prefix[k];
+    let k = if excess(n - 1) < s {
+        n
+    } else {
+        let (mut lo, mut hi) = (1usize, n - 1);
+        while lo < hi {
+            let mid = (lo + hi) / 2;
+            if excess(mid) >= s {
+                hi = mid;
+            } else {
+                lo = mid + 1;
+            }
+        }
+        lo
+    };
+    ((s + prefix[k]) / k as f64, k)
+}
+
+/// Fills `prefix` with the n + 1 prefix sums of `values` (prefix[0] = 0).
+pub fn prefix_sums(values: &[f64], prefix: &mut Vec<f64>) {
+    prefix.clear();
+    prefix.push(0.0);
+    let mut total = 0.0;
+    for &v in values {
+        total += v;
+        prefix.push(total);
     }
 }
 

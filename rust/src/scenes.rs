@@ -265,7 +265,42 @@ impl MediumSpec {
     }
 }
 
-/// A scene: indenter, medium, constant force, duration, method and resolution.
+/// The force on the indenter in a scene file: a constant (N) from first touch, or samples
+/// [t (s), F (N)], piecewise linear from t = 0 and held after the last sample.
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(untagged, expecting = "a number or a list of [t, F] pairs")]
+pub enum ForceSpec {
+    /// Constant force (N).
+    Constant(f64),
+    /// History samples [t (s), F (N)].
+    Samples(Vec<[f64; 2]>),
+}
+
+impl ForceSpec {
+    /// The validated force history.
+    pub fn history(&self) -> Result<ForceHistory> {
+        match self {
+            ForceSpec::Constant(f) => {
+                check_positive("force", *f)?;
+                ForceHistory::constant(*f)
+            }
+            ForceSpec::Samples(samples) => {
+                let (t, f): (Vec<f64>, Vec<f64>) = samples.iter().map(|p| (p[0], p[1])).unzip();
+                ForceHistory::piecewise_linear(t, f)
+            }
+        }
+    }
+
+    /// Largest force of the history (N).
+    pub fn max(&self) -> f64 {
+        match self {
+            ForceSpec::Constant(f) => *f,
+            ForceSpec::Samples(samples) => samples.iter().map(|p| p[1]).fold(0.0, f64::max),
+        }
+    }
+}
+
+/// A scene: indenter, medium, force or depth history, duration, method and resolution.
 #[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct Scene {
@@ -273,9 +308,9 @@ pub struct Scene {
     pub indenter: Indenter,
     /// The half-space.
     pub medium: MediumSpec,
-    /// Constant force from first touch (N); or give `depth`.
+    /// Force: constant from first touch, or a history; or give `depth`.
     #[serde(default)]
-    pub force: Option<f64>,
+    pub force: Option<ForceSpec>,
     /// Depth history samples [t (s), d (m)], piecewise linear from t = 0.
     #[serde(default)]
     pub depth: Option<Vec<[f64; 2]>>,
@@ -316,7 +351,7 @@ pub struct Report {
     pub velocity: Vec<f64>,
     /// Total force (N) at each output time: viscoelastic runs only.
     pub force: Option<Vec<f64>>,
-    /// Central pressure (Pa): rods only.
+    /// Central pressure (Pa) at the last output time: rods only.
     pub central_pressure: Option<f64>,
     /// Solver iterations in total.
     pub iterations: usize,
@@ -333,7 +368,9 @@ impl Scene {
             toml::from_str(text).map_err(|e| Error::InvalidInput(format!("scene file: {e}")))?;
         s.indenter.validate()?;
         match (&s.force, &s.depth) {
-            (Some(f), None) => check_positive("force", *f)?,
+            (Some(f), None) => {
+                f.history()?;
+            }
             (None, Some(_)) => {}
             (None, None) => {
                 return Err(Error::InvalidInput(
@@ -360,25 +397,29 @@ impl Scene {
     /// Runs the scene: the exact viscous engine for a viscous medium under a force, the
     /// viscoelastic stepping otherwise.
     pub fn run(&self, opts: &SolverOptions, monitor: &mut dyn Monitor) -> Result<Report> {
-        let (eta, force) = match (&self.medium, self.force) {
-            (MediumSpec::Viscous { eta }, Some(f)) => (*eta, f),
+        let (eta, history) = match (&self.medium, &self.force) {
+            (MediumSpec::Viscous { eta }, Some(f)) => (*eta, f.history()?),
             _ => return self.run_viscoelastic(opts, monitor),
         };
         check_positive("viscosity eta", eta)?;
         let start = Instant::now();
-        let history = ForceHistory::constant(force)?;
         let times = self.output_times();
-        let impulse = history.impulse(*times.last().unwrap_or(&self.duration));
+        let t_end = *times.last().unwrap_or(&self.duration);
+        let impulse = history.impulse(t_end);
         match (self.method, self.indenter) {
             (Method::Bem, Indenter::Rod { .. }) => {
                 let grid = self.indenter.bem_grid(self.n, impulse, eta)?;
-                let r = viscous::run_punch(&grid, eta, force, None, opts, monitor)?;
+                // the rod's rate is proportional to the force: one solve at unit force
+                let r = viscous::run_punch(&grid, eta, 1.0, None, opts, monitor)?;
                 Ok(Report {
                     method: Method::Bem,
                     n: self.n,
                     dx: grid.dx,
                     t: times.clone(),
-                    depth: times.iter().map(|t| r.velocity * t).collect(),
+                    depth: times
+                        .iter()
+                        .map(|&t| r.velocity * history.impulse(t))
+                        .collect(),
                     contact_length: vec![
                         2.0 * (grid.allowed.iter().filter(|&&a| a).count() as f64
                             * grid.dx
@@ -387,9 +428,14 @@ impl Scene {
                             .sqrt();
                         times.len()
                     ],
-                    velocity: vec![r.velocity; times.len()],
+                    velocity: times
+                        .iter()
+                        .map(|&t| r.velocity * history.force(t))
+                        .collect(),
                     force: None,
-                    central_pressure: Some(central_value(&r.pressure, grid.nx, grid.ny)),
+                    central_pressure: Some(
+                        central_value(&r.pressure, grid.nx, grid.ny) * history.force(t_end),
+                    ),
                     iterations: r.iterations,
                     residual: r.residual,
                     wall_time: start.elapsed().as_secs_f64(),
@@ -432,17 +478,17 @@ impl Scene {
             }
             (Method::Mdr, _) => {
                 let f = self.indenter.foundation(self.n, impulse, eta)?;
-                let fields: &[usize] = if matches!(self.indenter, Indenter::Rod { .. }) {
-                    &[0]
+                let fields = if matches!(self.indenter, Indenter::Rod { .. }) {
+                    vec![times.len() - 1]
                 } else {
-                    &[]
+                    vec![]
                 };
                 let s = mdr::run(
                     &f,
                     Medium::Viscous { eta },
                     &history,
                     &times,
-                    fields,
+                    &fields,
                     monitor,
                 )?;
                 let central_pressure = s
@@ -479,7 +525,7 @@ impl Scene {
         let times = self.output_times();
         let dt = self.dt.unwrap_or(self.duration / 500.0);
         let (loading, radius) = match (&self.force, &self.depth) {
-            (Some(f), _) => {
+            (Some(spec), _) => {
                 if medium.g_inf <= 0.0 && self.indenter.half_width().is_none() {
                     return Err(Error::InvalidInput(
                         "an unbounded indenter under a force needs a medium with long-time stiffness (G_inf > 0), or an edge".into(),
@@ -488,8 +534,8 @@ impl Scene {
                 let r = 1.2
                     * self
                         .indenter
-                        .contact_radius(*f, medium.g_inf.max(f64::MIN_POSITIVE));
-                (Loading::Force(ForceHistory::constant(*f)?), r)
+                        .contact_radius(spec.max(), medium.g_inf.max(f64::MIN_POSITIVE));
+                (Loading::Force(spec.history()?), r)
             }
             (None, Some(samples)) => {
                 let (t, d): (Vec<f64>, Vec<f64>) = samples.iter().map(|p| (p[0], p[1])).unzip();

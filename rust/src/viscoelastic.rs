@@ -13,6 +13,7 @@
 use crate::contact::{ContactSolver, SolverOptions, Target};
 use crate::error::{check_positive, Error, Result};
 use crate::loading::{check_output_times, Loading};
+use crate::mdr::{depth_on_sorted, prefix_sums};
 use crate::monitor::Monitor;
 use crate::operator::{FftOperator, SurfaceOperator};
 use crate::rheology::Rheology;
@@ -78,6 +79,7 @@ pub fn run_mdr(
     let (mut w, mut q) = (vec![0.0; n], vec![0.0; n * m]);
     let mut surface = vec![0.0; n];
     let mut sorted = vec![0.0; n];
+    let mut prefix = Vec::with_capacity(n + 1);
     let mut out = Series::default();
     let mut t_prev = 0.0;
     let mut rule = medium.step(1.0);
@@ -95,15 +97,16 @@ pub fn run_mdr(
         }
         sorted.copy_from_slice(&surface);
         sorted.sort_unstable_by(f64::total_cmp);
+        prefix_sums(&sorted, &mut prefix);
         let (depth, force) = match loading {
             Loading::Depth(hist) => {
                 let d = hist.depth(t);
                 let k = sorted.partition_point(|&v| v < d);
-                (d, c * (k as f64 * d - sorted[..k].iter().sum::<f64>()))
+                (d, c * (k as f64 * d - prefix[k]))
             }
             Loading::Force(hist) => {
                 let f = hist.force(t);
-                (depth_for_force(&sorted, f / c), f)
+                (depth_on_sorted(&sorted, &prefix, f / c).0, f)
             }
         };
         let mut count = 0;
@@ -129,24 +132,6 @@ pub fn run_mdr(
         t_prev = t;
     }
     Ok(out)
-}
-
-/// Depth d with sum max(d - s_i, 0) = `target` on the ascending `sorted` (exact); the
-/// lowest point when the target is zero.
-fn depth_for_force(sorted: &[f64], target: f64) -> f64 {
-    if target <= 0.0 {
-        return sorted[0];
-    }
-    let (mut k, mut sum) = (0usize, 0.0);
-    while k < sorted.len() {
-        sum += sorted[k];
-        k += 1;
-        let d = (target + sum) / k as f64;
-        if k == sorted.len() || d <= sorted[k] {
-            return d;
-        }
-    }
-    unreachable!("the loop returns at the last element")
 }
 
 /// BEM: a viscoelastic half-space under an indenter on `grid`, output at `times` (s), steps

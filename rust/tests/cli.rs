@@ -117,3 +117,73 @@ fn viscoelastic_scene_with_a_depth_history_loads_unloads_and_separates() {
     assert_eq!(code, 2);
     assert!(err.contains("only one"), "{err}");
 }
+
+fn series(path: &str, key: &str) -> Vec<f64> {
+    let (code, out, err) = mdrvisc(&["run", path, "--json"]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).expect("JSON");
+    v[0]["result"][key]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|x| x.as_f64().unwrap())
+        .collect()
+}
+
+/// On a viscous half-space the depth depends on the impulse integral F dt alone: a force
+/// ramped from 0 to 2 N over 1 s (impulse 1 N s at t = 1) gives the depth that a constant
+/// 1 N gives at t = 1 s; then held at 2 N, impulse 3 N s at t = 2 s. The grids are sized
+/// from the final impulse, so the two runs differ by the discretisation error (~1e-7).
+#[test]
+fn force_histories_in_scene_files_follow_the_impulse() {
+    let ramp = "force = [[0.0, 0.0], [1.0, 2.0]]";
+    for (indenter, method) in [
+        ("type = \"paraboloid\"\nc = 1.0", "mdr"),
+        ("type = \"rod\"\nradius = 0.5", "mdr"),
+        ("type = \"rod\"\nradius = 0.5", "bem"),
+    ] {
+        let base = GOOD
+            .replace("type = \"paraboloid\"\nc = 1.0", indenter)
+            .replace("method = \"mdr\"", &format!("method = \"{method}\""))
+            .replace(
+                "n = 4097",
+                if method == "bem" {
+                    "n = 40"
+                } else {
+                    "n = 4097"
+                },
+            )
+            .replace("duration = 5.0", "duration = 2.0\ntimes = [1.0, 2.0]");
+        let constant = series(&scene_file("constant", &base), "depth");
+        let ramped = series(
+            &scene_file("ramp", &base.replace("force = 1.0", ramp)),
+            "depth",
+        );
+        assert!(
+            (ramped[0] / constant[0] - 1.0).abs() < 1e-6,
+            "{indenter} {method}: {ramped:?} {constant:?}"
+        );
+        // constant 1 N: impulse 2 N s at t = 2; the ramp: 3 N s
+        let (i2, i3) = (2.0f64, 3.0f64);
+        let law = if indenter.contains("rod") {
+            i3 / i2
+        } else {
+            (i3 / i2).powf(2.0 / 3.0)
+        };
+        assert!(
+            (ramped[1] / constant[1] / law - 1.0).abs() < 1e-6,
+            "{indenter} {method}: {ramped:?} {constant:?}"
+        );
+    }
+    let bad = scene_file("badforce", &GOOD.replace("force = 1.0", "force = \"much\""));
+    let (code, _, err) = mdrvisc(&["run", &bad]);
+    assert_eq!(code, 2);
+    assert!(err.contains("[t, F] pairs"), "{err}");
+    let late = scene_file(
+        "lateforce",
+        &GOOD.replace("force = 1.0", "force = [[0.5, 1.0]]"),
+    );
+    let (code, _, err) = mdrvisc(&["run", &late]);
+    assert_eq!(code, 2);
+    assert!(err.contains("t = 0"), "{err}");
+}
