@@ -7,11 +7,13 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.integrate import quad
+from scipy.optimize import brentq
 from scipy.special import gamma
 
 from mdrvisc import analytic as A
 from mdrvisc.errors import DomainError, InvalidInputError
 from mdrvisc.geometry import Axisymmetric, Cone, Paraboloid, Rod, Sphere
+from mdrvisc.media import Elastic, KelvinVoigt, Maxwell, Prony, StandardSolid, Viscous
 
 
 def mdr_impulse(g, a, eta):
@@ -235,6 +237,93 @@ def test_lee_radok_square_edge():
                                                                                       rel=1e-4)
 
 
+# ------------------------------------------------------------------ Ting
+def ting_by_quadrature(t, medium, R, v, t_peak):
+    """Ting's (F, a) at one time t from QUADPACK and brentq on the hereditary integrals."""
+    eta = medium.rheology()[2]
+    G = medium.relaxation_modulus
+
+    def balance(t1):  # int_{t1}^t G(t - s) ddot(s) ds / v for t > t_peak
+        return (quad(lambda s: G(t - s), t1, t_peak, epsabs=0.0, epsrel=1e-13)[0]
+                - quad(lambda s: G(t - s), t_peak, t, epsabs=0.0, epsrel=1e-13)[0] - eta)
+
+    if t <= t_peak:
+        t1, dashpot = t, eta * math.sqrt(t)
+    elif balance(0.0) <= 0.0:
+        return 0.0, 0.0
+    else:
+        t1, dashpot = brentq(balance, 0.0, t_peak, xtol=1e-15, rtol=1e-15), 0.0
+    hereditary = quad(lambda s: G(t - s), 0.0, t1, weight="alg", wvar=(0.5, 0.0), epsabs=0.0,
+                      epsrel=1e-13)[0]
+    return 8 * math.sqrt(R) * v**1.5 * (hereditary + dashpot), math.sqrt(R * v * t1)
+
+
+def test_ting_root_integral_matches_quadrature():
+    x = np.array([1e-3, 0.5, 5.0, 39.0, 41.0, 300.0, 1000.0])
+    direct = [quad(lambda s: math.exp(-(xi - s)) * math.sqrt(s), 0.0, xi, epsabs=0.0,
+                   epsrel=1e-13, limit=200)[0] for xi in x]
+    np.testing.assert_allclose(A._relaxing_root_integral(x), direct, rtol=1e-12)
+    assert A._relaxing_root_integral(np.array(0.0)) == 0.0
+
+
+@pytest.mark.parametrize("medium", [Prony(0.5, [(1.0, 0.1), (2.0, 2.0)]), Maxwell(2.0, 1.0)],
+                         ids=lambda m: type(m).__name__)
+def test_ting_matches_quadrature_of_the_hereditary_integrals(medium):
+    R, v, t_peak = 0.7, 0.3, 1.2
+    t = np.array([0.0, 0.3, 1.2, 1.25, 1.4, 1.5, 1.6, 1.9, 2.0, 2.4, 3.0])
+    force, radius, t_sep = A.ting_paraboloid_triangle(t, medium, R, v, t_peak)
+    expected = np.array([ting_by_quadrature(ti, medium, R, v, t_peak) for ti in t])
+    np.testing.assert_allclose(force, expected[:, 0], rtol=1e-10, atol=1e-14)
+    np.testing.assert_allclose(radius, expected[:, 1], rtol=1e-10, atol=1e-14)
+    # separation: contact at t_sep from below, none from above
+    assert t_peak < t_sep < 2 * t_peak
+    before, after = A.ting_paraboloid_triangle([t_sep * (1 - 1e-9), t_sep * (1 + 1e-9)], medium, R,
+                                               v, t_peak)[0]
+    assert before > 0.0 and after == 0.0
+
+
+def test_ting_elastic_limit_is_hertz():
+    G, R, v, t_peak = 2.0, 0.5, 0.2, 1.0
+    t = np.linspace(0.0, 2.5, 26)
+    force, radius, t_sep = A.ting_paraboloid_triangle(t, Prony(G, []), R, v, t_peak)
+    depth = np.maximum(v * np.minimum(t, 2 * t_peak - t), 0.0)
+    np.testing.assert_allclose(force, 16 / 3 * G * math.sqrt(R) * depth**1.5, rtol=1e-13,
+                               atol=1e-16)
+    np.testing.assert_allclose(radius, np.sqrt(R * depth), rtol=1e-13, atol=1e-16)
+    np.testing.assert_allclose(radius[:11], radius[20:9:-1], rtol=1e-13, atol=1e-16)
+    assert t_sep == pytest.approx(2 * t_peak, rel=1e-15)
+    assert A.ting_paraboloid_triangle(2.5, Elastic(G), R, v, t_peak)[:2] == (0.0, 0.0)
+
+
+def test_ting_kelvin_voigt_closed_form():
+    # the edge element balances G (d(t) - d(t1)) = eta v: d(t1) = d(t) - eta v / G
+    G, eta, R, v, t_peak = 1.5, 0.4, 0.5, 0.2, 1.0
+    t = np.array([0.1, 0.5, 1.0, 1.0 + 1e-12, 1.2, 1.5, 1.7, 1.75, 2.0])
+    force, radius, t_sep = A.ting_paraboloid_triangle(t, KelvinVoigt(G, eta), R, v, t_peak)
+    depth = np.where(t <= t_peak, v * t, np.maximum(v * (2 * t_peak - t) - eta * v / G, 0.0))
+    dashpot = np.where(t <= t_peak, 8 * math.sqrt(R) * eta * np.sqrt(v * t) * v, 0.0)
+    np.testing.assert_allclose(force, 16 / 3 * G * math.sqrt(R) * depth**1.5 + dashpot, rtol=1e-12,
+                               atol=1e-16)
+    np.testing.assert_allclose(radius, np.sqrt(R * depth), rtol=1e-12, atol=1e-16)
+    assert t_sep == pytest.approx(2 * t_peak - eta / G, rel=1e-14)
+    # the dashpot alone outweighs the spring (v t_peak < eta v / G), and a viscous body: the
+    # contact is lost as soon as the indenter turns
+    assert A.ting_paraboloid_triangle(1.1, KelvinVoigt(G, 2.0), R, v, t_peak) == (0.0, 0.0, t_peak)
+    assert A.ting_paraboloid_triangle(1.1, Viscous(eta), R, v, t_peak) == (0.0, 0.0, t_peak)
+
+
+def test_ting_standard_solid_force_is_continuous_at_the_peak():
+    medium, R, v, t_peak = StandardSolid(1.0, 3.0, 0.5), 0.5, 0.2, 1.0
+    eps = 1e-7
+    force, radius, _ = A.ting_paraboloid_triangle([t_peak - eps, t_peak, t_peak + eps], medium, R,
+                                                  v, t_peak)
+    # the force turns with a finite slope (a kink, no jump); so does the contact radius
+    assert abs(force[2] - force[1]) < 1e-5 * force[1]
+    assert abs(force[1] - force[0]) < 1e-5 * force[1]
+    assert force[2] < force[1] and radius[2] < radius[1]
+    assert abs(radius[2] - radius[1]) < 1e-5 * radius[1]
+
+
 # ------------------------------------------------------------------ validation
 @pytest.mark.parametrize("call", [
     lambda v: A.rod_velocity(v, 1.0, 1.0), lambda v: A.rod_velocity(1.0, v, 1.0),
@@ -248,6 +337,9 @@ def test_lee_radok_square_edge():
     lambda v: A.hertz(v, 1.0, 1.0), lambda v: A.hertz(1.0, 1.0, v),
     lambda v: A.hertz_pressure(0.0, v, 1.0),
     lambda v: A.lee_radok_depth_from_impulse(1.0, Paraboloid(1.0), v),
+    lambda v: A.ting_paraboloid_triangle(1.0, Elastic(1.0), v, 1.0, 1.0),
+    lambda v: A.ting_paraboloid_triangle(1.0, Elastic(1.0), 1.0, v, 1.0),
+    lambda v: A.ting_paraboloid_triangle(1.0, Elastic(1.0), 1.0, 1.0, v),
 ])
 @pytest.mark.parametrize("value, shown", [(0.0, "0.0"), (-2.0, "-2.0"), (float("nan"), "nan"),
                                           (float("-inf"), "-inf")])
@@ -262,6 +354,7 @@ def test_bad_parameters(call, value, shown):
     (lambda v: A.rod_pressure(v, 1.0, 1.0), "r"),
     (lambda v: A.hertz_pressure(v, 1.0, 1.0), "r"),
     (lambda v: A.lee_radok_depth_from_impulse(v, Sphere(1.0), 1.0), "impulse"),
+    (lambda v: A.ting_paraboloid_triangle(v, Elastic(1.0), 1.0, 1.0, 1.0), "t"),
 ])
 def test_bad_arrays(call, name):
     with pytest.raises(InvalidInputError, match=f"{name} must be finite and >= 0.0, got -1.0 "
@@ -275,3 +368,8 @@ def test_bad_arrays(call, name):
 def test_lee_radok_needs_an_indenter():
     with pytest.raises(InvalidInputError, match="Indenter"):
         A.lee_radok_depth_from_impulse(1.0, "paraboloid", 1.0)
+
+
+def test_ting_needs_a_medium():
+    with pytest.raises(InvalidInputError, match="medium"):
+        A.ting_paraboloid_triangle(1.0, 2.0, 1.0, 1.0, 1.0)

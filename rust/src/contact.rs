@@ -1,6 +1,8 @@
 //! Frictionless normal contact of a rigid indenter with a half-space: the Polonsky–Keer
-//! (1999) constrained conjugate gradient (force- or displacement-controlled), and the
-//! flat-punch solve on a fixed contact set (CG, or a dense Cholesky solve for small sets).
+//! (1999) constrained conjugate gradient (force- or displacement-controlled), a dense
+//! primal-dual active-set solve (faer Cholesky on the contact set) chosen instead while the
+//! contact set is small, and the flat-punch solve on a fixed contact set (CG, or a dense
+//! Cholesky solve for small sets).
 //!
 //! Conventions: `h` is the separation before loading (m), `compliance` multiplies the
 //! G = 1 operator (1/G for an elastic body, dt/eta or 1/eta for viscous steps), and the gap
@@ -8,10 +10,11 @@
 
 use crate::error::{check_finite, check_len, check_positive, Error, Result};
 use crate::influence;
+use crate::mdr::{depth_on_sorted, prefix_sums};
 use crate::monitor::Monitor;
 use crate::operator::{DenseOperator, SurfaceOperator};
 use faer::linalg::solvers::Solve;
-use faer::{ColRef, Side};
+use faer::{ColRef, Mat, Side};
 
 /// What the solve holds fixed: the total force (N, or N s for impulses) or the rigid-body
 /// approach d (m).
@@ -32,7 +35,29 @@ pub struct SolverOptions {
     pub max_iter: usize,
     /// Fixed contact sets of at most this many elements are solved densely (faer).
     pub dense_limit: usize,
+    /// Largest contact set (elements) of the dense active-set method, which replaces
+    /// Polonsky–Keer while the estimated and iterated set stays within it; None picks the
+    /// faster automatically (`active_crossover` of the grid, at most `ACTIVE_CAP`), 0 turns
+    /// it off.
+    pub active_limit: Option<usize>,
 }
+
+/// Largest automatic active set (elements): a cap on the dense matrix (8 m^2 bytes, 128 MB),
+/// above the crossovers of grids up to ~2000^2.
+pub const ACTIVE_CAP: usize = 4000;
+
+/// Contact-set size (elements) below which the dense active-set solve beats Polonsky–Keer
+/// on a grid of `n` elements: a Cholesky factorisation (m^3/3) per active-set iteration
+/// against one FFT apply (~ n log n) per Polonsky–Keer iteration, m = (230 n log2(4n))^(1/3),
+/// the constant fitted to the crossovers measured by `benchmarks/bench_active_set.py`
+/// (~400 elements at 128^2, ~650 at 256^2, 2 cores).
+pub fn active_crossover(n: usize) -> usize {
+    let n = n.max(1) as f64;
+    (230.0 * n * (4.0 * n).log2()).cbrt() as usize
+}
+
+/// Active-set iterations before the solve falls back to Polonsky–Keer.
+const ACTIVE_MAX_ITER: usize = 40;
 
 impl Default for SolverOptions {
     fn default() -> Self {
@@ -40,6 +65,7 @@ impl Default for SolverOptions {
             tol: 1e-10,
             max_iter: 5000,
             dense_limit: 128,
+            active_limit: None,
         }
     }
 }
@@ -73,6 +99,8 @@ pub struct ContactSummary {
     pub residual: f64,
     /// Elements with p > 0.
     pub contact_count: usize,
+    /// Solved by the dense active-set method (else Polonsky–Keer).
+    pub dense: bool,
 }
 
 /// Polonsky–Keer solver owning its operator and work buffers (allocated once).
@@ -175,6 +203,41 @@ impl<O: SurfaceOperator> ContactSolver<O> {
             }
         };
         let warm = warm && self.p.iter().zip(allowed).any(|(&p, &a)| a && p > 0.0);
+        if let Target::Depth(d) = target {
+            if h.iter().zip(allowed).all(|(&h, &a)| !a || h >= d) {
+                self.p.fill(0.0);
+                self.u.fill(0.0);
+                return Ok(ContactSummary {
+                    depth: d,
+                    force: 0.0,
+                    iterations: 0,
+                    residual: 0.0,
+                    contact_count: 0,
+                    dense: false,
+                });
+            }
+        }
+        // Overlaps below round-off of the separation are no overlaps: without this, a step
+        // whose load is tiny against the accumulated separation flips edge elements forever.
+        let gap_tol = 1e-12
+            * h.iter()
+                .zip(allowed)
+                .filter(|(_, &a)| a)
+                .fold(0.0f64, |m, (h, _)| m.max(h.abs()));
+        if opts.active_limit != Some(0) {
+            self.p_old.copy_from_slice(&self.p);
+            let problem = Problem {
+                h,
+                allowed,
+                compliance,
+                target,
+                gap_tol,
+            };
+            if let Some(summary) = self.solve_active_set(&problem, warm, opts, monitor)? {
+                return Ok(summary);
+            }
+            self.p.copy_from_slice(&self.p_old);
+        }
         let self_influence = influence::coefficient(0, 0, self.op.dx());
         if !warm {
             match target {
@@ -205,26 +268,6 @@ impl<O: SurfaceOperator> ContactSolver<O> {
             let sum: f64 = self.p.iter().sum();
             self.p.iter_mut().for_each(|v| *v *= w / area / sum);
         }
-        if let Target::Depth(d) = target {
-            if h.iter().zip(allowed).all(|(&h, &a)| !a || h >= d) {
-                self.p.fill(0.0);
-                self.u.fill(0.0);
-                return Ok(ContactSummary {
-                    depth: d,
-                    force: 0.0,
-                    iterations: 0,
-                    residual: 0.0,
-                    contact_count: 0,
-                });
-            }
-        }
-        // Overlaps below round-off of the separation are no overlaps: without this, a step
-        // whose load is tiny against the accumulated separation flips edge elements forever.
-        let gap_tol = 1e-12
-            * h.iter()
-                .zip(allowed)
-                .filter(|(_, &a)| a)
-                .fold(0.0f64, |m, (h, _)| m.max(h.abs()));
         let mut delta = 0.0;
         let mut g_old = 1.0;
         let mut residual = f64::INFINITY;
@@ -387,6 +430,7 @@ impl<O: SurfaceOperator> ContactSolver<O> {
                     iterations: it,
                     residual,
                     contact_count: self.p.iter().filter(|&&p| p > 0.0).count(),
+                    dense: false,
                 });
             }
         }
@@ -395,6 +439,101 @@ impl<O: SurfaceOperator> ContactSolver<O> {
             iterations: opts.max_iter,
             residual,
         })
+    }
+
+    /// Dense primal-dual active-set solve (Hintermüller et al. 2002): on the set S solve
+    /// compliance K_SS p_S = d - h_S (with sum p_S dA = W under force control) by faer's
+    /// Cholesky, then drop elements with p <= 0 and add those that overlap (one operator
+    /// apply for the gaps), until the set repeats; the solution is then exact up to
+    /// round-off. Starts from the current contact (`warm`) or from the set of a Winkler
+    /// foundation with the self-influence coefficient. None when the set leaves
+    /// `opts.active_limit`, the iteration cycles, or K_SS is not positive definite: the
+    /// caller falls back to Polonsky–Keer.
+    fn solve_active_set(
+        &mut self,
+        pb: &Problem,
+        warm: bool,
+        opts: &SolverOptions,
+        monitor: &mut dyn Monitor,
+    ) -> Result<Option<ContactSummary>> {
+        let n = self.p.len();
+        let (nx, dx, c) = (self.op.nx(), self.op.dx(), pb.compliance);
+        let area = dx * dx;
+        let limit = opts
+            .active_limit
+            .unwrap_or_else(|| active_crossover(n).min(ACTIVE_CAP));
+        let start = if warm {
+            let set: Vec<usize> = (0..n)
+                .filter(|&i| pb.allowed[i] && self.p[i] > 0.0)
+                .collect();
+            (set.len() <= limit).then_some(set)
+        } else {
+            match pb.target {
+                Target::Depth(d) => overlap_set(pb.h, pb.allowed, d - pb.gap_tol, limit),
+                Target::Force(w) => {
+                    let stiffness = 1.0 / (c * influence::coefficient(0, 0, dx));
+                    winkler_set(pb.h, pb.allowed, w / (area * stiffness), limit)
+                }
+            }
+        };
+        let Some(mut set) = start.filter(|s| !s.is_empty()) else {
+            return Ok(None);
+        };
+        let mut member = vec![false; n];
+        for it in 1..=ACTIVE_MAX_ITER {
+            let m = set.len();
+            let k = DenseOperator::subset_matrix(nx, dx, &set)?;
+            let Ok(llt) = k.llt(Side::Lower) else {
+                return Ok(None);
+            };
+            let rhs = Mat::from_fn(m, 2, |j, col| if col == 0 { 1.0 } else { pb.h[set[j]] });
+            let sol = llt.solve(&rhs);
+            let ones: f64 = (0..m).map(|j| sol[(j, 0)]).sum();
+            let heights: f64 = (0..m).map(|j| sol[(j, 1)]).sum();
+            let d = match pb.target {
+                Target::Force(w) => (w * c / area + heights) / ones,
+                Target::Depth(d) => d,
+            };
+            self.p.fill(0.0);
+            for (j, &i) in set.iter().enumerate() {
+                self.p[i] = (d * sol[(j, 0)] - sol[(j, 1)]) / c;
+                member[i] = true;
+            }
+            self.op.apply(&self.p, &mut self.u);
+            let next: Vec<usize> = (0..n)
+                .filter(|&i| {
+                    pb.allowed[i]
+                        && if member[i] {
+                            self.p[i] > 0.0
+                        } else {
+                            c * self.u[i] + pb.h[i] - d < -pb.gap_tol
+                        }
+                })
+                .collect();
+            set.iter().for_each(|&i| member[i] = false);
+            monitor.progress("active-set iterations", it, ACTIVE_MAX_ITER)?;
+            if next == set {
+                self.u.iter_mut().for_each(|v| *v *= c);
+                let (mut misfit, mut scale) = (0.0, 0.0);
+                for &i in &set {
+                    misfit += (self.u[i] + pb.h[i] - d).abs();
+                    scale += (d - pb.h[i]).abs();
+                }
+                return Ok(Some(ContactSummary {
+                    depth: d,
+                    force: self.p.iter().sum::<f64>() * area,
+                    iterations: it,
+                    residual: if scale > 0.0 { misfit / scale } else { 0.0 },
+                    contact_count: m,
+                    dense: true,
+                }));
+            }
+            if next.is_empty() || next.len() > limit {
+                return Ok(None);
+            }
+            set = next;
+        }
+        Ok(None)
     }
 
     /// Flat-punch solve on a fixed contact set: the pressure (Pa at G = 1) that moves every
@@ -467,6 +606,48 @@ impl<O: SurfaceOperator> ContactSolver<O> {
     }
 }
 
+/// The data of one contact problem, as `ContactSolver::solve` receives it.
+struct Problem<'a> {
+    h: &'a [f64],
+    allowed: &'a [bool],
+    compliance: f64,
+    target: Target,
+    gap_tol: f64,
+}
+
+/// Allowed elements with h < `level`; None when more than `limit`.
+fn overlap_set(h: &[f64], allowed: &[bool], level: f64, limit: usize) -> Option<Vec<usize>> {
+    let mut set = vec![];
+    for i in (0..h.len()).filter(|&i| allowed[i] && h[i] < level) {
+        if set.len() == limit {
+            return None;
+        }
+        set.push(i);
+    }
+    Some(set)
+}
+
+/// Contact set of a Winkler foundation pressed into `h` until sum max(d - h_i, 0) =
+/// `excess` (m) over the allowed elements; None when it holds more than `limit` elements.
+/// Only the `limit + 1` lowest elements are sorted.
+fn winkler_set(h: &[f64], allowed: &[bool], excess: f64, limit: usize) -> Option<Vec<usize>> {
+    let mut low: Vec<(f64, usize)> = (0..h.len())
+        .filter(|&i| allowed[i])
+        .map(|i| (h[i], i))
+        .collect();
+    let by_height = |a: &(f64, usize), b: &(f64, usize)| a.0.total_cmp(&b.0);
+    if low.len() > limit + 1 {
+        low.select_nth_unstable_by(limit, by_height);
+        low.truncate(limit + 1);
+    }
+    low.sort_unstable_by(by_height);
+    let sorted: Vec<f64> = low.iter().map(|v| v.0).collect();
+    let mut prefix = Vec::with_capacity(sorted.len() + 1);
+    prefix_sums(&sorted, &mut prefix);
+    let (_, k) = depth_on_sorted(&sorted, &prefix, excess);
+    (k <= limit).then(|| low[..k.max(1)].iter().map(|v| v.1).collect())
+}
+
 /// Dense Cholesky solve of K_SS x = 1 on the elements `idx` (faer).
 fn unit_punch_dense(nx: usize, dx: f64, idx: &[usize], n: usize) -> Result<(Vec<f64>, usize, f64)> {
     let k = DenseOperator::subset_matrix(nx, dx, idx)?;
@@ -513,4 +694,70 @@ fn argmin_gap(g: &[f64], allowed: &[bool]) -> usize {
         .filter(|&i| allowed[i])
         .min_by(|&a, &b| g[a].total_cmp(&g[b]))
         .unwrap_or(0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::monitor::Silent;
+    use crate::operator::FftOperator;
+
+    /// A paraboloid h = r^2 / (2 R) on an n x n grid of side 2.56 m, and dx.
+    fn hertz_grid(n: usize, radius: f64) -> (Vec<f64>, f64) {
+        let dx = 2.56 / n as f64;
+        let c = (n as f64 - 1.0) / 2.0;
+        let h = (0..n * n)
+            .map(|i| {
+                let (x, y) = (((i % n) as f64 - c) * dx, ((i / n) as f64 - c) * dx);
+                (x * x + y * y) / (2.0 * radius)
+            })
+            .collect();
+        (h, dx)
+    }
+
+    fn solve(
+        h: &[f64],
+        n: usize,
+        dx: f64,
+        target: Target,
+        active_limit: Option<usize>,
+    ) -> (ContactSummary, Vec<f64>) {
+        let mut solver = ContactSolver::new(FftOperator::new(n, n, dx).unwrap());
+        let opts = SolverOptions {
+            active_limit,
+            ..SolverOptions::default()
+        };
+        let allowed = vec![true; n * n];
+        let s = solver
+            .solve(h, &allowed, 1.0, target, false, 0.0, &opts, &mut Silent)
+            .unwrap();
+        (s, solver.pressure().to_vec())
+    }
+
+    /// The dense active-set solve and Polonsky–Keer give the same contact (to PK's
+    /// tolerance) under force and depth control; the automatic choice takes the dense solve
+    /// for a small contact and Polonsky–Keer for a large one.
+    #[test]
+    fn active_set_and_polonsky_keer_agree() {
+        let n = 64;
+        let (h, dx) = hertz_grid(n, 10.0);
+        for target in [Target::Force(1e-3), Target::Depth(2e-3)] {
+            let (dense, p_dense) = solve(&h, n, dx, target, None);
+            let (pk, p_pk) = solve(&h, n, dx, target, Some(0));
+            assert!(dense.dense && !pk.dense, "{target:?}");
+            assert!(dense.contact_count > 20 && dense.contact_count < 236);
+            assert_eq!(dense.contact_count, pk.contact_count);
+            assert!(dense.residual < 1e-12);
+            let peak = p_pk.iter().fold(0.0f64, |m, &v| m.max(v));
+            let diff = p_dense
+                .iter()
+                .zip(&p_pk)
+                .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+            assert!(diff < 1e-8 * peak, "{target:?}: {diff} vs {peak}");
+            assert!((dense.depth - pk.depth).abs() < 1e-9 * pk.depth);
+            assert!((dense.force - pk.force).abs() < 1e-9 * pk.force);
+        }
+        let (large, _) = solve(&h, n, dx, Target::Depth(0.02), None);
+        assert!(!large.dense && large.contact_count > active_crossover(n * n));
+    }
 }

@@ -134,11 +134,17 @@ fn explicit_control((step, area_change, start): (f64, f64, f64)) -> ExplicitCont
     }
 }
 
-fn options(tol: f64, max_iter: usize, dense_limit: usize) -> SolverOptions {
+fn options(
+    tol: f64,
+    max_iter: usize,
+    dense_limit: usize,
+    active_limit: Option<usize>,
+) -> SolverOptions {
     SolverOptions {
         tol,
         max_iter,
         dense_limit,
+        active_limit,
     }
 }
 
@@ -149,7 +155,7 @@ fn history(py: Python<'_>, times: Vec<f64>, forces: Vec<f64>) -> PyResult<ForceH
 /// Implicit viscous BEM run on a grid: heights (m, (ny, nx)), footprint mask, element size
 /// dx (m), viscosity eta (Pa s), output times (s), force history samples (s, N).
 #[pyfunction]
-#[pyo3(signature = (height, allowed, dx, eta, times, force_times, force_values, rates=false, fields_at=vec![], tol=1e-10, max_iter=5000, progress=None, explicit=None, dense_limit=128, first_bound=None))]
+#[pyo3(signature = (height, allowed, dx, eta, times, force_times, force_values, rates=false, fields_at=vec![], tol=1e-10, max_iter=5000, progress=None, explicit=None, dense_limit=128, first_bound=None, active_limit=None))]
 #[allow(clippy::too_many_arguments)]
 fn bem_viscous<'py>(
     py: Python<'py>,
@@ -168,6 +174,7 @@ fn bem_viscous<'py>(
     explicit: Option<(f64, f64, f64)>,
     dense_limit: usize,
     first_bound: Option<f64>,
+    active_limit: Option<usize>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let grid = grid_from(py, &height, &allowed, dx)?;
     let hist = history(
@@ -181,7 +188,7 @@ fn bem_viscous<'py>(
         fields_at,
         first_bound,
     };
-    let opts = options(tol, max_iter, dense_limit);
+    let opts = options(tol, max_iter, dense_limit, active_limit);
     let mut monitor = PyMonitor::new(progress);
     let ctrl = explicit.map(explicit_control);
     let r = py.detach(|| match &ctrl {
@@ -241,7 +248,7 @@ fn bem_punch<'py>(
         allowed.as_array().iter().copied().collect(),
     )
     .map_err(|e| to_pyerr(py, e))?;
-    let opts = options(tol, max_iter, dense_limit);
+    let opts = options(tol, max_iter, dense_limit, None);
     let mut monitor = PyMonitor::new(progress);
     let r = py.detach(|| viscous::run_punch(&grid, eta, force, margin, &opts, &mut monitor));
     let r = monitor.finish(py, r)?;
@@ -400,7 +407,7 @@ fn surface_deflection<'py>(
 /// Static Polonsky–Keer contact solve: separation h (m), footprint mask, element size dx
 /// (m), compliance (1/G, 1/Pa), and either `force` (N) or `depth` (m).
 #[pyfunction]
-#[pyo3(signature = (height, allowed, dx, compliance, force=None, depth=None, tol=1e-10, max_iter=5000, progress=None, dense_limit=128))]
+#[pyo3(signature = (height, allowed, dx, compliance, force=None, depth=None, tol=1e-10, max_iter=5000, progress=None, dense_limit=128, active_limit=None))]
 #[allow(clippy::too_many_arguments)]
 fn contact_solve<'py>(
     py: Python<'py>,
@@ -414,6 +421,7 @@ fn contact_solve<'py>(
     max_iter: usize,
     progress: Option<Py<PyAny>>,
     dense_limit: usize,
+    active_limit: Option<usize>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let grid = grid_from(py, &height, &allowed, dx)?;
     let target = match (force, depth) {
@@ -426,7 +434,7 @@ fn contact_solve<'py>(
             ))
         }
     };
-    let opts = options(tol, max_iter, dense_limit);
+    let opts = options(tol, max_iter, dense_limit, active_limit);
     let mut monitor = PyMonitor::new(progress);
     let r = py.detach(|| -> crate::Result<_> {
         let mut solver = ContactSolver::new(FftOperator::new(grid.nx, grid.ny, grid.dx)?);
@@ -450,6 +458,14 @@ fn contact_solve<'py>(
     d.set_item("iterations", s.iterations)?;
     d.set_item("residual", s.residual)?;
     d.set_item("contact_count", s.contact_count)?;
+    d.set_item(
+        "method",
+        if s.dense {
+            "active-set"
+        } else {
+            "polonsky-keer"
+        },
+    )?;
     d.set_item("pressure", p.into_pyarray(py).reshape(shape)?)?;
     d.set_item("deflection", u.into_pyarray(py).reshape(shape)?)?;
     Ok(d)
@@ -543,7 +559,7 @@ fn viscoelastic_bem<'py>(
         slice1(&load_values, "load_values")?,
     )?;
     let times = slice1(&times, "times")?;
-    let opts = options(tol, max_iter, 128);
+    let opts = options(tol, max_iter, 128, None);
     let mut monitor = PyMonitor::new(progress);
     let r =
         py.detach(|| viscoelastic::run_bem(&grid, &medium, &load, &times, dt, &opts, &mut monitor));
