@@ -22,5 +22,8 @@ echo
 echo "### bench_dense_crossover.py"
 if [[ ${#QUICK[@]} -gt 0 ]]; then "$PY" bench_dense_crossover.py --repeats 2; else "$PY" bench_dense_crossover.py; fi
 echo
+echo "### bench_active_set.py"
+if [[ ${#QUICK[@]} -gt 0 ]]; then "$PY" bench_active_set.py --grids 128 256 --repeats 2; else "$PY" bench_active_set.py; fi
+echo
 echo "### bench_threads.py"
 if [[ ${#QUICK[@]} -gt 0 ]]; then "$PY" bench_threads.py --quick --rounds 1; else "$PY" bench_threads.py --rounds 3; fi

@@ -446,9 +446,10 @@ impl<O: SurfaceOperator> ContactSolver<O> {
     /// Cholesky, then drop elements with p <= 0 and add those that overlap (one operator
     /// apply for the gaps), until the set repeats; the solution is then exact up to
     /// round-off. Starts from the current contact (`warm`) or from the set of a Winkler
-    /// foundation with the self-influence coefficient. None when the set leaves
-    /// `opts.active_limit`, the iteration cycles, or K_SS is not positive definite: the
-    /// caller falls back to Polonsky–Keer.
+    /// foundation with the self-influence coefficient. None when the start set exceeds the
+    /// limit (`opts.active_limit`, or automatic), an iterate exceeds twice the limit, the
+    /// iteration cycles, or K_SS is not positive definite: the caller falls back to
+    /// Polonsky–Keer.
     fn solve_active_set(
         &mut self,
         pb: &Problem,
@@ -528,7 +529,9 @@ impl<O: SurfaceOperator> ContactSolver<O> {
                     dense: true,
                 }));
             }
-            if next.is_empty() || next.len() > limit {
+            // the first iterations overshoot (a small start set presses in deep): allow
+            // twice the limit in passing
+            if next.is_empty() || next.len() > 2 * limit {
                 return Ok(None);
             }
             set = next;
