@@ -5,23 +5,20 @@ What is timed (all best of N, wall clock):
 
 * ``np apply w=1`` / ``np apply w=-1``: ``FftOperator.apply`` alone (operator built once
   outside the timing, pocketfft plans warm), scipy.fft ``workers=1`` / ``workers=-1``.
+* ``mv apply``: ``mv.arrays.SurfaceOperator.apply(p, out)`` alone (operator and ``out`` made
+  once outside the timing), through the public Python API: the call, the input check and the
+  GIL release are included.
+* ``mv CG iter``: one flat-punch CG iteration of ``_core.bem_punch`` on the full n x n square
+  (``dense_limit=0``), from two tolerances, (T_hi - T_lo) / (iters_hi - iters_lo): one apply
+  plus the O(n^2) vector passes of an iteration, as a solver sees it.
 * ``np build+apply``: ``FftOperator(n, n, dx).apply(p)`` (Love kernel, kernel rfft2, one apply;
-  workers=-1).
-* ``mv build+apply``: ``mdrvisc._core.surface_deflection(p, dx)``, which builds the operator
-  (Love kernel, kernel FFT, plans, buffers) on every call, applies it once, and copies p in
-  and u out.
-* ``mv apply``: one apply of mdrvisc's operator alone, from the flat-punch CG of
-  ``_core.bem_punch`` on the full n x n square with ``dense_limit=0`` timed at two
-  tolerances (differential: (T_hi - T_lo) / (iters_hi - iters_lo); see
-  ``_bench.mdrvisc_apply_time``). Each CG iteration is one apply plus four O(n^2) passes over
-  the set, so this slightly over-states the apply (the O(n^2) work is < 5 % at these sizes).
-* ``mv per-iter``: the naive T_hi / iters_hi of the same call (includes the build).
+  workers=-1); ``mv build+apply``: ``mv.arrays.SurfaceOperator((n, n), dx).apply(p)``.
 
 All timings of one grid size are interleaved (each round runs every measurement once) and
 the best of the rounds is kept, so that the compared numbers see the same machine state.
 
-Ratios: apply-only numpy / apply-only mdrvisc (the operator as used inside a solver), and
-build+apply numpy / build+apply mdrvisc (one-shot use).
+Ratios: apply-only numpy / apply-only mdrvisc, and build+apply numpy / build+apply mdrvisc
+(one-shot use).
 
 Run: ``python benchmarks/bench_operator.py [--sizes 129 257 513 1025] [--quick]``;
 ``--mv-only --json`` prints mdrvisc's numbers as JSON (used by bench_threads.py).
@@ -35,8 +32,7 @@ import json
 import numpy as np
 import scipy.fft as sfft
 
-from _bench import (TOL_HI, TOL_LO, differential, header, interleaved, punch_runner,
-                    table)
+from _bench import header, interleaved, table
 
 REPEATS = {129: 20, 257: 10, 513: 5, 1025: 3}
 
@@ -46,23 +42,37 @@ def repeats_for(n: int, quick: bool) -> int:
     return max(2, r // 3) if quick else r
 
 
+def cg_runner(n: int):
+    """``run(tol)``: a flat punch on the full n x n square by CG (``dense_limit=0``)."""
+    from mdrvisc import _core
+
+    mask = np.ones((n, n), dtype=bool)
+
+    def run(tol):
+        return _core.bem_punch(mask, 2.56 / n, 1.0, 1.0, tol=tol, max_iter=100000, dense_limit=0)
+
+    return run
+
+
 def measure(n: int, rounds: int, with_numpy: bool = True) -> dict:
     """All timings of one grid size, interleaved round by round (see _bench.interleaved)."""
-    from mdrvisc import _core
+    import mdrvisc as mv
 
     dx = 2.56 / n
     p = np.random.default_rng(0).random((n, n))
-    run = punch_runner(n)
-    funcs = {"mv_ba": (lambda: _core.surface_deflection(p, dx), 0),
-             "mv_lo": lambda: run(TOL_LO), "mv_hi": lambda: run(TOL_HI)}
+    op, u = mv.arrays.SurfaceOperator((n, n), dx), np.empty((n, n))
+    run = cg_runner(n)
+    funcs = {"mv_apply": (lambda: op.apply(p, u), 0),
+             "mv_ba": (lambda: mv.arrays.SurfaceOperator((n, n), dx).apply(p), 0),
+             "cg_lo": lambda: run(1e-2), "cg_hi": lambda: run(1e-8)}
     if with_numpy:
         import numpy_reference as ref
 
-        op = ref.FftOperator(n, n, dx)
+        ref_op = ref.FftOperator(n, n, dx)
 
         def np_apply(workers):
             ref.FFT_WORKERS = workers
-            return op.apply(p)
+            return ref_op.apply(p)
 
         def np_build(apply):
             ref.FFT_WORKERS = -1
@@ -72,7 +82,9 @@ def measure(n: int, rounds: int, with_numpy: bool = True) -> dict:
         funcs.update(np1=(lambda: np_apply(1), 0), npall=(lambda: np_apply(-1), 0),
                      np_build=(lambda: np_build(False), 0), np_ba=(lambda: np_build(True), 0))
     res = interleaved(funcs, rounds)
-    out = dict(n=n, build_apply=res["mv_ba"][0], **differential(*res["mv_lo"], *res["mv_hi"]))
+    (t_lo, r_lo), (t_hi, r_hi) = res["cg_lo"], res["cg_hi"]
+    cg_iter = (t_hi - t_lo) / max(int(r_hi["iterations"]) - int(r_lo["iterations"]), 1)
+    out = dict(n=n, per_apply=res["mv_apply"][0], build_apply=res["mv_ba"][0], cg_iter=cg_iter)
     if with_numpy:
         out.update(np1=res["np1"][0], npall=res["npall"][0], np_build=res["np_build"][0],
                    np_ba=res["np_ba"][0])
@@ -107,24 +119,18 @@ def main(argv=None) -> None:
         m = measure(n, rounds)
         pad = sfft.next_fast_len(2 * n - 2, real=True)
         rows.append([f"{n}^2", f"{pad}^2", rounds, m["np1"] * 1e3, m["npall"] * 1e3,
-                     m["per_apply"] * 1e3, m["per_iter"] * 1e3,
-                     f"{m['iters_lo']}/{m['iters_hi']}", m["np1"] / m["per_apply"],
+                     m["per_apply"] * 1e3, m["cg_iter"] * 1e3, m["np1"] / m["per_apply"],
                      m["npall"] / m["per_apply"]])
         rows2.append([f"{n}^2", m["np_build"] * 1e3, m["np_ba"] * 1e3, m["build_apply"] * 1e3,
-                      m["fixed"] * 1e3, m["np_ba"] / m["build_apply"]])
-    print("\nApply only (operator built once; mdrvisc from flat-punch CG, differential; all "
-          "timings of a size interleaved, best of 'rounds'):")
+                      m["np_ba"] / m["build_apply"]])
+    print("\nApply only (operator built once; all timings of a size interleaved, best of "
+          "'rounds'):")
     table(["grid", "padded", "rounds", "np w=1 ms", "np w=-1 ms", "mv apply ms",
-           "mv per-iter ms", "CG iters lo/hi", "ratio vs w=1", "ratio vs w=-1"], rows,
-          ["{}", "{}", "{}", "{:.3f}", "{:.3f}", "{:.3f}", "{:.3f}", "{}", "{:.2f}x",
-           "{:.2f}x"])
-    print("\nBuild + one apply (one-shot use; mdrvisc = _core.surface_deflection):")
-    table(["grid", "np build ms", "np build+apply ms", "mv build+apply ms",
-           "mv punch fixed cost ms", "ratio"], rows2,
-          ["{}", "{:.3f}", "{:.3f}", "{:.3f}", "{:.3f}", "{:.2f}x"])
-    print("   'mv punch fixed cost' = bem_punch time minus its CG iterations: operator build + "
-          "first apply + call overhead.")
-
+           "mv CG iter ms", "ratio vs w=1", "ratio vs w=-1"], rows,
+          ["{}", "{}", "{}", "{:.3f}", "{:.3f}", "{:.3f}", "{:.3f}", "{:.2f}x", "{:.2f}x"])
+    print("\nBuild + one apply (one-shot use):")
+    table(["grid", "np build ms", "np build+apply ms", "mv build+apply ms", "ratio"], rows2,
+          ["{}", "{:.3f}", "{:.3f}", "{:.3f}", "{:.2f}x"])
 
 if __name__ == "__main__":
     main()

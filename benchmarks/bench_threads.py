@@ -10,7 +10,7 @@ On a 2-core machine, any other running process takes cores from the 2-thread run
 load average printed with the tables.
 
 What is timed: see bench_bem.py (mv.solve end to end, best of 3) and bench_operator.py
-(per-apply by the flat-punch CG differential; build + one apply by surface_deflection).
+(per apply by mv.arrays.SurfaceOperator.apply; build + one apply by a fresh SurfaceOperator).
 
 Run: ``python benchmarks/bench_threads.py [--sizes 129 257 513 1025] [--rounds 2] [--quick]``.
 """
@@ -100,8 +100,8 @@ def bem_table(bem):
 
 
 def operator_table(op):
-    print("\nSurface operator (per apply: flat-punch CG differential; build+apply: "
-          "surface_deflection):")
+    print("\nSurface operator (per apply: SurfaceOperator.apply; build+apply: a fresh "
+          "SurfaceOperator):")
     a1, a2 = best(op[1], "per_apply"), best(op[2], "per_apply")
     b1, b2 = best(op[1], "build_apply"), best(op[2], "build_apply")
     o1, o2 = others_of_best(op[1], "per_apply"), others_of_best(op[2], "per_apply")

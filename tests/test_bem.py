@@ -94,6 +94,41 @@ def test_fft_operator_matches_dense_faer_operator():
         assert np.max(np.abs(a - b)) < 1e-10 * np.max(np.abs(b))
 
 
+def test_reusable_surface_operator_is_the_dense_operator_and_checks_input():
+    rng = np.random.default_rng(2)
+    op = mv.arrays.SurfaceOperator((13, 9), 0.1)
+    assert op.shape == (13, 9) and op.padded == (24, 16)
+    for _ in range(3):  # buffers are reused between calls
+        p = rng.random((13, 9))
+        b = _core.surface_deflection(p, 0.1, dense=True)
+        assert np.max(np.abs(op.apply(p) - b)) < 1e-10 * np.max(np.abs(b))
+    # a transposed view and integer pressures are copied, not misread
+    q = rng.random((9, 13)).T
+    assert np.array_equal(op.apply(q), op.apply(q.copy()))
+    assert np.array_equal(op.apply(np.ones((13, 9), dtype=int)), op.apply(np.ones((13, 9))))
+    # far field of a point load: u = F / (4 pi G r) for the incompressible half-space
+    big = mv.arrays.SurfaceOperator((201, 201), 0.01)
+    p = np.zeros((201, 201))
+    p[100, 100] = 1.0 / 0.01**2
+    assert big.apply(p)[100, 200] == pytest.approx(1 / (4 * np.pi * 1.0), rel=1e-4)
+    out = np.empty((13, 9))
+    assert op.apply(q, out=out) is out and np.array_equal(out, op.apply(q))
+    with pytest.raises(mv.InvalidInputError, match="C-contiguous"):
+        op.apply(q, out=np.empty((9, 13)).T)
+    with pytest.raises(mv.InvalidInputError, match="float64"):
+        op.apply(q, out=np.empty((13, 9), dtype=np.float32))
+    with pytest.raises(mv.InvalidInputError, match="shape"):
+        op.apply(np.ones((9, 13)))
+    with pytest.raises(mv.InvalidInputError, match="finite"):
+        op.apply(np.full((13, 9), np.nan))
+    with pytest.raises(mv.InvalidInputError, match="real"):
+        op.apply(np.ones((13, 9), dtype=complex))
+    with pytest.raises(mv.InvalidInputError, match="dx"):
+        mv.arrays.SurfaceOperator((4, 4), 0.0)
+    with pytest.raises(mv.InvalidInputError, match="shape"):
+        mv.arrays.SurfaceOperator((0, 4), 0.1)
+
+
 def test_elastic_hertz_contact():
     n, edge, G, force, R = 128, 2.56, 1.0, 0.0215, 10.0
     scene = mv.Scene(indenter=mv.Paraboloid(c=1 / (2 * R), edge=edge), medium=mv.Elastic(G=G), force=force,

@@ -16,7 +16,7 @@ from .analytic import _positive
 from .errors import DomainError, InvalidInputError
 from .scene import Result, _history
 
-__all__ = ["contact", "viscous"]
+__all__ = ["contact", "viscous", "SurfaceOperator"]
 
 
 def _grid(name, a):
@@ -31,6 +31,52 @@ def _grid(name, a):
     if bad.size:
         raise InvalidInputError(f"{name} must be finite, got {arr[tuple(bad[0])]} at index {tuple(bad[0].tolist())}")
     return arr
+
+
+class SurfaceOperator:
+    """The surface operator of a non-periodic half-space on a grid, built once, applied many
+    times: element pressures (Pa) to element-centre deflections (m) of an incompressible
+    half-space with G = 1 Pa (Love's coefficients, zero-padded FFT convolution in Rust, GIL
+    released). Divide by the shear modulus G for an elastic body, or by eta for the surface
+    velocity of a viscous one.
+
+    Parameters
+    ----------
+    shape : (int, int)
+        Grid shape (ny, nx), >= 1 each.
+    dx : float
+        Element side (m), > 0.
+
+    Attributes ``shape``, ``dx`` and ``padded`` (the FFT sizes (y, x)).
+    """
+
+    def __init__(self, shape, dx):
+        try:
+            ny, nx = (int(v) for v in shape)
+        except (TypeError, ValueError):
+            raise InvalidInputError(f"SurfaceOperator: shape must be (ny, nx), got {shape!r}") from None
+        if ny < 1 or nx < 1:
+            raise InvalidInputError(f"SurfaceOperator: shape must be >= (1, 1), got {shape!r}")
+        self._op = _core.SurfaceOperator(nx, ny, _positive("SurfaceOperator", "dx", dx))
+
+    shape = property(lambda self: self._op.shape, doc="Grid shape (ny, nx).")
+    dx = property(lambda self: self._op.dx, doc="Element side (m).")
+    padded = property(lambda self: self._op.padded, doc="Zero-padded FFT sizes (y, x).")
+
+    def apply(self, p, out=None):
+        """Deflection (m, shape (ny, nx)) under pressures ``p`` (Pa, shape (ny, nx), any real
+        dtype; non-finite values are errors) at G = 1 Pa. With ``out`` (a C-contiguous,
+        writable float64 array of that shape) the deflection is written there and ``out`` is
+        returned, which spares a solver loop the allocation of a new array per call."""
+        arr = np.asarray(p)
+        if arr.dtype.kind not in "biuf":
+            raise InvalidInputError(f"pressure must hold real numbers, got dtype {arr.dtype}")
+        if out is not None and (not isinstance(out, np.ndarray) or out.dtype != np.float64):
+            raise InvalidInputError(f"out must be a float64 numpy array, got {out!r:.60}")
+        return self._op.apply(np.ascontiguousarray(arr, dtype=np.float64), out)
+
+    def __repr__(self):
+        return f"SurfaceOperator(shape={self.shape}, dx={self.dx!r})"
 
 
 def _mask(mask, shape):

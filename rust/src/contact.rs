@@ -305,25 +305,23 @@ impl<O: SurfaceOperator> ContactSolver<O> {
                 };
             }
             self.op.apply(&self.t, &mut self.r);
-            let rbar = match target {
-                Target::Force(_) => {
-                    let (s, c) = self
-                        .r
-                        .iter()
-                        .zip(&self.p)
-                        .filter(|(_, &p)| p > 0.0)
-                        .fold((0.0, 0usize), |(s, c), (r, _)| (s + r, c + 1));
-                    compliance * s / c.max(1) as f64
-                }
-                Target::Depth(_) => 0.0,
-            };
-            let (mut num, mut den) = (0.0, 0.0);
+            // Over the contact set, in one pass: sums of r, g t, r t and t; then the step
+            // tau = sum g t / sum (c r - rbar) t, with rbar the mean of c r under force control.
+            let (mut r_sum, mut count, mut num, mut rt, mut t_sum) = (0.0, 0usize, 0.0, 0.0, 0.0);
             for i in 0..n {
                 if self.p[i] > 0.0 {
+                    r_sum += self.r[i];
+                    count += 1;
                     num += self.g[i] * self.t[i];
-                    den += (compliance * self.r[i] - rbar) * self.t[i];
+                    rt += self.r[i] * self.t[i];
+                    t_sum += self.t[i];
                 }
             }
+            let rbar = match target {
+                Target::Force(_) => compliance * r_sum / count.max(1) as f64,
+                Target::Depth(_) => 0.0,
+            };
+            let den = compliance * rt - rbar * t_sum;
             let tau = if den > 0.0 { num / den } else { 0.0 };
             // A degenerate CG step (e.g. a one-element contact, where g = 0 on the set) would
             // never admit the overlapping elements: seed them with pressures proportional to
@@ -351,8 +349,11 @@ impl<O: SurfaceOperator> ContactSolver<O> {
                 }
             };
             self.p_old.copy_from_slice(&self.p);
-            let (mut overlap, mut clamped) = (false, false);
-            for i in (0..n).filter(|&i| allowed[i]) {
+            let (mut overlap, mut clamped, mut sum) = (false, false, 0.0);
+            for i in 0..n {
+                if !allowed[i] {
+                    continue;
+                }
                 if self.p[i] > 0.0 {
                     let v = self.p[i] - tau * self.t[i];
                     clamped |= v <= 0.0;
@@ -361,16 +362,13 @@ impl<O: SurfaceOperator> ContactSolver<O> {
                     self.p[i] = -tau_overlap * self.g[i];
                     overlap = true;
                 }
+                sum += self.p[i];
             }
 
             delta = if overlap { 0.0 } else { 1.0 };
             let mut factor = 1.0;
-            let sum: f64 = self.p.iter().sum();
             match force {
-                Some(w) if sum > 0.0 => {
-                    factor = w / area / sum;
-                    self.p.iter_mut().for_each(|v| *v *= factor);
-                }
+                Some(w) if sum > 0.0 => factor = w / area / sum,
                 Some(w) => {
                     let imin = argmin_gap(&self.g, allowed);
                     self.p[imin] = w / area;
@@ -386,20 +384,22 @@ impl<O: SurfaceOperator> ContactSolver<O> {
                 }
                 None => {}
             }
-            if overlap || clamped || it % 32 == 0 {
-                self.op.apply(&self.p, &mut self.u);
-            } else {
-                for i in 0..n {
+            // Rescale to the force, measure the change, and follow u = K[p] linearly unless
+            // it is refreshed, in one pass.
+            let refresh = overlap || clamped || it % 32 == 0;
+            let (mut total, mut change) = (0.0, 0.0);
+            for i in 0..n {
+                let v = self.p[i] * factor;
+                self.p[i] = v;
+                total += v;
+                change += (v - self.p_old[i]).abs();
+                if !refresh {
                     self.u[i] = factor * (self.u[i] - tau * self.r[i]);
                 }
             }
-            let total: f64 = self.p.iter().sum();
-            let change: f64 = self
-                .p
-                .iter()
-                .zip(&self.p_old)
-                .map(|(a, b)| (a - b).abs())
-                .sum();
+            if refresh {
+                self.op.apply(&self.p, &mut self.u);
+            }
             residual = if total > 0.0 {
                 change / total.max(reference / area)
             } else {

@@ -5,6 +5,7 @@
 //! (1 / (4 pi)) * integral over the element of 1 / distance. Scale by 1/G for other moduli
 //! (by 1/eta for deflection rates of a viscous half-space).
 
+use rayon::prelude::*;
 use std::f64::consts::PI;
 
 /// Antiderivative of 1/sqrt(x^2 + y^2) in x and y: x asinh(y/|x|) + y asinh(x/|y|)
@@ -37,16 +38,56 @@ pub fn coefficient(kx: i64, ky: i64, dx: f64) -> f64 {
     rectangle_deflection(kx as f64 * dx, ky as f64 * dx, dx, dx)
 }
 
-/// Coefficients for offsets 0..nx-1 by 0..ny-1 (row-major, index ky * nx + kx). The kernel
-/// is even in each offset, so this quarter holds all of it.
+/// Coefficients for offsets 0..nx-1 by 0..ny-1 (row-major, index ky * nx + kx), rows in
+/// parallel. The kernel is even in each offset, so this quarter holds all of it.
 pub fn quarter_kernel(nx: usize, ny: usize, dx: f64) -> Vec<f64> {
     let mut k = vec![0.0; nx * ny];
-    for ky in 0..ny {
-        for kx in 0..nx {
-            k[ky * nx + kx] = coefficient(kx as i64, ky as i64, dx);
+    k.par_chunks_mut(nx.max(1))
+        .enumerate()
+        .for_each(|(ky, row)| {
+            for (kx, v) in row.iter_mut().enumerate() {
+                *v = coefficient(kx as i64, ky as i64, dx);
+            }
+        });
+    k
+}
+
+/// The quarter kernel of a grid, computed once and shared by the operators of all its
+/// sub-grids (windows) with the same element size.
+#[derive(Debug, Clone, PartialEq)]
+pub struct KernelTable {
+    nx: usize,
+    ny: usize,
+    dx: f64,
+    values: Vec<f64>,
+}
+
+impl KernelTable {
+    /// Coefficients (m/Pa at G = 1) for offsets up to `nx` - 1 by `ny` - 1 elements of side
+    /// `dx` (m).
+    pub fn new(nx: usize, ny: usize, dx: f64) -> Self {
+        KernelTable {
+            nx,
+            ny,
+            dx,
+            values: quarter_kernel(nx, ny, dx),
         }
     }
-    k
+
+    /// Element side (m).
+    pub fn dx(&self) -> f64 {
+        self.dx
+    }
+
+    /// Whether the table holds every offset of an `nx` x `ny` grid.
+    pub fn covers(&self, nx: usize, ny: usize) -> bool {
+        nx <= self.nx && ny <= self.ny
+    }
+
+    /// Coefficient at offset (`kx`, `ky`) elements (m/Pa at G = 1).
+    pub fn get(&self, kx: usize, ky: usize) -> f64 {
+        self.values[ky * self.nx + kx]
+    }
 }
 
 #[cfg(test)]

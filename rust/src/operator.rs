@@ -4,7 +4,7 @@
 //! Grids are row-major: element (ix, iy) at index iy * nx + ix, centres dx apart.
 
 use crate::error::{check_positive, Error, Result};
-use crate::influence;
+use crate::influence::{self, KernelTable};
 use faer::{Accum, ColMut, ColRef, Mat, Par};
 use rayon::prelude::*;
 use realfft::{ComplexToReal, RealFftPlanner, RealToComplex};
@@ -87,12 +87,24 @@ pub struct FftOperator {
 impl FftOperator {
     /// Builds the operator for an `nx` x `ny` grid of square elements of side `dx` (m).
     pub fn new(nx: usize, ny: usize, dx: f64) -> Result<Self> {
+        check_positive("element size dx", dx)?;
+        Self::with_kernel(nx, ny, &KernelTable::new(nx, ny, dx))
+    }
+
+    /// Builds the operator for an `nx` x `ny` grid from a kernel table that covers it (its
+    /// element size): the windows of a grid share the grid's table.
+    pub fn with_kernel(nx: usize, ny: usize, table: &KernelTable) -> Result<Self> {
         if nx == 0 || ny == 0 {
             return Err(Error::InvalidInput(format!(
                 "grid size must be at least 1 x 1, got {nx} x {ny}"
             )));
         }
-        check_positive("element size dx", dx)?;
+        if !table.covers(nx, ny) {
+            return Err(Error::InvalidInput(format!(
+                "the kernel table does not cover a {nx} x {ny} grid"
+            )));
+        }
+        let dx = table.dx();
         let (mx, my) = (padded_size(nx), padded_size(ny));
         let half = mx / 2 + 1;
         let mut rplan = RealFftPlanner::<f64>::new();
@@ -127,7 +139,7 @@ impl FftOperator {
             cols: vec![Complex::default(); half * my],
             workers,
         };
-        op.spectrum = op.kernel_spectrum();
+        op.spectrum = op.kernel_spectrum(table);
         Ok(op)
     }
 
@@ -136,9 +148,8 @@ impl FftOperator {
         (self.mx, self.my)
     }
 
-    fn kernel_spectrum(&mut self) -> Vec<f64> {
+    fn kernel_spectrum(&mut self, table: &KernelTable) -> Vec<f64> {
         let (nx, ny, mx, my) = (self.nx, self.ny, self.mx, self.my);
-        let quarter = influence::quarter_kernel(nx, ny, self.dx);
         let wrap = |i: usize, m: usize, n: usize| -> Option<usize> {
             let k = if i <= m / 2 { i } else { m - i };
             (k < n).then_some(k)
@@ -147,7 +158,7 @@ impl FftOperator {
         for iy in 0..my {
             for ix in 0..mx {
                 if let (Some(kx), Some(ky)) = (wrap(ix, mx, nx), wrap(iy, my, ny)) {
-                    padded[iy * mx + ix] = quarter[ky * nx + kx];
+                    padded[iy * mx + ix] = table.get(kx, ky);
                 }
             }
         }

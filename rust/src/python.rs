@@ -404,6 +404,107 @@ fn surface_deflection<'py>(
     u.into_pyarray(py).reshape(shape)
 }
 
+/// The DC-FFT surface operator of an `nx` x `ny` grid of square elements of side `dx` (m),
+/// built once (Love kernel spectrum, FFT plans, buffers) and applied many times:
+/// `apply(p)` maps element pressures (Pa, shape (ny, nx)) to element-centre deflections (m)
+/// of an incompressible half-space with G = 1 Pa (divide by G, or by eta for rates).
+#[pyclass(name = "SurfaceOperator", module = "mdrvisc._core")]
+struct PySurfaceOperator {
+    op: FftOperator,
+}
+
+#[pymethods]
+impl PySurfaceOperator {
+    #[new]
+    fn new(py: Python<'_>, nx: usize, ny: usize, dx: f64) -> PyResult<Self> {
+        let op = py
+            .detach(|| FftOperator::new(nx, ny, dx))
+            .map_err(|e| to_pyerr(py, e))?;
+        Ok(PySurfaceOperator { op })
+    }
+
+    /// K[p] (m) for pressures `p` (Pa, (ny, nx) float64), with the GIL released; written
+    /// into `out` (a C-contiguous (ny, nx) float64 array) when given, else a new array.
+    #[pyo3(signature = (p, out=None))]
+    fn apply<'py>(
+        &mut self,
+        py: Python<'py>,
+        p: PyReadonlyArray2<'py, f64>,
+        out: Option<Bound<'py, numpy::PyArray2<f64>>>,
+    ) -> PyResult<Bound<'py, numpy::PyArray2<f64>>> {
+        let shape = [self.op.ny(), self.op.nx()];
+        let bad_shape = |what: &str, got: &[usize]| {
+            to_pyerr(
+                py,
+                Error::InvalidInput(format!(
+                    "{what} must have shape {shape:?} (ny, nx), got {got:?}"
+                )),
+            )
+        };
+        if p.shape() != shape {
+            return Err(bad_shape("pressure", p.shape()));
+        }
+        let copied;
+        let pv = match p.as_slice() {
+            Ok(s) if p.is_c_contiguous() => s,
+            _ => {
+                copied = p.as_array().iter().copied().collect::<Vec<f64>>();
+                &copied
+            }
+        };
+        check_finite("pressure", pv).map_err(|e| to_pyerr(py, e))?;
+        let op = &mut self.op;
+        match out {
+            Some(out) => {
+                if out.shape() != shape {
+                    return Err(bad_shape("out", out.shape()));
+                }
+                if !out.is_c_contiguous() {
+                    return Err(to_pyerr(
+                        py,
+                        Error::InvalidInput("out must be C-contiguous and writable".into()),
+                    ));
+                }
+                {
+                    let mut rw = out.readwrite();
+                    let u = rw.as_slice_mut().map_err(|_| {
+                        to_pyerr(
+                            py,
+                            Error::InvalidInput("out must be C-contiguous and writable".into()),
+                        )
+                    })?;
+                    py.detach(|| op.apply(pv, u));
+                }
+                Ok(out)
+            }
+            None => {
+                let mut u = vec![0.0; pv.len()];
+                py.detach(|| op.apply(pv, &mut u));
+                u.into_pyarray(py).reshape(shape)
+            }
+        }
+    }
+
+    /// Grid shape (ny, nx).
+    #[getter]
+    fn shape(&self) -> (usize, usize) {
+        (self.op.ny(), self.op.nx())
+    }
+
+    /// Element side (m).
+    #[getter]
+    fn dx(&self) -> f64 {
+        self.op.dx()
+    }
+
+    /// Zero-padded FFT sizes (y, x).
+    #[getter]
+    fn padded(&self) -> (usize, usize) {
+        let (mx, my) = self.op.padded();
+        (my, mx)
+    }
+}
+
 /// Static Polonsky–Keer contact solve: separation h (m), footprint mask, element size dx
 /// (m), compliance (1/G, 1/Pa), and either `force` (N) or `depth` (m).
 #[pyfunction]
@@ -573,6 +674,6 @@ mod core_module {
     #[pymodule_export]
     use super::{
         bem_punch, bem_viscous, contact_solve, mdr_deflection, mdr_pressure, mdr_run,
-        surface_deflection, viscoelastic_bem, viscoelastic_mdr,
+        surface_deflection, viscoelastic_bem, viscoelastic_mdr, PySurfaceOperator,
     };
 }

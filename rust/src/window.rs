@@ -3,7 +3,8 @@
 //! window size so that FFT plans and buffers are made once per size, not once per step.
 
 use crate::contact::ContactSolver;
-use crate::error::Result;
+use crate::error::{check_positive, Result};
+use crate::influence::KernelTable;
 use crate::operator::FftOperator;
 use std::collections::HashMap;
 
@@ -109,19 +110,26 @@ impl Window {
     }
 }
 
-/// Contact solvers keyed by grid size, made on first use.
+/// Contact solvers of the windows of one grid keyed by window size, made on first use from
+/// the grid's kernel table (computed once).
 pub struct SolverPool {
-    dx: f64,
+    kernel: KernelTable,
     solvers: HashMap<(usize, usize), ContactSolver<FftOperator>>,
 }
 
 impl SolverPool {
-    /// An empty pool for elements of side `dx` (m).
-    pub fn new(dx: f64) -> Self {
-        SolverPool {
-            dx,
+    /// An empty pool for the windows of an `nx` x `ny` grid of elements of side `dx` (m).
+    pub fn new(nx: usize, ny: usize, dx: f64) -> Result<Self> {
+        check_positive("element size dx", dx)?;
+        Ok(SolverPool {
+            kernel: KernelTable::new(nx, ny, dx),
             solvers: HashMap::new(),
-        }
+        })
+    }
+
+    /// The grid's kernel table.
+    pub fn kernel(&self) -> &KernelTable {
+        &self.kernel
     }
 
     /// The solver for a `wx` x `wy` grid.
@@ -129,7 +137,11 @@ impl SolverPool {
         use std::collections::hash_map::Entry;
         Ok(match self.solvers.entry((wx, wy)) {
             Entry::Occupied(e) => e.into_mut(),
-            Entry::Vacant(e) => e.insert(ContactSolver::new(FftOperator::new(wx, wy, self.dx)?)),
+            Entry::Vacant(e) => e.insert(ContactSolver::new(FftOperator::with_kernel(
+                wx,
+                wy,
+                &self.kernel,
+            )?)),
         })
     }
 }
