@@ -350,10 +350,7 @@ impl<O: SurfaceOperator> ContactSolver<O> {
             };
             self.p_old.copy_from_slice(&self.p);
             let (mut overlap, mut clamped, mut sum) = (false, false, 0.0);
-            for i in 0..n {
-                if !allowed[i] {
-                    continue;
-                }
+            for (i, _) in allowed.iter().enumerate().filter(|(_, &a)| a) {
                 if self.p[i] > 0.0 {
                     let v = self.p[i] - tau * self.t[i];
                     clamped |= v <= 0.0;
