@@ -64,6 +64,22 @@ struct Worker {
     col_scratch: Vec<Complex<f64>>,
 }
 
+/// FFT plan caches (rustfft and realfft planners keep every length they planned), shared by
+/// the operators of one run.
+pub struct FftPlans {
+    real: RealFftPlanner<f64>,
+    complex: FftPlanner<f64>,
+}
+
+impl Default for FftPlans {
+    fn default() -> Self {
+        FftPlans {
+            real: RealFftPlanner::new(),
+            complex: FftPlanner::new(),
+        }
+    }
+}
+
 /// DC-FFT operator: the kernel spectrum is computed once, FFT plans and buffers live with
 /// the operator, and rows and columns are transformed in parallel with rayon.
 pub struct FftOperator {
@@ -88,12 +104,23 @@ impl FftOperator {
     /// Builds the operator for an `nx` x `ny` grid of square elements of side `dx` (m).
     pub fn new(nx: usize, ny: usize, dx: f64) -> Result<Self> {
         check_positive("element size dx", dx)?;
-        Self::with_kernel(nx, ny, &KernelTable::new(nx, ny, dx))
+        Self::with_kernel(
+            nx,
+            ny,
+            &KernelTable::new(nx, ny, dx),
+            &mut FftPlans::default(),
+        )
     }
 
     /// Builds the operator for an `nx` x `ny` grid from a kernel table that covers it (its
-    /// element size): the windows of a grid share the grid's table.
-    pub fn with_kernel(nx: usize, ny: usize, table: &KernelTable) -> Result<Self> {
+    /// element size) and a plan cache: the windows of a grid share the grid's table, and
+    /// FFT lengths planned once are not planned again.
+    pub fn with_kernel(
+        nx: usize,
+        ny: usize,
+        table: &KernelTable,
+        plans: &mut FftPlans,
+    ) -> Result<Self> {
         if nx == 0 || ny == 0 {
             return Err(Error::InvalidInput(format!(
                 "grid size must be at least 1 x 1, got {nx} x {ny}"
@@ -107,12 +134,10 @@ impl FftOperator {
         let dx = table.dx();
         let (mx, my) = (padded_size(nx), padded_size(ny));
         let half = mx / 2 + 1;
-        let mut rplan = RealFftPlanner::<f64>::new();
-        let r2c = rplan.plan_fft_forward(mx);
-        let c2r = rplan.plan_fft_inverse(mx);
-        let mut cplan = FftPlanner::<f64>::new();
-        let col_fwd = cplan.plan_fft_forward(my);
-        let col_inv = cplan.plan_fft_inverse(my);
+        let r2c = plans.real.plan_fft_forward(mx);
+        let c2r = plans.real.plan_fft_inverse(mx);
+        let col_fwd = plans.complex.plan_fft_forward(my);
+        let col_inv = plans.complex.plan_fft_inverse(my);
         let nworkers = rayon::current_num_threads().max(1) * 2;
         let workers = (0..nworkers)
             .map(|_| Worker {

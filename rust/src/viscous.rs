@@ -238,7 +238,7 @@ pub fn run_implicit(
     let (nx, ny) = (grid.nx, grid.ny);
     let n = nx * ny;
     let mut pool = SolverPool::new(nx, ny, grid.dx)?;
-    let mut full = ContactSolver::new(FftOperator::with_kernel(nx, ny, pool.kernel())?);
+    let mut full = ContactSolver::new(pool.operator(nx, ny)?);
     let mut sep = grid.height.clone();
     let mut u_acc = vec![0.0; n];
     let mut u_inc = vec![0.0; n];

@@ -5,7 +5,7 @@
 use crate::contact::ContactSolver;
 use crate::error::{check_positive, Result};
 use crate::influence::KernelTable;
-use crate::operator::FftOperator;
+use crate::operator::{FftOperator, FftPlans};
 use std::collections::HashMap;
 
 /// A sub-grid with origin (x0, y0) and size wx x wy inside a grid `nx` x `ny`.
@@ -114,6 +114,7 @@ impl Window {
 /// the grid's kernel table (computed once).
 pub struct SolverPool {
     kernel: KernelTable,
+    plans: FftPlans,
     solvers: HashMap<(usize, usize), ContactSolver<FftOperator>>,
 }
 
@@ -123,13 +124,14 @@ impl SolverPool {
         check_positive("element size dx", dx)?;
         Ok(SolverPool {
             kernel: KernelTable::new(nx, ny, dx),
+            plans: FftPlans::default(),
             solvers: HashMap::new(),
         })
     }
 
-    /// The grid's kernel table.
-    pub fn kernel(&self) -> &KernelTable {
-        &self.kernel
+    /// A new operator for a `wx` x `wy` window from the pool's kernel table and plans.
+    pub fn operator(&mut self, wx: usize, wy: usize) -> Result<FftOperator> {
+        FftOperator::with_kernel(wx, wy, &self.kernel, &mut self.plans)
     }
 
     /// The solver for a `wx` x `wy` grid.
@@ -141,6 +143,7 @@ impl SolverPool {
                 wx,
                 wy,
                 &self.kernel,
+                &mut self.plans,
             )?)),
         })
     }
