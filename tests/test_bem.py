@@ -129,6 +129,29 @@ def test_reusable_surface_operator_is_the_dense_operator_and_checks_input():
         mv.arrays.SurfaceOperator((0, 4), 0.1)
 
 
+def test_small_contacts_are_solved_by_the_dense_active_set():
+    n, dx, R, G = 128, 0.02, 10.0, 1.0
+    x = (np.arange(n) - (n - 1) / 2) * dx
+    xx, yy = np.meshgrid(x, x)
+    h = (xx**2 + yy**2) / (2 * R)
+    a = 8 * dx
+    force = 16 * G * a**3 / (3 * R)  # Hertz with E* = 4 G
+    auto = mv.arrays.contact(h, dx, G, force=force)
+    pk = mv.arrays.contact(h, dx, G, force=force, active_limit=0)
+    assert auto["method"] == "active-set" and pk["method"] == "polonsky-keer"
+    assert auto["contact_count"] == pk["contact_count"] and auto["residual"] < 1e-12
+    assert np.max(np.abs(auto["pressure"] - pk["pressure"])) < 1e-8 * pk["pressure"].max()
+    assert auto["force"] == pytest.approx(force, rel=1e-12)
+    # Hertz depth a^2 / R; p >= 0 everywhere, no overlap outside the contact
+    assert auto["depth"] == pytest.approx(a * a / R, rel=2e-3)
+    gap = auto["deflection"] + h - auto["depth"]
+    assert np.all(auto["pressure"] >= 0) and gap.min() > -1e-12 * h.max()
+    assert np.all(np.abs(gap[auto["pressure"] > 0]) < 1e-12 * h.max())
+    # a contact beyond the crossover goes to Polonsky-Keer by itself
+    big = mv.arrays.contact(h, dx, G, force=force * 27)
+    assert big["method"] == "polonsky-keer" and big["contact_count"] > 1000
+
+
 def test_elastic_hertz_contact():
     n, edge, G, force, R = 128, 2.56, 1.0, 0.0215, 10.0
     scene = mv.Scene(indenter=mv.Paraboloid(c=1 / (2 * R), edge=edge), medium=mv.Elastic(G=G), force=force,

@@ -42,6 +42,11 @@ pub struct SolverOptions {
     pub active_limit: Option<usize>,
 }
 
+/// Default `SolverOptions::dense_limit` (elements): a fixed set alone on its window is
+/// solved faster by faer's Cholesky up to ~256 elements and by CG from ~289–529
+/// (`benchmarks/bench_dense_crossover.py`).
+pub const DENSE_LIMIT: usize = 256;
+
 /// Largest automatic active set (elements): a cap on the dense matrix (8 m^2 bytes, 128 MB),
 /// above the crossovers of grids up to ~2000^2.
 pub const ACTIVE_CAP: usize = 4000;
@@ -64,7 +69,7 @@ impl Default for SolverOptions {
         SolverOptions {
             tol: 1e-10,
             max_iter: 5000,
-            dense_limit: 128,
+            dense_limit: DENSE_LIMIT,
             active_limit: None,
         }
     }

@@ -2,7 +2,7 @@
 //! released during computations; progress callbacks and Ctrl-C are served between chunks of
 //! work from the calling thread.
 
-use crate::contact::{ContactSolver, SolverOptions, Target};
+use crate::contact::{ContactSolver, SolverOptions, Target, DENSE_LIMIT};
 use crate::error::check_finite;
 use crate::error::Error;
 use crate::integrator::ExplicitControl;
@@ -155,7 +155,7 @@ fn history(py: Python<'_>, times: Vec<f64>, forces: Vec<f64>) -> PyResult<ForceH
 /// Implicit viscous BEM run on a grid: heights (m, (ny, nx)), footprint mask, element size
 /// dx (m), viscosity eta (Pa s), output times (s), force history samples (s, N).
 #[pyfunction]
-#[pyo3(signature = (height, allowed, dx, eta, times, force_times, force_values, rates=false, fields_at=vec![], tol=1e-10, max_iter=5000, progress=None, explicit=None, dense_limit=128, first_bound=None, active_limit=None))]
+#[pyo3(signature = (height, allowed, dx, eta, times, force_times, force_values, rates=false, fields_at=vec![], tol=1e-10, max_iter=5000, progress=None, explicit=None, dense_limit=DENSE_LIMIT, first_bound=None, active_limit=None))]
 #[allow(clippy::too_many_arguments)]
 fn bem_viscous<'py>(
     py: Python<'py>,
@@ -224,7 +224,7 @@ fn bem_viscous<'py>(
 /// Flat punch on the footprint mask pressed by `force` (N) into a viscous half-space;
 /// with `margin`, the surface velocity on a grid extended by that many elements per side.
 #[pyfunction]
-#[pyo3(signature = (allowed, dx, eta, force, margin=None, tol=1e-10, max_iter=5000, progress=None, dense_limit=128))]
+#[pyo3(signature = (allowed, dx, eta, force, margin=None, tol=1e-10, max_iter=5000, progress=None, dense_limit=DENSE_LIMIT))]
 #[allow(clippy::too_many_arguments)]
 fn bem_punch<'py>(
     py: Python<'py>,
@@ -508,7 +508,7 @@ impl PySurfaceOperator {
 /// Static Polonsky–Keer contact solve: separation h (m), footprint mask, element size dx
 /// (m), compliance (1/G, 1/Pa), and either `force` (N) or `depth` (m).
 #[pyfunction]
-#[pyo3(signature = (height, allowed, dx, compliance, force=None, depth=None, tol=1e-10, max_iter=5000, progress=None, dense_limit=128, active_limit=None))]
+#[pyo3(signature = (height, allowed, dx, compliance, force=None, depth=None, tol=1e-10, max_iter=5000, progress=None, dense_limit=DENSE_LIMIT, active_limit=None))]
 #[allow(clippy::too_many_arguments)]
 fn contact_solve<'py>(
     py: Python<'py>,
@@ -660,7 +660,7 @@ fn viscoelastic_bem<'py>(
         slice1(&load_values, "load_values")?,
     )?;
     let times = slice1(&times, "times")?;
-    let opts = options(tol, max_iter, 128, None);
+    let opts = options(tol, max_iter, DENSE_LIMIT, None);
     let mut monitor = PyMonitor::new(progress);
     let r =
         py.detach(|| viscoelastic::run_bem(&grid, &medium, &load, &times, dt, &opts, &mut monitor));
