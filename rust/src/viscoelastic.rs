@@ -154,6 +154,8 @@ pub fn run_bem(
     let mut out = Series::default();
     let (mut t_prev, mut iterations) = (0.0, 0usize);
     let mut warm = false;
+    let (mut extrapolate, mut h_prev) = (false, 1.0);
+    let (mut p_prev, mut guess) = (vec![0.0; n], vec![0.0; n]);
     for (s, &(t, output)) in steps.iter().enumerate() {
         let rule = medium.step(t - t_prev);
         for i in 0..n {
@@ -175,10 +177,25 @@ pub fn run_bem(
                     .map(|i| sep[i])
                     .fold(f64::INFINITY, f64::min);
                 solver.clear_pressure();
-                warm = false;
+                (warm, extrapolate) = (false, false);
                 (lowest, 0.0)
             }
             _ => {
+                if warm {
+                    // start from the pressure extrapolated linearly over the step (an
+                    // O(dt^2) start once two steps are known)
+                    let ratio = if extrapolate {
+                        (t - t_prev) / h_prev
+                    } else {
+                        0.0
+                    };
+                    let p = solver.pressure();
+                    for i in 0..n {
+                        guess[i] = (p[i] + ratio * (p[i] - p_prev[i])).max(0.0);
+                    }
+                    p_prev.copy_from_slice(p);
+                    solver.set_pressure(&guess)?;
+                }
                 let r = solver.solve(
                     &sep,
                     &grid.allowed,
@@ -190,7 +207,9 @@ pub fn run_bem(
                     monitor,
                 )?;
                 iterations += r.iterations;
+                extrapolate = warm;
                 warm = r.contact_count > 0;
+                h_prev = t - t_prev;
                 (r.depth, r.force)
             }
         };
