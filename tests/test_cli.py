@@ -225,6 +225,18 @@ def test_out_of_range_values_are_invalid_input():
         parse_scene(edit("outputs", ["depth", "temperature"]))
 
 
+def test_scene_file_dt_is_the_scene_step(tmp_path):
+    path = tmp_path / "dt.toml"
+    path.write_text((EXAMPLES / "standard_solid_unloading.toml").read_text().replace(
+        "duration = 3.0", "duration = 3.0\ndt = 0.05"))
+    scene, method, n = load_scene(path)
+    assert scene.dt == 0.05
+    assert np.array_equal(mv.solve(scene, method, n).force, mv.solve(scene, method, n, dt=0.05).force)
+    assert not np.array_equal(mv.solve(scene, method, n).force, mv.solve(scene, method, n, dt=0.01).force)
+    with pytest.raises(mv.InvalidInputError, match="dt"):
+        parse_scene(edit("dt", -1.0))
+
+
 def test_viscoelastic_scene_file_with_a_depth_history(tmp_path):
     scene, method, n = load_scene(EXAMPLES / "standard_solid_unloading.toml")
     assert scene.controlled_by == "depth" and isinstance(scene.medium, mv.StandardSolid)

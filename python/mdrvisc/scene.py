@@ -71,6 +71,9 @@ class Scene:
         What to compute, from :data:`OUTPUTS`; fields only when named.
     field_times : array_like, optional
         Times (s) of field outputs; default the final time. They are added to ``times``.
+    dt : float, optional
+        Longest time step (s) of the viscoelastic stepping (default ``duration / 500``);
+        ``solve(..., dt=...)`` overrides it. The viscous engine needs none.
     """
 
     indenter: Indenter
@@ -81,6 +84,7 @@ class Scene:
     outputs: tuple = ("depth", "contact_length")
     field_times: object = None
     depth: object = None
+    dt: float = None
     history: tuple = field(init=False, repr=False, compare=False)
 
     def __post_init__(self):
@@ -106,6 +110,8 @@ class Scene:
         if bad:
             raise InvalidInputError(f"Scene: unknown outputs {bad}; choose from {OUTPUTS}")
         object.__setattr__(self, "outputs", outputs)
+        if self.dt is not None:
+            object.__setattr__(self, "dt", _positive("Scene", "dt", self.dt))
         if isinstance(self.medium, Elastic):
             if self.duration is not None or self.times is not None:
                 raise InvalidInputError("Scene: an elastic scene is static: give no duration or times")

@@ -7,6 +7,7 @@
     force = 1.0             # N, constant from first touch; or [[t, F], ...] (s, N),
                             # piecewise linear from t = 0, held after the last sample
     duration = 5.0          # s
+    dt = 0.01               # s, optional: longest step of the viscoelastic stepping
     times = [1, 2, 3, 4, 5] # s, optional (default: 5 equal steps up to duration)
     outputs = ["depth", "contact_length", "stiffness_length"]  # optional, Python only
 
@@ -52,7 +53,7 @@ _FORCE = "a number or a list of [t, F] pairs"
 #: Top-level keys: (kind, required).
 _TOP = {"method": (_STRING, True), "n": (_INTEGER, True), "force": (_FORCE, False),
         "depth": (_PAIRS, False),
-        "duration": (_NUMBER, True), "times": (_NUMBERS, False), "outputs": (_STRINGS, False),
+        "duration": (_NUMBER, True), "dt": (_NUMBER, False), "times": (_NUMBERS, False), "outputs": (_STRINGS, False),
         "indenter": (_TABLE, True), "medium": (_TABLE, True)}
 #: Indenter types: (class, {key: required}).
 _INDENTERS = {"rod": (Rod, {"radius": True}),
@@ -140,7 +141,7 @@ def parse_scene(data, source="scene"):
         raise InvalidInputError(f"{source}: key 'n' must be >= 1, got {data['n']}")
     indenter = _build(source, data["indenter"], "indenter", _INDENTERS)
     medium = _build(source, data["medium"], "medium", _MEDIA)
-    extra = {k: data[k] for k in ("times", "outputs") if k in data}
+    extra = {k: data[k] for k in ("times", "outputs", "dt") if k in data}
     if "force" not in data and "depth" not in data:
         raise InvalidInputError(f"{source}: missing key 'force' (or 'depth')")
     if "force" in data and "depth" in data:

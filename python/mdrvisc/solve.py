@@ -102,7 +102,7 @@ def solve(scene, method="bem", n=None, tol=1e-10, max_iter=5000, progress=None,
         Controls of the explicit integrator (ignored by the implicit one).
     dt : float, optional
         Longest time step (s) of the viscoelastic stepping (KelvinVoigt, Maxwell,
-        StandardSolid, Prony, or depth control); default duration / 500.
+        StandardSolid, Prony, or depth control); default ``scene.dt``, else duration / 500.
 
     Returns
     -------
@@ -296,7 +296,8 @@ def _mdr_fields(scene, x, dx, r, k):
 
 def _solve_viscoelastic(scene, method, n, tol, max_iter, callback, dt):
     """General linear viscoelastic stepping (exact exponential updates, dt-limited steps)."""
-    dt = scene.duration / 500 if dt is None else _positive("solve", "dt", dt)
+    dt = scene.dt if dt is None else _positive("solve", "dt", dt)
+    dt = scene.duration / 500 if dt is None else dt
     g_inf, terms, eta = scene.medium.rheology()
     lt, lv = scene.history
     common = (g_inf, [tuple(map(float, term)) for term in terms], eta, scene.controlled_by, lt, lv,
