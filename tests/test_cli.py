@@ -17,7 +17,8 @@ from mdrvisc import analytic, cli
 from mdrvisc.scenefile import load_scene, parse_scene
 
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
-FILES = ("rod.csv", "paraboloids.csv", "paper.json", "fig3_rod.png", "fig4_paraboloids.png")
+FILES = ("rod.csv", "paraboloids.csv", "viscoelastic.csv", "paper.json", "fig3_rod.png",
+         "fig4_paraboloids.png", "fig_viscoelastic.png")
 STUDY_FILES = ("error_vs_runtime.csv", "error_vs_runtime_orders.csv", "error_vs_runtime.json",
                "error_vs_runtime.png")
 
@@ -45,7 +46,8 @@ def test_paper_writes_all_files(paper_quick):
     assert sorted(p.name for p in folder.iterdir()) == sorted(FILES + STUDY_FILES)
     for name in FILES + STUDY_FILES:
         assert (folder / name).stat().st_size > 0, name
-    for name in ("fig3_rod.png", "fig4_paraboloids.png", "error_vs_runtime.png"):
+    for name in ("fig3_rod.png", "fig4_paraboloids.png", "fig_viscoelastic.png",
+                 "error_vs_runtime.png"):
         assert (folder / name).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 
 
@@ -93,6 +95,52 @@ def test_paper_paraboloid_numbers(paper_quick):
     assert all(r["length_mdr"] == pytest.approx(2 * 2.56 / math.sqrt(math.pi)) for r in saturated)
 
 
+# Quick viscoelastic section (MDR 2001, BEM 33 x 33, dt = 0.01 s) against Ting: bounds on
+# (force error loading, unloading, contact-radius error in dx) per (medium, method), from the
+# errors measured at these resolutions (in brackets) with some headroom:
+# * Kelvin-Voigt loading: the dashpot's first-order step error (~dt / 4t, see
+#   test_viscoelastic.py) dominates both methods [MDR 9.5e-3, BEM 8.9e-3; 3.9e-3 and 3.8e-3
+#   at the full run's dt = 0.005 s]; the same 1.2e-2 bound as the BEM test there at dt = 0.01.
+# * standard solid, MDR: second order in the step [7.2e-6, 3.9e-6]; Kelvin-Voigt unloading,
+#   MDR: exact but for round-off and the step [1.5e-7].
+# * BEM: the spatial error ~dx^2 [standard solid 4.8e-4 / 4.5e-4, Kelvin-Voigt unloading
+#   2.8e-4; 1.1e-4 / 1.0e-4 / 6.6e-5 at n = 65].
+# * radius: the MDR edge is exact to the element (l / 2 within dx / 2, measured 0.5 to 1e-12);
+#   BEM's 2 sqrt(A / pi) is within a fraction of an element [0.41, 0.36], as at n = 65 (0.34).
+VISCOELASTIC_BOUNDS = {("StandardSolid", "MDR"): (1e-5, 5e-6, 0.5 + 1e-6),
+                       ("StandardSolid", "BEM"): (6e-4, 6e-4, 0.45),
+                       ("KelvinVoigt", "MDR"): (1.2e-2, 3e-7, 0.5 + 1e-6),
+                       ("KelvinVoigt", "BEM"): (1.2e-2, 4e-4, 0.45)}
+
+
+def test_paper_viscoelastic_rows_follow_ting(paper_quick):
+    _, doc = paper_quick
+    ve = doc["viscoelastic"]
+    assert ve["parameters"]["n_mdr"] == 2001 and ve["parameters"]["n_bem"] == 33
+    assert ve["units"]["radius_error"] == "dx" and ve["units"]["t_separation"] == "s"
+    rows = ve["rows"]
+    assert {(r["medium"].split("(")[0], r["method"]) for r in rows} == set(VISCOELASTIC_BOUNDS)
+    assert len(rows) == 4
+    ting = {"StandardSolid": (mv.StandardSolid(G_inf=1.0, G1=3.0, tau1=0.5), 1.5095),
+            "KelvinVoigt": (mv.KelvinVoigt(G=1.5, eta=0.4), 2 - 0.4 / 1.5)}
+    for r in rows:
+        name = r["medium"].split("(")[0]
+        loading, unloading, radius = VISCOELASTIC_BOUNDS[(name, r["method"])]
+        assert r["force_error_loading"] < loading, r
+        assert r["force_error_unloading"] < unloading, r
+        assert r["radius_error"] < radius, r
+        medium, t_sep = ting[name]
+        force, _, exact_sep = analytic.ting_paraboloid_triangle(np.linspace(0, 2, 201), medium,
+                                                                0.5, 0.2, 1.0)
+        assert r["t_separation"] == pytest.approx(exact_sep, rel=1e-12)
+        assert r["t_separation"] == pytest.approx(t_sep, abs=1e-4)
+        assert r["peak_force"] == pytest.approx(force.max(), rel=1e-12)
+        # the force vanishes from the first output after Ting's separation, not before
+        assert r["t_last_contact"] < r["t_separation"] <= r["t_first_free"], r
+        assert r["t_first_free"] - r["t_last_contact"] == pytest.approx(0.01)
+        assert r["dt"] == 0.01 and r["wall_time"] > 0
+
+
 def test_paper_csv(paper_quick):
     folder, doc = paper_quick
     with open(folder / "paraboloids.csv", newline="") as handle:
@@ -103,13 +151,19 @@ def test_paper_csv(paper_quick):
         rod = list(csv.DictReader(handle))
     assert [r["source"] for r in rod][0] == "closed form"
     assert "velocity [m/s]" in rod[0]
+    with open(folder / "viscoelastic.csv", newline="") as handle:
+        ve = list(csv.DictReader(handle))
+    assert len(ve) == 4 and "radius_error [dx]" in ve[0]
+    assert float(ve[0]["force_error_loading [1]"]) == doc["viscoelastic"]["rows"][0][
+        "force_error_loading"]
 
 
 def test_paper_text_tables_without_the_study(tmp_path):
     status, out, err = run_cli("paper", "--quick", "--no-study", "--out", str(tmp_path))
     assert status == 0, err
     assert "p0 [Pa]" in out and "dd/dt [m/s]" in out and "Lee-Radok [m]" in out
-    assert "paraboloid c=20 MDR" in err  # progress
+    assert "Beyond the paper: viscoelastic" in out and "t_s Ting [s]" in out
+    assert "paraboloid c=20 MDR" in err and "viscoelastic KelvinVoigt BEM n=33" in err  # progress
     assert "study:" not in err and "Error against run time" not in out
     assert sorted(p.name for p in tmp_path.iterdir()) == sorted(FILES)
 

@@ -50,12 +50,14 @@ def _parser():
                     "(Kürschner & Filippov 2012).")
     commands = parser.add_subparsers(dest="command", required=True)
     paper = commands.add_parser(
-        "paper", help="the paper's comparisons: tables on stdout, CSV/JSON/PNG files in --out")
+        "paper", help="the paper's comparisons and viscoelastic unloading against Ting: tables "
+                      "on stdout, CSV/JSON/PNG files in --out")
     paper.add_argument("--out", default="mdrvisc-paper",
                        help="output folder (default: ./mdrvisc-paper)")
     paper.add_argument("--quick", action="store_true",
-                       help="coarse resolutions (BEM rod 50, paraboloids 65, MDR 4097) and the "
-                            "quick error-vs-run-time study: seconds")
+                       help="coarse resolutions (BEM rod 50, paraboloids 65, MDR 4097; "
+                            "viscoelastic BEM 33, MDR 2001) and the quick error-vs-run-time "
+                            "study: seconds")
     paper.add_argument("--no-study", action="store_true",
                        help="skip the error-vs-run-time study (error_vs_runtime.* files)")
     paper.add_argument("--json", action="store_true",
@@ -81,6 +83,8 @@ def _paper(args):
         print(report.rod_table(results["rod"]))
         print()
         print(report.paraboloid_tables(results["paraboloids"]))
+        print()
+        print(report.viscoelastic_table(results["viscoelastic"]))
         if study is not None:
             print()
             print(report.error_table(study))

@@ -1,4 +1,5 @@
-"""Tables, CSV/JSON files and figures of the paper's comparisons (:mod:`mdrvisc.studies`).
+"""Tables, CSV/JSON files and figures of the paper's comparisons and the viscoelastic section
+beyond it (:mod:`mdrvisc.studies`).
 
 Units as in :mod:`mdrvisc.studies`: SI throughout; relative differences are (a - b) / b.
 """
@@ -11,12 +12,12 @@ from pathlib import Path
 import numpy as np
 
 from .studies import (ERROR_UNITS, ORDER_UNITS, PARABOLOID_UNITS, QUANTITIES, ROD_UNITS,
-                      ROUNDING)
+                      ROUNDING, VISCOELASTIC_UNITS)
 
-__all__ = ["rod_table", "paraboloid_tables", "result_table", "to_jsonable", "write_csv",
-           "paper_document", "write_paper", "plot_rod", "plot_paraboloids",
-           "error_table", "orders_table", "study_document", "write_error_vs_runtime",
-           "plot_error_vs_runtime"]
+__all__ = ["rod_table", "paraboloid_tables", "viscoelastic_table", "result_table", "to_jsonable",
+           "write_csv", "paper_document", "write_paper", "plot_rod", "plot_paraboloids",
+           "plot_viscoelastic", "error_table", "orders_table", "study_document",
+           "write_error_vs_runtime", "plot_error_vs_runtime"]
 
 
 # ----------------------------------------------------------------------------- text tables
@@ -84,6 +85,27 @@ def paraboloid_tables(par):
                         "Runs\n" + _table(runs, par["runs"])])
 
 
+def viscoelastic_table(ve):
+    """The viscoelastic section (:func:`mdrvisc.studies.viscoelastic`'s result) as aligned
+    text: errors against Ting's closed form and the outputs bracketing the separation."""
+    p = ve["parameters"]
+    title = (f"Beyond the paper: viscoelastic loading and unloading against Ting (1966): "
+             f"h = c r^2, c = {p['c']:g} 1/m (R = {p['radius_of_curvature']:g} m), pushed in "
+             f"at {p['rate']:g} m/s to t = {p['t_peak']:g} s and pulled out to "
+             f"{p['duration']:g} s, outputs every {p['spacing']:g} s\n"
+             "F err: max |F - F_Ting| / max F_Ting while loading (t <= t_peak) and unloading; "
+             "a err: max |l/2 - a_Ting| in elements dx; separation: Ting's t_s and the last "
+             "output with F > 0, first with F = 0")
+    columns = [("medium", "medium", ""), ("method", "method", ""), ("n", "n", "d"),
+               ("dx [m]", "dx", ".2e"), ("dt [s]", "dt", "g"),
+               ("F err load", "force_error_loading", ".2e"),
+               ("F err unload", "force_error_unloading", ".2e"),
+               ("a err [dx]", "radius_error", ".3f"), ("t_s Ting [s]", "t_separation", ".4f"),
+               ("F > 0 until [s]", "t_last_contact", "g"), ("F = 0 from [s]", "t_first_free", "g"),
+               ("wall [s]", "wall_time", ".3f")]
+    return title + "\n" + _table(columns, ve["rows"])
+
+
 def result_table(name, result):
     """One :class:`mdrvisc.Result` as aligned text: its summary and its time series."""
     lines = [f"{name}: {result.summary()}"]
@@ -136,12 +158,14 @@ def paper_document(results, study=None):
     """The JSON document of :func:`mdrvisc.studies.paper`'s result: tables, units, runs; with
     ``study`` (:func:`mdrvisc.studies.error_vs_runtime`'s result) also its
     :func:`study_document` under ``error_vs_runtime``."""
-    rod, par = results["rod"], results["paraboloids"]
+    rod, par, ve = results["rod"], results["paraboloids"], results["viscoelastic"]
     doc = {
         "quick": results["quick"],
         "rod": {"parameters": rod["parameters"], "units": ROD_UNITS, "rows": rod["rows"]},
         "paraboloids": {"parameters": par["parameters"], "units": PARABOLOID_UNITS,
                         "rows": par["rows"], "runs": par["runs"]},
+        "viscoelastic": {"parameters": ve["parameters"], "units": VISCOELASTIC_UNITS,
+                         "rows": ve["rows"]},
     }
     if study is not None:
         doc["error_vs_runtime"] = study_document(study)
@@ -149,20 +173,23 @@ def paper_document(results, study=None):
 
 
 def write_paper(results, out, study=None):
-    """Writes rod.csv, paraboloids.csv, paper.json, fig3_rod.png and fig4_paraboloids.png
-    into the folder ``out`` (created if missing); returns their paths. paper.json holds
-    :func:`paper_document` (with ``study`` when given; its own files come from
-    :func:`write_error_vs_runtime`)."""
+    """Writes rod.csv, paraboloids.csv, viscoelastic.csv, paper.json, fig3_rod.png,
+    fig4_paraboloids.png and fig_viscoelastic.png into the folder ``out`` (created if
+    missing); returns their paths. paper.json holds :func:`paper_document` (with ``study``
+    when given; its own files come from :func:`write_error_vs_runtime`)."""
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
-    paths = {name: out / name for name in ("rod.csv", "paraboloids.csv", "paper.json",
-                                           "fig3_rod.png", "fig4_paraboloids.png")}
+    paths = {name: out / name for name in ("rod.csv", "paraboloids.csv", "viscoelastic.csv",
+                                           "paper.json", "fig3_rod.png", "fig4_paraboloids.png",
+                                           "fig_viscoelastic.png")}
     write_csv(paths["rod.csv"], results["rod"]["rows"], ROD_UNITS)
     write_csv(paths["paraboloids.csv"], results["paraboloids"]["rows"], PARABOLOID_UNITS)
+    write_csv(paths["viscoelastic.csv"], results["viscoelastic"]["rows"], VISCOELASTIC_UNITS)
     paths["paper.json"].write_text(json.dumps(paper_document(results, study), indent=1) + "\n",
                                    encoding="utf-8")
     plot_rod(results["rod"], paths["fig3_rod.png"])
     plot_paraboloids(results["paraboloids"], paths["fig4_paraboloids.png"])
+    plot_viscoelastic(results["viscoelastic"], paths["fig_viscoelastic.png"])
     return list(paths.values())
 
 
@@ -245,6 +272,50 @@ def plot_paraboloids(par, path):
     fig.legend(handles=handles, loc="outside lower center", ncol=len(handles), fontsize=8)
     fig.suptitle(f"Paraboloids h = c r^2 on a {p['edge']:g} m square, F = {p['force']:g} N, "
                  f"eta = {p['eta']:g} Pa s")
+    fig.savefig(path, dpi=150)
+    plt.close(fig)
+
+
+def plot_viscoelastic(ve, path):
+    """Force F(t) (N) and contact radius a(t) (m) of the viscoelastic section, one colour per
+    medium: Ting's closed form as lines, MDR and BEM as symbols (every 10th output, offset),
+    Ting's separation times dotted. Saves a PNG at ``path``."""
+    plt = _pyplot()
+    p = ve["parameters"]
+    fig, (left, right) = plt.subplots(1, 2, figsize=(11, 4.9), layout="constrained")
+    every = 10
+    handles = []
+    for k, curve in enumerate(ve["curves"]):
+        color = f"C{k}"
+        t = curve["t"]
+        t_sep = next(r["t_separation"] for r in ve["rows"] if r["medium"] == curve["medium"])
+        for ax, quantity in ((left, "force"), (right, "radius")):
+            ax.plot(t, curve[f"{quantity}_ting"], "-", color=color, lw=1.3)
+            ax.plot(t, curve[f"{quantity}_mdr"], "o", color=color, ms=4, ls="none",
+                    markevery=(0, every))
+            ax.plot(t, curve[f"{quantity}_bem"], "s", color=color, ms=7, mfc="none", ls="none",
+                    markevery=(every // 2, every))
+            ax.axvline(t_sep, color=color, ls=":", lw=1)
+        handles.append(plt.Line2D([], [], color=color, lw=6, alpha=0.6,
+                                  label=f"{curve['medium']}: t_s = {t_sep:.4f} s"))
+    for ax in (left, right):
+        ax.axvline(p["t_peak"], color="0.5", ls="--", lw=0.8)
+        ax.axhline(0.0, color="0.3", lw=0.6)  # below it a margin: the F = 0 symbols show
+        ax.grid(alpha=0.3)
+        ax.set(xlabel="time t [s]", xlim=(0, p["duration"]))
+    left.set(ylabel="force F [N]", title="(a) force")
+    right.set(ylabel="contact radius a [m]", title="(b) contact radius (MDR and BEM: l / 2)")
+    handles += [plt.Line2D([], [], color="k", lw=1.3, label="Ting (closed form)"),
+                plt.Line2D([], [], color="k", marker="o", ms=4, ls="none",
+                           label=f"MDR (n = {p['n_mdr']})"),
+                plt.Line2D([], [], color="k", marker="s", ms=7, mfc="none", ls="none",
+                           label=f"BEM {p['n_bem']}x{p['n_bem']}"),
+                plt.Line2D([], [], color="k", ls=":", lw=1, label="Ting's separation t_s"),
+                plt.Line2D([], [], color="0.5", ls="--", lw=0.8, label="end of loading")]
+    fig.legend(handles=handles, loc="outside lower center", ncol=4, fontsize=8)
+    fig.suptitle(f"Paraboloid c = {p['c']:g} 1/m (R = {p['radius_of_curvature']:g} m) pushed "
+                 f"into viscoelastic media at {p['rate']:g} m/s to t = {p['t_peak']:g} s and "
+                 f"pulled out (dt = {p['dt']:g} s)")
     fig.savefig(path, dpi=150)
     plt.close(fig)
 

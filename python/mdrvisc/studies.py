@@ -1,4 +1,5 @@
-"""The paper's comparisons (Kürschner & Filippov 2012, Sections 5 and 6) as plain data.
+"""The paper's comparisons (Kürschner & Filippov 2012, Sections 5 and 6) as plain data, and
+one beyond it: viscoelastic loading and unloading against Ting's closed form.
 
 Every function runs its scenes and returns dicts of numbers, lists of row dicts and numpy
 arrays; nothing is printed (:mod:`mdrvisc.report` formats and plots). Units are SI: lengths and
@@ -10,6 +11,7 @@ that does not apply.
 short label naming it (e.g. ``"paraboloid c=1 BEM n=257"``).
 """
 
+import dataclasses
 import math
 import time
 
@@ -17,13 +19,14 @@ import numpy as np
 
 from . import analytic
 from .geometry import Paraboloid, Rod
-from .media import Viscous
+from .media import KelvinVoigt, StandardSolid, Viscous
 from .scene import Scene
 from .solve import solve
 
 __all__ = ["paper", "paper_rod", "paper_paraboloids", "PAPER", "QUICK", "PAPER_ROD",
-           "ROD_UNITS", "PARABOLOID_UNITS", "error_vs_runtime", "ERROR_STUDY", "ERROR_STUDY_QUICK",
-           "ERROR_UNITS", "ORDER_UNITS"]
+           "ROD_UNITS", "PARABOLOID_UNITS", "viscoelastic", "VISCOELASTIC", "VISCOELASTIC_QUICK",
+           "VISCOELASTIC_MEDIA", "VISCOELASTIC_UNITS", "error_vs_runtime", "ERROR_STUDY",
+           "ERROR_STUDY_QUICK", "ERROR_UNITS", "ORDER_UNITS"]
 
 #: Resolutions of the paper: rod BEM n = 200 (31417 elements in the disc), paraboloid BEM
 #: 257 x 257, MDR 66049 elements.
@@ -49,6 +52,24 @@ PARABOLOID_UNITS = {
     "length_bem_vs_mdr": "1", "length_bem_area_vs_mdr": "1", "length_bem_vs_lee_radok": "1",
     "length_mdr_vs_lee_radok": "1", "bem_at_edge": "", "mdr_saturated": "",
 }
+
+#: Units of the keys of :func:`viscoelastic`'s rows. Force errors: max |F - F_Ting| / max
+#: F_Ting over the outputs while loading (t <= t_peak) and unloading (t > t_peak);
+#: ``radius_error``: max |contact_length / 2 - a_Ting| in elements (units of ``dx``);
+#: ``t_last_contact`` / ``t_first_free``: the last output time with F > 0 and the first with
+#: F = 0 (None if there is none), which should bracket Ting's ``t_separation``.
+VISCOELASTIC_UNITS = {
+    "medium": "", "method": "", "n": "", "dx": "m", "dt": "s", "peak_force": "N",
+    "force_error_loading": "1", "force_error_unloading": "1", "radius_error": "dx",
+    "t_separation": "s", "t_last_contact": "s", "t_first_free": "s", "wall_time": "s",
+}
+#: Resolutions of :func:`viscoelastic`: MDR and BEM elements (as in ``solve``) and the
+#: longest viscoelastic time step ``dt`` (s).
+VISCOELASTIC = {"n_mdr": 8001, "n_bem": 65, "dt": 0.005}
+#: Coarser ones that run the section in about a second.
+VISCOELASTIC_QUICK = {"n_mdr": 2001, "n_bem": 33, "dt": 0.01}
+#: The media of :func:`viscoelastic` (moduli in Pa, times in s, viscosities in Pa s).
+VISCOELASTIC_MEDIA = (StandardSolid(G_inf=1.0, G1=3.0, tau1=0.5), KelvinVoigt(G=1.5, eta=0.4))
 
 ROD_RADIUS = 1.0  # m
 FORCE = 1.0  # N
@@ -235,16 +256,105 @@ def _paraboloid_rows(c, times, bem, mdr, at):
     return rows
 
 
-def paper(quick=False, progress=None):
-    """Both comparisons of the paper, at its resolutions (:data:`PAPER`) or :data:`QUICK`.
+VE_C = 1.0  # 1/m, paraboloid h = c r^2 of the viscoelastic section (R = 0.5 m)
+VE_RATE = 0.2  # m/s, indentation and withdrawal rate
+VE_T_PEAK = 1.0  # s, end of loading; the depth is back at 0 at 2 t_peak
+VE_SPACING = 0.01  # s, between output times
 
-    Returns ``{"quick": bool, "rod": paper_rod(...), "paraboloids": paper_paraboloids(...)}``;
-    ``progress(label)`` is announced before each solve.
+
+def _medium_label(medium):
+    """``Name(p=v, ...)`` of a medium with its parameters in %g."""
+    values = ", ".join(f"{f.name}={getattr(medium, f.name):g}" for f in dataclasses.fields(medium))
+    return f"{type(medium).__name__}({values})"
+
+
+def viscoelastic(quick=False, progress=None):
+    """Beyond the paper: a paraboloid pushed into viscoelastic media and pulled out, against
+    Ting's closed form (:func:`mdrvisc.analytic.ting_paraboloid_triangle`).
+
+    h = c r^2 with c = 1 1/m (R = 0.5 m), unbounded; depth d = v t up to t_peak = 1 s and
+    v (2 t_peak - t) after, v = 0.2 m/s (history ([0, 1, 2] s, [0, 0.2, 0] m)), duration
+    2 s, outputs every 0.01 s; media :data:`VISCOELASTIC_MEDIA` (a standard solid and a
+    Kelvin-Voigt body), each solved by MDR and BEM at :data:`VISCOELASTIC` (or
+    :data:`VISCOELASTIC_QUICK`).
+
+    Parameters
+    ----------
+    quick : bool
+        :data:`VISCOELASTIC_QUICK` (coarser elements, longer step) instead of
+        :data:`VISCOELASTIC`.
+    progress : callable(label), optional
+
+    Returns
+    -------
+    dict
+        ``rows``: one dict per medium x method, keys :data:`VISCOELASTIC_UNITS`: n, element
+        size dx (m), time step dt (s), Ting's peak force (N), the largest force errors
+        relative to it while loading and unloading, the largest contact-radius error in
+        elements, Ting's separation time (s), the outputs bracketing the separation (s), wall
+        time (s). ``curves``: per medium, ``medium`` (label), ``t`` (s, from 0),
+        ``force_ting`` (N), ``radius_ting`` (m), and ``force_mdr``, ``radius_mdr``,
+        ``force_bem``, ``radius_bem`` (N, m; radius = contact_length / 2) at those times.
+        ``parameters``: c (1/m), radius_of_curvature (m), rate (m/s), t_peak (s), duration
+        (s), spacing (s), n_mdr, n_bem, dt (s), media (labels). ``quick``.
+    """
+    sizes = VISCOELASTIC_QUICK if quick else VISCOELASTIC
+    radius_of_curvature = 1.0 / (2.0 * VE_C)
+    duration = 2.0 * VE_T_PEAK
+    times = np.arange(1, round(duration / VE_SPACING) + 1) * VE_SPACING
+    depth = ([0.0, VE_T_PEAK, duration], [0.0, VE_RATE * VE_T_PEAK, 0.0])
+    run = _announced(progress)
+    rows, curves = [], []
+    for medium in VISCOELASTIC_MEDIA:
+        label = _medium_label(medium)
+        scene = Scene(indenter=Paraboloid(c=VE_C), medium=medium, depth=depth, duration=duration,
+                      times=times, dt=sizes["dt"])
+        force, radius, t_sep = analytic.ting_paraboloid_triangle(
+            times, medium, radius_of_curvature, VE_RATE, VE_T_PEAK)
+        peak = float(force.max())
+        curve = {"medium": label, "t": np.concatenate([[0.0], times]),
+                 "force_ting": np.concatenate([[0.0], force]),
+                 "radius_ting": np.concatenate([[0.0], radius])}
+        for method in ("mdr", "bem"):
+            n = sizes[f"n_{method}"]
+            r = run(f"viscoelastic {type(medium).__name__} {method.upper()} n={n} "
+                    f"dt={sizes['dt']:g}", scene, method, n)
+            error = np.abs(r.force - force) / peak
+            loading = r.t <= VE_T_PEAK
+            touching, free = r.t[r.force > 0], r.t[r.force == 0]
+            rows.append({
+                "medium": label, "method": method.upper(), "n": r.n, "dx": float(r.dx),
+                "dt": sizes["dt"], "peak_force": peak,
+                "force_error_loading": float(error[loading].max()),
+                "force_error_unloading": float(error[~loading].max()),
+                "radius_error": float(np.max(np.abs(r.contact_length / 2 - radius)) / r.dx),
+                "t_separation": float(t_sep),
+                "t_last_contact": float(touching.max()) if touching.size else None,
+                "t_first_free": float(free.min()) if free.size else None,
+                "wall_time": r.wall_time})
+            curve[f"force_{method}"] = np.concatenate([[0.0], r.force])
+            curve[f"radius_{method}"] = np.concatenate([[0.0], r.contact_length / 2])
+        curves.append(curve)
+    return {"quick": bool(quick),
+            "parameters": {"c": VE_C, "radius_of_curvature": radius_of_curvature,
+                           "rate": VE_RATE, "t_peak": VE_T_PEAK, "duration": duration,
+                           "spacing": VE_SPACING, **sizes,
+                           "media": [_medium_label(m) for m in VISCOELASTIC_MEDIA]},
+            "rows": rows, "curves": curves}
+
+
+def paper(quick=False, progress=None):
+    """Both comparisons of the paper, at its resolutions (:data:`PAPER`) or :data:`QUICK`, and
+    the viscoelastic section beyond it (:data:`VISCOELASTIC` or :data:`VISCOELASTIC_QUICK`).
+
+    Returns ``{"quick": bool, "rod": paper_rod(...), "paraboloids": paper_paraboloids(...),
+    "viscoelastic": viscoelastic(...)}``; ``progress(label)`` is announced before each solve.
     """
     sizes = QUICK if quick else PAPER
     return {"quick": bool(quick),
             "rod": paper_rod(progress=progress, **sizes["rod"]),
-            "paraboloids": paper_paraboloids(progress=progress, **sizes["paraboloids"])}
+            "paraboloids": paper_paraboloids(progress=progress, **sizes["paraboloids"]),
+            "viscoelastic": viscoelastic(quick=quick, progress=progress)}
 
 
 # ----------------------------------------------------------------------------- error vs run time
