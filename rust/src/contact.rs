@@ -466,10 +466,9 @@ impl<O: SurfaceOperator> ContactSolver<O> {
             .active_limit
             .unwrap_or_else(|| active_crossover(n).min(ACTIVE_CAP));
         let start = if warm {
-            let set: Vec<usize> = (0..n)
-                .filter(|&i| pb.allowed[i] && self.p[i] > 0.0)
-                .collect();
-            (set.len() <= limit).then_some(set)
+            // counted first: a large warm set (the common case of a time step) allocates nothing
+            let in_set = |i: &usize| pb.allowed[*i] && self.p[*i] > 0.0;
+            ((0..n).filter(in_set).count() <= limit).then(|| (0..n).filter(in_set).collect())
         } else {
             match pb.target {
                 Target::Depth(d) => overlap_set(pb.h, pb.allowed, d - pb.gap_tol, limit),
