@@ -594,6 +594,24 @@ fn series_dict<'py>(py: Python<'py>, s: viscoelastic::Series) -> PyResult<Bound<
     Ok(d)
 }
 
+/// The validated medium (G_inf, Prony terms, eta) and loading history of a viscoelastic run.
+fn medium_and_loading(
+    py: Python<'_>,
+    (g_inf, terms, eta): (f64, Vec<(f64, f64)>, f64),
+    kind: &str,
+    load_times: &PyReadonlyArray1<'_, f64>,
+    load_values: &PyReadonlyArray1<'_, f64>,
+) -> PyResult<(Rheology, Loading)> {
+    let medium = Rheology::new(g_inf, terms, eta).map_err(|e| to_pyerr(py, e))?;
+    let load = loading(
+        py,
+        kind,
+        slice1(load_times, "load_times")?,
+        slice1(load_values, "load_values")?,
+    )?;
+    Ok((medium, load))
+}
+
 /// Viscoelastic MDR run: 1D profile (m) spaced dx (m); medium G(t) = g_inf + sum G_k
 /// exp(-t/tau_k) + eta delta(t); loading "force" (N) or "depth" (m) samples; output times
 /// (s); steps no longer than dt (s).
@@ -614,13 +632,8 @@ fn viscoelastic_mdr<'py>(
     dt: f64,
     progress: Option<Py<PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let medium = Rheology::new(g_inf, terms, eta).map_err(|e| to_pyerr(py, e))?;
-    let load = loading(
-        py,
-        kind,
-        slice1(&load_times, "load_times")?,
-        slice1(&load_values, "load_values")?,
-    )?;
+    let (medium, load) =
+        medium_and_loading(py, (g_inf, terms, eta), kind, &load_times, &load_values)?;
     let (g, times) = (slice1(&profile, "profile")?, slice1(&times, "times")?);
     check_finite("1D profile", &g).map_err(|e| to_pyerr(py, e))?;
     let mut monitor = PyMonitor::new(progress);
@@ -652,13 +665,8 @@ fn viscoelastic_bem<'py>(
     progress: Option<Py<PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let grid = grid_from(py, &height, &allowed, dx)?;
-    let medium = Rheology::new(g_inf, terms, eta).map_err(|e| to_pyerr(py, e))?;
-    let load = loading(
-        py,
-        kind,
-        slice1(&load_times, "load_times")?,
-        slice1(&load_values, "load_values")?,
-    )?;
+    let (medium, load) =
+        medium_and_loading(py, (g_inf, terms, eta), kind, &load_times, &load_values)?;
     let times = slice1(&times, "times")?;
     let opts = options(tol, max_iter, DENSE_LIMIT, None);
     let mut monitor = PyMonitor::new(progress);
