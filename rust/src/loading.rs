@@ -18,27 +18,7 @@ impl ForceHistory {
 
     /// Samples (t_i, F_i): times start at 0 and strictly increase, forces are >= 0.
     pub fn piecewise_linear(times: Vec<f64>, forces: Vec<f64>) -> Result<Self> {
-        if times.is_empty() || times.len() != forces.len() {
-            return Err(Error::InvalidInput(format!(
-                "force history needs equally many times and forces (>= 1), got {} and {}",
-                times.len(),
-                forces.len()
-            )));
-        }
-        check_finite("force history times", &times)?;
-        check_finite("force history forces", &forces)?;
-        if times[0] != 0.0 {
-            return Err(Error::InvalidInput(format!(
-                "force history must start at t = 0, got {}",
-                times[0]
-            )));
-        }
-        if let Some(w) = times.windows(2).find(|w| w[1] <= w[0]) {
-            return Err(Error::InvalidInput(format!(
-                "force history times must increase, got {} then {}",
-                w[0], w[1]
-            )));
-        }
+        check_samples("force history", &times, &forces)?;
         if let Some(f) = forces.iter().find(|&&f| f < 0.0) {
             return Err(Error::InvalidInput(format!(
                 "forces must be >= 0 (no adhesion), got {f}"
@@ -95,7 +75,7 @@ pub struct DepthHistory {
 impl DepthHistory {
     /// Samples (t_i, d_i): times start at 0 and strictly increase, depths finite.
     pub fn piecewise_linear(times: Vec<f64>, depths: Vec<f64>) -> Result<Self> {
-        check_finite("depth history depths", &depths)?;
+        check_samples("depth history", &times, &depths)?;
         // Stored shifted to be >= 0 so that the force-history checks apply unchanged.
         let offset = depths.iter().copied().fold(0.0f64, f64::min);
         let shifted = depths.iter().map(|d| d - offset).collect();
@@ -132,13 +112,39 @@ pub fn check_output_times(times: &[f64]) -> Result<()> {
             times[0]
         )));
     }
-    if let Some(w) = times.windows(2).find(|w| w[1] <= w[0]) {
+    check_increasing("output times", times)
+}
+
+/// Fails unless a history `what` has as many finite `values` as finite `times`, at least
+/// one, with times starting at 0 and strictly increasing.
+fn check_samples(what: &str, times: &[f64], values: &[f64]) -> Result<()> {
+    if times.is_empty() || times.len() != values.len() {
         return Err(Error::InvalidInput(format!(
-            "output times must increase, got {} then {}",
-            w[0], w[1]
+            "{what} needs equally many times and values (>= 1), got {} and {}",
+            times.len(),
+            values.len()
         )));
     }
-    Ok(())
+    check_finite(&format!("{what} times"), times)?;
+    check_finite(&format!("{what} values"), values)?;
+    if times[0] != 0.0 {
+        return Err(Error::InvalidInput(format!(
+            "{what} must start at t = 0, got {}",
+            times[0]
+        )));
+    }
+    check_increasing(&format!("{what} times"), times)
+}
+
+/// Fails unless `times` (named `what`) strictly increase.
+fn check_increasing(what: &str, times: &[f64]) -> Result<()> {
+    match times.windows(2).find(|w| w[1] <= w[0]) {
+        Some(w) => Err(Error::InvalidInput(format!(
+            "{what} must increase, got {} then {}",
+            w[0], w[1]
+        ))),
+        None => Ok(()),
+    }
 }
 
 #[cfg(test)]
@@ -162,5 +168,10 @@ mod tests {
         assert!(ForceHistory::piecewise_linear(vec![1.0], vec![1.0]).is_err());
         assert!(check_output_times(&[1.0, 0.5]).is_err());
         assert!(check_output_times(&[f64::NAN]).is_err());
+        let e = DepthHistory::piecewise_linear(vec![0.0, 1.0, 0.5], vec![0.0; 3]).unwrap_err();
+        assert!(
+            e.to_string().contains("depth history times must increase"),
+            "{e}"
+        );
     }
 }
