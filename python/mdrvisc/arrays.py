@@ -89,7 +89,7 @@ def _mask(mask, shape):
 
 
 def contact(height, dx, G, force=None, depth=None, mask=None, tol=1e-10, max_iter=5000,
-            active_limit=None):
+            active_limit=None, precondition=True):
     """Static elastic contact of a rigid indenter on an incompressible half-space of shear
     modulus ``G`` (Pa) under ``force`` (N) or at ``depth`` (m).
 
@@ -97,6 +97,9 @@ def contact(height, dx, G, force=None, depth=None, mask=None, tol=1e-10, max_ite
     while the contact set stays small, a dense primal-dual active-set solve (faer Cholesky on
     the set, exact to round-off): ``active_limit=None`` picks the faster from the measured
     crossover for the grid, 0 forces Polonsky–Keer, a number caps the dense set (elements).
+    ``precondition`` applies the truncated inverse-kernel stencil to Polonsky–Keer's search
+    directions (2–3x fewer iterations on large contacts, the same solution); False gives the
+    plain method.
 
     Returns a dict: depth (m), force (N), pressure (Pa, (ny, nx)), deflection (m),
     iterations, residual, contact_count, method ("polonsky-keer" or "active-set"),
@@ -112,19 +115,21 @@ def contact(height, dx, G, force=None, depth=None, mask=None, tol=1e-10, max_ite
     start = time.perf_counter()
     r = _core.contact_solve(h, _mask(mask, h.shape), dx, 1.0 / G, force=force,
                             depth=None if depth is None else float(depth), tol=tol, max_iter=max_iter,
-                            active_limit=active_limit)
+                            active_limit=active_limit, precondition=precondition)
     r["wall_time"] = time.perf_counter() - start
     return r
 
 
 def viscous(height, dx, eta, force, times, mask=None, rates=False, tol=1e-10, max_iter=5000,
-            unbounded=False, progress=None):
+            unbounded=False, progress=None, precondition=True):
     """Implicit viscous BEM run for any height map: a rigid indenter under ``force`` (N, a
     number or (times, forces) samples) on a half-space of viscosity ``eta`` (Pa s), with
     output at ``times`` (s).
 
     With ``unbounded=True`` the grid is a window onto a larger indenter, and a contact that
     reaches the grid's edge raises DomainError instead of being a finite indenter's edge.
+    ``precondition=False`` turns off the inverse-kernel preconditioner of the contact solves
+    (see :func:`contact`).
     Returns a :class:`Result` (contact_length from the contact area).
     """
     h = _grid("height", height)
@@ -135,7 +140,8 @@ def viscous(height, dx, eta, force, times, mask=None, rates=False, tol=1e-10, ma
     t = np.asarray(times, dtype=np.float64).ravel()
     start = time.perf_counter()
     r = _core.bem_viscous(h, m, dx, eta, np.ascontiguousarray(t), ft, fv, rates=rates,
-                          tol=tol, max_iter=max_iter, progress=progress)
+                          tol=tol, max_iter=max_iter, progress=progress,
+                          precondition=precondition)
     if unbounded and np.any(r["at_border"]):
         raise DomainError(f"BEM: the contact reached the edge of the grid at t = {r['t'][np.argmax(r['at_border'])]} s")
     return Result("bem", max(h.shape), dx, r["t"], r["depth"], r["contact_length"], area=r["area"],

@@ -8,6 +8,7 @@ pub mod error;
 pub mod influence;
 pub mod monitor;
 pub mod operator;
+pub mod precondition;
 pub mod rheology;
 
 pub use error::{Error, Result};

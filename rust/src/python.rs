@@ -139,12 +139,14 @@ fn options(
     max_iter: usize,
     dense_limit: usize,
     active_limit: Option<usize>,
+    precondition: bool,
 ) -> SolverOptions {
     SolverOptions {
         tol,
         max_iter,
         dense_limit,
         active_limit,
+        precondition,
     }
 }
 
@@ -155,7 +157,7 @@ fn history(py: Python<'_>, times: Vec<f64>, forces: Vec<f64>) -> PyResult<ForceH
 /// Implicit viscous BEM run on a grid: heights (m, (ny, nx)), footprint mask, element size
 /// dx (m), viscosity eta (Pa s), output times (s), force history samples (s, N).
 #[pyfunction]
-#[pyo3(signature = (height, allowed, dx, eta, times, force_times, force_values, rates=false, fields_at=vec![], tol=1e-10, max_iter=5000, progress=None, explicit=None, dense_limit=DENSE_LIMIT, first_bound=None, active_limit=None))]
+#[pyo3(signature = (height, allowed, dx, eta, times, force_times, force_values, rates=false, fields_at=vec![], tol=1e-10, max_iter=5000, progress=None, explicit=None, dense_limit=DENSE_LIMIT, first_bound=None, active_limit=None, precondition=true))]
 #[allow(clippy::too_many_arguments)]
 fn bem_viscous<'py>(
     py: Python<'py>,
@@ -175,6 +177,7 @@ fn bem_viscous<'py>(
     dense_limit: usize,
     first_bound: Option<f64>,
     active_limit: Option<usize>,
+    precondition: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
     let grid = grid_from(py, &height, &allowed, dx)?;
     let hist = history(
@@ -188,7 +191,7 @@ fn bem_viscous<'py>(
         fields_at,
         first_bound,
     };
-    let opts = options(tol, max_iter, dense_limit, active_limit);
+    let opts = options(tol, max_iter, dense_limit, active_limit, precondition);
     let mut monitor = PyMonitor::new(progress);
     let ctrl = explicit.map(explicit_control);
     let r = py.detach(|| match &ctrl {
@@ -224,7 +227,7 @@ fn bem_viscous<'py>(
 /// Flat punch on the footprint mask pressed by `force` (N) into a viscous half-space;
 /// with `margin`, the surface velocity on a grid extended by that many elements per side.
 #[pyfunction]
-#[pyo3(signature = (allowed, dx, eta, force, margin=None, tol=1e-10, max_iter=5000, progress=None, dense_limit=DENSE_LIMIT))]
+#[pyo3(signature = (allowed, dx, eta, force, margin=None, tol=1e-10, max_iter=5000, progress=None, dense_limit=DENSE_LIMIT, precondition=true))]
 #[allow(clippy::too_many_arguments)]
 fn bem_punch<'py>(
     py: Python<'py>,
@@ -237,6 +240,7 @@ fn bem_punch<'py>(
     max_iter: usize,
     progress: Option<Py<PyAny>>,
     dense_limit: usize,
+    precondition: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
     let shape = allowed.shape().to_vec();
     let zeros = vec![0.0; shape[0] * shape[1]];
@@ -248,7 +252,7 @@ fn bem_punch<'py>(
         allowed.as_array().iter().copied().collect(),
     )
     .map_err(|e| to_pyerr(py, e))?;
-    let opts = options(tol, max_iter, dense_limit, None);
+    let opts = options(tol, max_iter, dense_limit, None, precondition);
     let mut monitor = PyMonitor::new(progress);
     let r = py.detach(|| viscous::run_punch(&grid, eta, force, margin, &opts, &mut monitor));
     let r = monitor.finish(py, r)?;
@@ -508,7 +512,7 @@ impl PySurfaceOperator {
 /// Static Polonsky–Keer contact solve: separation h (m), footprint mask, element size dx
 /// (m), compliance (1/G, 1/Pa), and either `force` (N) or `depth` (m).
 #[pyfunction]
-#[pyo3(signature = (height, allowed, dx, compliance, force=None, depth=None, tol=1e-10, max_iter=5000, progress=None, dense_limit=DENSE_LIMIT, active_limit=None))]
+#[pyo3(signature = (height, allowed, dx, compliance, force=None, depth=None, tol=1e-10, max_iter=5000, progress=None, dense_limit=DENSE_LIMIT, active_limit=None, precondition=true))]
 #[allow(clippy::too_many_arguments)]
 fn contact_solve<'py>(
     py: Python<'py>,
@@ -523,6 +527,7 @@ fn contact_solve<'py>(
     progress: Option<Py<PyAny>>,
     dense_limit: usize,
     active_limit: Option<usize>,
+    precondition: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
     let grid = grid_from(py, &height, &allowed, dx)?;
     let target = match (force, depth) {
@@ -535,7 +540,7 @@ fn contact_solve<'py>(
             ))
         }
     };
-    let opts = options(tol, max_iter, dense_limit, active_limit);
+    let opts = options(tol, max_iter, dense_limit, active_limit, precondition);
     let mut monitor = PyMonitor::new(progress);
     let r = py.detach(|| -> crate::Result<_> {
         let mut solver = ContactSolver::new(FftOperator::new(grid.nx, grid.ny, grid.dx)?);
@@ -668,7 +673,7 @@ fn viscoelastic_bem<'py>(
     let (medium, load) =
         medium_and_loading(py, (g_inf, terms, eta), kind, &load_times, &load_values)?;
     let times = slice1(&times, "times")?;
-    let opts = options(tol, max_iter, DENSE_LIMIT, None);
+    let opts = options(tol, max_iter, DENSE_LIMIT, None, true);
     let mut monitor = PyMonitor::new(progress);
     let r =
         py.detach(|| viscoelastic::run_bem(&grid, &medium, &load, &times, dt, &opts, &mut monitor));
