@@ -149,6 +149,39 @@ class FftOperator:
 
 
 # ---------------------------------------------------------------------------------------------
+# Preconditioner: truncated inverse-kernel stencil (as rust/src/precondition.rs)
+# ---------------------------------------------------------------------------------------------
+
+#: stencil radius of the preconditioner (elements), as ``precondition::RADIUS``
+STENCIL_RADIUS = 3
+
+
+def inverse_stencil(radius: int = STENCIL_RADIUS) -> np.ndarray:
+    """Coefficients of K^-1 at dx = 1 for offsets 0..radius in y and x, shape
+    (radius + 1, radius + 1): the circulant inverse of the operator of a 65 x 65 grid,
+    irfft2(1 / K_hat). Truncated to (2 radius + 1)^2 it is the preconditioner."""
+    op = FftOperator(65, 65, 1.0)
+    inv = sfft.irfft2(1.0 / op.kernel_hat, s=(op.my, op.mx), workers=FFT_WORKERS)
+    return np.ascontiguousarray(inv[: radius + 1, : radius + 1])
+
+
+def apply_stencil(g: np.ndarray, c: np.ndarray) -> np.ndarray:
+    """z = S * g with the even stencil of quarter coefficients ``c`` and g zero beyond the
+    grid: rows at +-k are summed first, then columns at +-j (vectorised slices)."""
+    rad = c.shape[0] - 1
+    ny, nx = g.shape
+    gp = np.zeros((ny + 2 * rad, nx + 2 * rad))
+    gp[rad:rad + ny, rad:rad + nx] = g
+    z = np.zeros_like(g)
+    for k in range(rad + 1):
+        pair = gp[rad - k:rad - k + ny] + gp[rad + k:rad + k + ny] if k else gp[rad:rad + ny].copy()
+        z += c[k, 0] * pair[:, rad:rad + nx]
+        for j in range(1, rad + 1):
+            z += c[k, j] * (pair[:, rad - j:rad - j + nx] + pair[:, rad + j:rad + j + nx])
+    return z
+
+
+# ---------------------------------------------------------------------------------------------
 # Polonsky & Keer constrained conjugate gradient
 # ---------------------------------------------------------------------------------------------
 
@@ -163,7 +196,8 @@ def _dot(a: np.ndarray, b: np.ndarray) -> float:
 
 def polonsky_keer(op: FftOperator, h: np.ndarray, mask: np.ndarray, force: float,
                   compliance: float, tol: float = 1e-10, max_iter: int = 1000,
-                  p0: np.ndarray | None = None, return_deflection: bool = False):
+                  p0: np.ndarray | None = None, return_deflection: bool = False,
+                  precondition: bool = False):
     """Force-controlled frictionless contact by Polonsky & Keer's (1999) constrained CG.
 
     Finds p >= 0 on the elements where ``mask`` is True (p = 0 elsewhere) with
@@ -175,7 +209,9 @@ def polonsky_keer(op: FftOperator, h: np.ndarray, mask: np.ndarray, force: float
         tau = sum_Ic(g t) / sum_Ic(r t); p -= tau t; p = max(p, 0);
         Iol = {p == 0, g < 0, mask}: if nonempty p[Iol] -= tau g[Iol], delta = 0, else
         delta = 1; p *= force / (sum(p) dx^2); error = sum|p - p_old| / sum(p).
-    The loop stops when error < tol. The convergence test is made at the top of the next
+    With ``precondition``, t follows z = S g_Ic - mean_Ic(S g_Ic) on Ic instead of g (S the
+    truncated inverse-kernel stencil, :func:`apply_stencil`) and G = sum_Ic(g z), as in
+    mdrvisc's Rust solver. The loop stops when error < tol. The convergence test is made at the top of the next
     pass, after its K[p]: that apply is the final p's, so the returned depth
     d = gbar = mean_Ic(compliance*K[p] + h) (the rigid-body approach, positive into the
     body) and the deflection belong to the returned p, at no extra cost.
@@ -192,6 +228,7 @@ def polonsky_keer(op: FftOperator, h: np.ndarray, mask: np.ndarray, force: float
     max_iter : iteration limit; RuntimeError beyond it.
     p0 : optional warm start (rescaled to the force, clipped to the mask, >= 0).
     return_deflection : also return K[p] (G = 1, without the compliance factor).
+    precondition : precondition the search directions with the inverse-kernel stencil.
 
     Returns
     -------
@@ -228,6 +265,7 @@ def polonsky_keer(op: FftOperator, h: np.ndarray, mask: np.ndarray, force: float
     ic = np.empty(shape, dtype=bool)
     ic_f = np.empty(shape)
     overlap = np.empty(shape, dtype=bool)
+    stencil = inverse_stencil() if precondition else None
     g_old = 1.0
     delta = 0.0
     error = np.inf
@@ -248,14 +286,20 @@ def polonsky_keer(op: FftOperator, h: np.ndarray, mask: np.ndarray, force: float
                 f"after {iterations} iterations")
         g -= gbar
         np.multiply(g, ic_f, out=g_ic)
-        g_new = _dot(g_ic, g_ic)
-        # t = g + delta (G/G_old) t on Ic, 0 elsewhere
+        if stencil is None:
+            z = g_ic
+        else:
+            z = apply_stencil(g_ic, stencil)
+            z *= ic_f
+            z -= _dot(z, ic_f) / n_ic * ic_f
+        g_new = _dot(g_ic, z)
+        # t = z + delta (G/G_old) t on Ic, 0 elsewhere (z = g without preconditioning)
         if delta != 0.0:
             t *= delta * g_new / g_old
             t *= ic_f
-            t += g_ic
+            t += z
         else:
-            np.copyto(t, g_ic)
+            np.copyto(t, z)
         g_old = g_new
         np.copyto(r, op.apply(t))
         # r.t with r -> compliance (r - mean_Ic r), t = 0 outside Ic
@@ -296,7 +340,8 @@ def polonsky_keer(op: FftOperator, h: np.ndarray, mask: np.ndarray, force: float
 # ---------------------------------------------------------------------------------------------
 
 def viscous_bem(h: np.ndarray, mask: np.ndarray, dx: float, eta: float, force: float,
-                t_out, tol: float = 1e-10, max_iter: int = 1000) -> dict:
+                t_out, tol: float = 1e-10, max_iter: int = 1000,
+                precondition: bool = False) -> dict:
     """Viscous half-space under a constant force F from t = 0, implicit stepping in impulse form.
 
     At each output time t_k the impulse increment is dI = F (t_k - t_{k-1}); one
@@ -312,7 +357,7 @@ def viscous_bem(h: np.ndarray, mask: np.ndarray, dx: float, eta: float, force: f
     ----------
     h : (ny, nx) indenter height above its tip; mask : (ny, nx) bool footprint;
     dx : element side; eta : shear viscosity; force : constant force F;
-    t_out : increasing output times (> 0); tol, max_iter : passed to the CG.
+    t_out : increasing output times (> 0); tol, max_iter, precondition : passed to the CG.
 
     Returns
     -------
@@ -337,7 +382,8 @@ def viscous_bem(h: np.ndarray, mask: np.ndarray, dx: float, eta: float, force: f
         di = force * (tk - t_prev)
         p0 = None if d_p is None else d_p * (di / di_prev)
         d_p, d, it, _, kdp = polonsky_keer(op, h + u_prev, mask, di, 1.0 / eta, tol=tol,
-                                           max_iter=max_iter, p0=p0, return_deflection=True)
+                                           max_iter=max_iter, p0=p0, return_deflection=True,
+                                           precondition=precondition)
         u_prev += kdp / eta
         depth[k] = d
         area = dx * dx * np.count_nonzero(d_p > 0.0)

@@ -16,6 +16,7 @@ use crate::operator::{DenseOperator, SurfaceOperator};
 use crate::precondition;
 use faer::linalg::solvers::Solve;
 use faer::{ColRef, Mat, Side};
+use rayon::prelude::*;
 
 /// What the solve holds fixed: the total force (N, or N s for impulses) or the rigid-body
 /// approach d (m).
@@ -124,6 +125,27 @@ pub struct ContactSolver<O: SurfaceOperator> {
     r: Vec<f64>,
     z: Vec<f64>,
     p_old: Vec<f64>,
+    /// Per-chunk sums of the parallel passes (`pass_sums`).
+    partials: Vec<[f64; MAX_SUMS]>,
+}
+
+/// Elements per task of the solver's parallel passes: fixed, so that every sum is taken in
+/// the same order whatever the number of threads (results repeat bit for bit).
+const PASS_CHUNK: usize = 4096;
+
+/// Most sums one pass returns.
+const MAX_SUMS: usize = 5;
+
+/// One chunk of the solver's work buffers, starting at element `lo`.
+struct Chunk<'a> {
+    lo: usize,
+    p: &'a mut [f64],
+    u: &'a mut [f64],
+    g: &'a mut [f64],
+    t: &'a mut [f64],
+    r: &'a mut [f64],
+    z: &'a mut [f64],
+    p_old: &'a mut [f64],
 }
 
 impl<O: SurfaceOperator> ContactSolver<O> {
@@ -139,7 +161,42 @@ impl<O: SurfaceOperator> ContactSolver<O> {
             r: vec![0.0; n],
             z: vec![0.0; n],
             p_old: vec![0.0; n],
+            partials: vec![[0.0; MAX_SUMS]; n.div_ceil(PASS_CHUNK)],
         }
+    }
+
+    /// Runs `f` on fixed chunks of the work buffers in parallel and returns the sums of
+    /// its results, added chunk by chunk in order.
+    fn pass_sums<const K: usize>(&mut self, f: impl Fn(&mut Chunk) -> [f64; K] + Sync) -> [f64; K] {
+        const { assert!(K <= MAX_SUMS) };
+        self.p
+            .par_chunks_mut(PASS_CHUNK)
+            .zip(self.u.par_chunks_mut(PASS_CHUNK))
+            .zip(self.g.par_chunks_mut(PASS_CHUNK))
+            .zip(self.t.par_chunks_mut(PASS_CHUNK))
+            .zip(self.r.par_chunks_mut(PASS_CHUNK))
+            .zip(self.z.par_chunks_mut(PASS_CHUNK))
+            .zip(self.p_old.par_chunks_mut(PASS_CHUNK))
+            .zip(self.partials.par_iter_mut())
+            .enumerate()
+            .for_each(|(k, (((((((p, u), g), t), r), z), p_old), out))| {
+                let mut chunk = Chunk {
+                    lo: k * PASS_CHUNK,
+                    p,
+                    u,
+                    g,
+                    t,
+                    r,
+                    z,
+                    p_old,
+                };
+                out[..K].copy_from_slice(&f(&mut chunk));
+            });
+        let mut acc = [0.0; K];
+        for part in &self.partials {
+            acc.iter_mut().zip(part).for_each(|(a, v)| *a += v);
+        }
+        acc
     }
 
     /// The operator.
@@ -288,41 +345,62 @@ impl<O: SurfaceOperator> ContactSolver<O> {
         // 32 iterations (bounding round-off drift); otherwise it follows p by the same linear
         // update, so most iterations cost one apply.
         self.op.apply(&self.p, &mut self.u);
+        let (nx, ny) = (self.op.nx(), self.op.ny());
         for it in 1..=opts.max_iter {
             let shift = match target {
-                Target::Force(_) => mean_on_contact(&self.p, allowed, &self.u, h, compliance),
+                Target::Force(_) => {
+                    let [s, k] = self.pass_sums(|c| {
+                        let mut acc = [0.0; 2];
+                        for j in 0..c.p.len() {
+                            if c.p[j] > 0.0 {
+                                acc[0] += compliance * c.u[j] + h[c.lo + j];
+                                acc[1] += 1.0;
+                            }
+                        }
+                        acc
+                    });
+                    if k > 0.0 {
+                        s / k
+                    } else {
+                        0.0
+                    }
+                }
                 Target::Depth(d) => d,
             };
             // The search direction follows z = M g on the contact set: M = 1, or the
             // inverse-kernel stencil (projected to zero mean under force control, where the
-            // force constraint confines p's changes to that subspace).
-            let mut gsum = 0.0;
-            for i in 0..n {
-                self.g[i] = if allowed[i] {
-                    compliance * self.u[i] + h[i] - shift
-                } else {
-                    0.0
-                };
-                if self.p[i] > 0.0 {
-                    gsum += self.g[i] * self.g[i];
-                    self.r[i] = self.g[i];
-                } else {
-                    self.r[i] = 0.0;
+            // force constraint confines p's changes to that subspace). g is written on the
+            // allowed elements, its restriction to the set into r (free until the apply).
+            let [gsum] = self.pass_sums(|c| {
+                let mut acc = [0.0];
+                for j in 0..c.p.len() {
+                    let i = c.lo + j;
+                    c.g[j] = if allowed[i] {
+                        compliance * c.u[j] + h[i] - shift
+                    } else {
+                        0.0
+                    };
+                    c.r[j] = if c.p[j] > 0.0 { c.g[j] } else { 0.0 };
+                    acc[0] += c.r[j] * c.r[j];
                 }
-            }
+                acc
+            });
             let (zbar, gz) = if opts.precondition {
-                precondition::apply(self.op.nx(), self.op.ny(), &self.r, &mut self.z);
-                let (mut zsum, mut gz, mut g_lin, mut count) = (0.0, 0.0, 0.0, 0usize);
-                for i in 0..n {
-                    if self.p[i] > 0.0 {
-                        zsum += self.z[i];
-                        gz += self.g[i] * self.z[i];
-                        g_lin += self.g[i];
-                        count += 1;
+                precondition::apply(nx, ny, &self.r, &mut self.z);
+                let [zsum, gz, g_lin, count] = self.pass_sums(|c| {
+                    let mut acc = [0.0; 4];
+                    for j in 0..c.p.len() {
+                        if c.p[j] > 0.0 {
+                            acc[0] += c.z[j];
+                            acc[1] += c.g[j] * c.z[j];
+                            acc[2] += c.g[j];
+                            acc[3] += 1.0;
+                        }
                     }
-                }
+                    acc
+                });
                 let zbar = match target {
-                    Target::Force(_) => zsum / count.max(1) as f64,
+                    Target::Force(_) => zsum / count.max(1.0),
                     Target::Depth(_) => 0.0,
                 };
                 (zbar, gz - zbar * g_lin)
@@ -335,29 +413,32 @@ impl<O: SurfaceOperator> ContactSolver<O> {
                 0.0
             };
             g_old = gz;
-            let z = if opts.precondition { &self.z } else { &self.g };
-            for i in 0..n {
-                self.t[i] = if self.p[i] > 0.0 {
-                    z[i] - zbar + beta * self.t[i]
-                } else {
-                    0.0
-                };
-            }
+            let precondition = opts.precondition;
+            self.pass_sums(|c| {
+                let z = if precondition { &*c.z } else { &*c.g };
+                for ((t, &p), &z) in c.t.iter_mut().zip(&*c.p).zip(z) {
+                    *t = if p > 0.0 { z - zbar + beta * *t } else { 0.0 };
+                }
+                [0.0; 0]
+            });
             self.op.apply(&self.t, &mut self.r);
             // Over the contact set, in one pass: sums of r, g t, r t and t; then the step
             // tau = sum g t / sum (c r - rbar) t, with rbar the mean of c r under force control.
-            let (mut r_sum, mut count, mut num, mut rt, mut t_sum) = (0.0, 0usize, 0.0, 0.0, 0.0);
-            for i in 0..n {
-                if self.p[i] > 0.0 {
-                    r_sum += self.r[i];
-                    count += 1;
-                    num += self.g[i] * self.t[i];
-                    rt += self.r[i] * self.t[i];
-                    t_sum += self.t[i];
+            let [r_sum, count, num, rt, t_sum] = self.pass_sums(|c| {
+                let mut acc = [0.0; 5];
+                for j in 0..c.p.len() {
+                    if c.p[j] > 0.0 {
+                        acc[0] += c.r[j];
+                        acc[1] += 1.0;
+                        acc[2] += c.g[j] * c.t[j];
+                        acc[3] += c.r[j] * c.t[j];
+                        acc[4] += c.t[j];
+                    }
                 }
-            }
+                acc
+            });
             let rbar = match target {
-                Target::Force(_) => compliance * r_sum / count.max(1) as f64,
+                Target::Force(_) => compliance * r_sum / count.max(1.0),
                 Target::Depth(_) => 0.0,
             };
             let den = compliance * rt - rbar * t_sum;
@@ -387,20 +468,30 @@ impl<O: SurfaceOperator> ContactSolver<O> {
                     0.0
                 }
             };
-            self.p_old.copy_from_slice(&self.p);
-            let (mut overlap, mut clamped, mut sum) = (false, false, 0.0);
-            for (i, _) in allowed.iter().enumerate().filter(|(_, &a)| a) {
-                if self.p[i] > 0.0 {
-                    let v = self.p[i] - tau * self.t[i];
-                    clamped |= v <= 0.0;
-                    self.p[i] = v.max(0.0);
-                } else if self.g[i] < -gap_tol {
-                    self.p[i] = -tau_overlap * self.g[i];
-                    overlap = true;
+            let [sum, overlaps, clamps] = self.pass_sums(|c| {
+                let mut acc = [0.0; 3];
+                c.p_old.copy_from_slice(c.p);
+                for j in 0..c.p.len() {
+                    let i = c.lo + j;
+                    if !allowed[i] {
+                        continue;
+                    }
+                    if c.p[j] > 0.0 {
+                        let v = c.p[j] - tau * c.t[j];
+                        if v <= 0.0 {
+                            acc[2] += 1.0;
+                        }
+                        c.p[j] = v.max(0.0);
+                    } else if c.g[j] < -gap_tol {
+                        c.p[j] = -tau_overlap * c.g[j];
+                        acc[1] += 1.0;
+                    }
+                    acc[0] += c.p[j];
                 }
-                sum += self.p[i];
-            }
-
+                acc
+            });
+            let overlap = overlaps > 0.0;
+            let mut clamped = clamps > 0.0;
             delta = if overlap { 0.0 } else { 1.0 };
             let mut factor = 1.0;
             match force {
@@ -423,16 +514,19 @@ impl<O: SurfaceOperator> ContactSolver<O> {
             // Rescale to the force, measure the change, and follow u = K[p] linearly unless
             // it is refreshed, in one pass.
             let refresh = overlap || clamped || it % 32 == 0;
-            let (mut total, mut change) = (0.0, 0.0);
-            for i in 0..n {
-                let v = self.p[i] * factor;
-                self.p[i] = v;
-                total += v;
-                change += (v - self.p_old[i]).abs();
-                if !refresh {
-                    self.u[i] = factor * (self.u[i] - tau * self.r[i]);
+            let [total, change] = self.pass_sums(|c| {
+                let mut acc = [0.0; 2];
+                for j in 0..c.p.len() {
+                    let v = c.p[j] * factor;
+                    c.p[j] = v;
+                    acc[0] += v;
+                    acc[1] += (v - c.p_old[j]).abs();
+                    if !refresh {
+                        c.u[j] = factor * (c.u[j] - tau * c.r[j]);
+                    }
                 }
-            }
+                acc
+            });
             if refresh {
                 self.op.apply(&self.p, &mut self.u);
             }
@@ -724,23 +818,6 @@ fn unit_punch_dense(nx: usize, dx: f64, idx: &[usize], n: usize) -> Result<(Vec<
     Ok((x, 1, resid))
 }
 
-/// Mean of compliance * u + h over the contact set {p > 0}: the rigid-body approach that
-/// makes the mean gap there vanish.
-fn mean_on_contact(p: &[f64], allowed: &[bool], u: &[f64], h: &[f64], c: f64) -> f64 {
-    let (mut s, mut k) = (0.0, 0usize);
-    for i in 0..p.len() {
-        if allowed[i] && p[i] > 0.0 {
-            s += c * u[i] + h[i];
-            k += 1;
-        }
-    }
-    if k == 0 {
-        0.0
-    } else {
-        s / k as f64
-    }
-}
-
 /// Index of the allowed element with the smallest gap.
 fn argmin_gap(g: &[f64], allowed: &[bool]) -> usize {
     (0..g.len())
@@ -798,7 +875,9 @@ mod tests {
     }
 
     fn max_abs_diff(a: &[f64], b: &[f64]) -> f64 {
-        a.iter().zip(b).fold(0.0f64, |m, (x, y)| m.max((x - y).abs()))
+        a.iter()
+            .zip(b)
+            .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()))
     }
 
     /// Preconditioned and plain Polonsky–Keer reach the same contact (to the tolerance)
@@ -819,7 +898,11 @@ mod tests {
                 solve_with(&h, n, dx, target, &opts)
             };
             let ((plain, p_plain), (pre, p_pre)) = (run(false), run(true));
-            assert!(pre.contact_count > 1500, "{target:?}: {}", pre.contact_count);
+            assert!(
+                pre.contact_count > 1500,
+                "{target:?}: {}",
+                pre.contact_count
+            );
             assert_eq!(plain.contact_count, pre.contact_count, "{target:?}");
             let peak = p_plain.iter().fold(0.0f64, |m, &v| m.max(v));
             let diff = max_abs_diff(&p_plain, &p_pre);
@@ -857,7 +940,10 @@ mod tests {
         let peak = dense.iter().fold(0.0f64, |m, &v| m.max(v));
         assert!(max_abs_diff(&dense, &p_pre) < 1e-8 * peak);
         assert!(max_abs_diff(&dense, &p_plain) < 1e-8 * peak);
-        assert!(2 * it_pre <= it_plain, "{it_pre} preconditioned vs {it_plain} plain");
+        assert!(
+            2 * it_pre <= it_plain,
+            "{it_pre} preconditioned vs {it_plain} plain"
+        );
     }
 
     /// The dense active-set solve and Polonsky–Keer give the same contact (to PK's

@@ -296,7 +296,8 @@ impl FftOperator {
     /// Coefficients (Pa/m at G = 1) of the inverse of this operator's circulant embedding
     /// for offsets 0..=radius in x and y (row-major, (radius + 1)^2, even in each offset):
     /// p = sum of them times u over the neighbourhood. Away from the grid's edges they are
-    /// those of the inverse of the infinite-lattice operator (to ~5 digits from 33 x 33 on).
+    /// those of the inverse of the infinite-lattice operator (to ~5 digits from 33 x 33 on,
+    /// for odd grids, whose padded size 2n - 2 leaves no zero gap in the kernel).
     pub fn inverse_kernel(&mut self, radius: usize) -> Result<Vec<f64>> {
         let (nx, ny) = (self.nx, self.ny);
         if radius >= nx.min(ny) {
