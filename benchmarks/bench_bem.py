@@ -6,24 +6,31 @@ Problem (DESIGN.md 1.3): paraboloid h = c r^2 on a 2.56 m x 2.56 m square footpr
 implicit impulse stepping (one Polonsky-Keer solve per output time, warm-started) on the same
 grid (``mdrvisc.solve.bem_grid``) and the same stopping rule (relative L1 change of p).
 
+mdrvisc preconditions Polonsky-Keer's search directions with a truncated (7 x 7) inverse-kernel
+stencil (``rust/src/precondition.rs``). The numpy reference runs the same algorithm
+(``numpy_reference.polonsky_keer(precondition=True)``, column "np-pc"), and the paper's plain
+Polonsky-Keer (column "np", what a numpy user following the paper would write). mdrvisc's own
+plain solve (``precondition=False``) is timed as well, to separate the preconditioner's gain
+from the implementation's.
+
 What is timed (wall clock):
 
 * mdrvisc: ``mv.solve(scene, "bem", n, tol=tol)`` end to end (Python grid set-up included),
-  best of 3 (after one warm-up run). It windows each implicit step to the part of the grid the step can touch
-  (exact), and does one operator apply per CG iteration while the active set holds.
+  best of 3 (after one warm-up run). It windows each implicit step to the part of the grid the
+  step can touch (exact), and does one operator apply per CG iteration while the active set
+  holds (plus one when it changes). "mv plain": ``_core.bem_viscous`` with the same arguments
+  as ``mv.solve`` and ``precondition=False``.
 * numpy: ``numpy_reference.viscous_bem`` on the same h, mask, dx and tol (scipy.fft
   workers=-1), best of 2. It works on the full grid and does two applies per CG iteration
   (K[p] and K[t]) plus one per solve.
 
-The mdrvisc and numpy runs alternate (mv, np, mv, np, mv) so that both see the same machine
+All four alternate run by run (mv, mv plain, np-pc, np, ...) so that they see the same machine
 state; this machine's speed drifts by up to 2x over minutes.
 
-Columns: wall times, solves, total CG iterations, d(5 s) relative error against Lee-Radok
-(``mv.analytic.paraboloid_depth``), end-to-end ratio numpy / mdrvisc, and per-CG-iteration
-times. A second table gives the operator-apply ratio on the full 257^2 grid (numpy
-``FftOperator.apply`` alone vs mdrvisc's apply from a flat-punch CG, see bench_operator.py),
-and splits the end-to-end ratio into that apply ratio and the work mdrvisc avoids (fewer /
-smaller applies).
+Columns: wall times, end-to-end ratios, solves, total CG iterations, per-CG-iteration times,
+d(5 s) relative error against Lee-Radok (``mv.analytic.paraboloid_depth``). A second table
+gives the operator-apply ratio on the full 257^2 grid and splits the same-algorithm ratio into
+that apply ratio and the work mdrvisc avoids (fewer / smaller applies).
 
 Run: ``python benchmarks/bench_bem.py [--c 1 5 20] [--tol 1e-10 1e-8] [--quick]``;
 ``--mv-only --json`` prints mdrvisc's numbers as JSON (used by bench_threads.py).
@@ -60,30 +67,41 @@ def summarise_mv(c, n, tol, wall, res) -> dict:
                 err=float(res.depth[-1] - exact) / exact)
 
 
-def summarise_np(c, wall, res) -> dict:
+def summarise_raw(c, wall, res) -> dict:
+    """Summary of a ``_core.bem_viscous`` or ``numpy_reference.viscous_bem`` result."""
     exact = mv.analytic.paraboloid_depth(DURATION, FORCE, c, ETA)
-    return dict(wall=wall, solves=int(res["solves"]), iterations=int(res["iterations"]),
+    return dict(wall=wall, solves=int(res["solves"]), iterations=int(np.sum(res["iterations"])),
                 d5=float(res["depth"][-1]), err=float(res["depth"][-1] - exact) / exact)
 
 
-def run_both(c: float, n: int, tol: float, repeats: int, np_repeats: int):
-    """mdrvisc (best of ``repeats``) and numpy (best of ``np_repeats``), interleaved run by
-    run so that both see the same machine state."""
+def run_all(c: float, n: int, tol: float, repeats: int, np_repeats: int):
+    """mdrvisc (best of ``repeats``), mdrvisc plain, numpy preconditioned and numpy plain
+    (best of ``np_repeats``), interleaved run by run so that all see the same machine state."""
     import numpy_reference as ref
+    from mdrvisc import _core
+    from mdrvisc.solve import _first_depth_estimate
 
     ref.FFT_WORKERS = -1
     sc = scene(c)
     _, dx, h, mask = _grid(sc, n)
+    ft, fv = sc.history
+    bound = _first_depth_estimate(sc)
     mv_run = lambda: mv.solve(sc, "bem", n, tol=tol)  # noqa: E731
-    np_run = lambda: ref.viscous_bem(h, mask, dx, ETA, FORCE, sc.times, tol=tol,  # noqa: E731
-                                     max_iter=5000)
+    runs = {
+        "mv": mv_run,
+        "mv plain": lambda: _core.bem_viscous(h, mask, dx, ETA, sc.times, ft, fv, tol=tol,
+                                              first_bound=bound, precondition=False),
+        "np-pc": lambda: ref.viscous_bem(h, mask, dx, ETA, FORCE, sc.times, tol=tol,
+                                         max_iter=5000, precondition=True),
+        "np": lambda: ref.viscous_bem(h, mask, dx, ETA, FORCE, sc.times, tol=tol, max_iter=5000),
+    }
     mv_run()  # warm-up (first use of the pool, page faults)
-    both = interleaved({"mv": mv_run, "np": np_run}, np_repeats, warmup=False)
-    wall = both["mv"][0]
+    out = interleaved(runs, np_repeats, warmup=False)
+    wall = out["mv"][0]
     if repeats > np_repeats:
         wall = min(wall, best_of(mv_run, repeats - np_repeats)[0])
-    return (summarise_mv(c, n, tol, wall, both["mv"][1]),
-            summarise_np(c, both["np"][0], both["np"][1]))
+    return (summarise_mv(c, n, tol, wall, out["mv"][1]),
+            {k: summarise_raw(c, *out[k]) for k in ("mv plain", "np-pc", "np")})
 
 
 def _grid(sc, n):
@@ -117,17 +135,25 @@ def main(argv=None) -> None:
     rows, pairs = [], []
     for c in args.c:
         for tol in args.tol:
-            m, r = run_both(c, n, tol, args.repeats, args.np_repeats)
-            pairs.append((m, r))
-            rows.append([c, f"{tol:.0e}", m["wall"], r["wall"], r["wall"] / m["wall"],
-                         m["solves"], f"{m['iterations']}/{r['iterations']}",
-                         m["wall"] / m["iterations"] * 1e3, r["wall"] / r["iterations"] * 1e3,
-                         m["err"], r["err"]])
-    print(f"\nEnd to end (mdrvisc best of {args.repeats}, numpy best of {args.np_repeats}):")
-    table(["c", "tol", "mv s", "np s", "np/mv", "solves", "CG iters mv/np", "mv ms/iter",
-           "np ms/iter", "mv d(5) err", "np d(5) err"], rows,
-          ["{:g}", "{}", "{:.3f}", "{:.3f}", "{:.1f}x", "{}", "{}", "{:.2f}", "{:.2f}",
-           "{:+.2e}", "{:+.2e}"])
+            m, o = run_all(c, n, tol, args.repeats, args.np_repeats)
+            pairs.append((m, o["np-pc"]))
+            rows.append([c, f"{tol:.0e}", m["wall"], o["mv plain"]["wall"], o["np-pc"]["wall"],
+                         o["np"]["wall"], o["np-pc"]["wall"] / m["wall"], o["np"]["wall"] / m["wall"],
+                         o["mv plain"]["wall"] / m["wall"], m["solves"],
+                         f"{m['iterations']}/{o['mv plain']['iterations']}/"
+                         f"{o['np-pc']['iterations']}/{o['np']['iterations']}",
+                         m["wall"] / m["iterations"] * 1e3,
+                         o["np-pc"]["wall"] / o["np-pc"]["iterations"] * 1e3,
+                         m["err"], o["np-pc"]["err"], o["np"]["err"]])
+    print(f"\nEnd to end (mdrvisc best of {args.repeats}, the others best of {args.np_repeats}; "
+          "mv = preconditioned, as mv.solve runs it):")
+    table(["c", "tol", "mv s", "mv plain s", "np-pc s", "np s", "np-pc/mv", "np/mv",
+           "plain/mv", "solves", "CG iters mv/plain/np-pc/np", "mv ms/iter", "np-pc ms/iter",
+           "mv d(5) err", "np-pc d(5) err", "np d(5) err"], rows,
+          ["{:g}", "{}", "{:.3f}", "{:.3f}", "{:.3f}", "{:.3f}", "{:.1f}x", "{:.1f}x", "{:.2f}x",
+           "{}", "{}", "{:.2f}", "{:.2f}", "{:+.2e}", "{:+.2e}", "{:+.2e}"])
+    print("   np-pc/mv: the same (preconditioned) algorithm in numpy; np/mv: the paper's plain "
+          "Polonsky-Keer in numpy; plain/mv: mdrvisc's own gain from the preconditioner.")
 
     # Operator-apply ratio on the full grid, and what the rest of the speed-up comes from.
     from bench_operator import measure
@@ -148,12 +174,12 @@ def main(argv=None) -> None:
         rows.append([m["c"], f"{m['tol']:.0e}", r["wall"] / m["wall"], apply_ratio,
                      r["wall"] / m["wall"] / apply_ratio, np_applies, np_in_apply / r["wall"],
                      mv_equiv, mv_equiv / m["iterations"]])
-    table(["c", "tol", "end-to-end", "apply ratio", "rest (work avoided)", "np applies",
-           "np time in applies", "mv wall in full applies", "per mv CG iter"], rows,
+    table(["c", "tol", "np-pc/mv", "apply ratio", "rest (work avoided)", "np-pc applies",
+           "np-pc time in applies", "mv wall in full applies", "per mv CG iter"], rows,
           ["{:g}", "{}", "{:.1f}x", "{:.2f}x", "{:.1f}x", "{}", "{:.0%}", "{:.0f}", "{:.2f}"])
-    print("   'rest' = end-to-end / apply ratio: the factor from doing fewer and smaller applies "
-          "(windowing, one apply per CG iteration)\n   and from the O(n) work. 'mv wall in full "
-          "applies' = mdrvisc wall time / one full-grid mdrvisc apply; numpy needs "
+    print("   'rest' = same-algorithm ratio / apply ratio: the factor from doing fewer and smaller "
+          "applies (windowing, one apply per CG iteration)\n   and from the O(n) work. 'mv wall in "
+          "full applies' = mdrvisc wall time / one full-grid mdrvisc apply; numpy needs "
           "2 iters + solves full applies.")
     first_step_table(args.c, args.tol[0], n, args.repeats, args.np_repeats)
 
@@ -173,14 +199,15 @@ def first_step_table(cs, tol, n, repeats, np_repeats):
         one = np.array([1.0])
         res = interleaved(
             {"mv": lambda: _core.bem_viscous(h, mask, dx, ETA, one, ft, fv, tol=tol),
-             "np": lambda: ref.viscous_bem(h, mask, dx, ETA, FORCE, one, tol=tol)},
+             "np": lambda: ref.viscous_bem(h, mask, dx, ETA, FORCE, one, tol=tol,
+                                           precondition=True)},
             max(repeats, np_repeats))
         (t1, r1), (tn1, rn1) = res["mv"], res["np"]
         rows.append([c, f"{tol:.0e}", " ".join(str(int(i)) for i in full["iterations"]),
                      int(full["solves"]), t1, int(r1["iterations"][0]), tn1,
                      int(rn1["iterations"]), tn1 / t1])
-    print("\nFirst step alone (t = 0 -> 1 s, whole grid, cold start) and mdrvisc's per-step CG "
-          "iterations of the full run:")
+    print("\nFirst step alone (t = 0 -> 1 s, whole grid, cold start; numpy preconditioned too) "
+          "and mdrvisc's per-step CG iterations of the full run:")
     table(["c", "tol", "mv iters per step", "mv solves", "mv step-1 s", "mv step-1 iters",
            "np step-1 s", "np step-1 iters", "np/mv step 1"], rows,
           ["{:g}", "{}", "{}", "{}", "{:.3f}", "{}", "{:.3f}", "{}", "{:.1f}x"])
