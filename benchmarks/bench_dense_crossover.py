@@ -1,5 +1,5 @@
 """Flat punch on a fixed k x k square contact set: dense faer Cholesky against CG on the FFT
-operator, to find the crossover set size (``dense_limit`` of the solvers, default 256).
+operator, to find the crossover set size (``dense_limit`` of the solvers, default 144).
 
 ``_core.bem_punch(mask, dx, eta=1, force=1, dense_limit=K)`` solves K_SS p = 1 on the set S =
 mask: densely (faer Cholesky of the |S| x |S| Love matrix) when |S| <= K, else by CG with the
@@ -78,7 +78,7 @@ def main(argv=None) -> None:
         where = (f"CG faster from k = {k} (|S| = {k * k})" if k is not None
                  else f"dense faster up to k = {args.ks[-1]} (|S| = {args.ks[-1] ** 2})")
         print(f"   crossover {name}: {where}")
-    print("   current default dense_limit = 256 elements (k = 16).")
+    print("   current default dense_limit = 144 elements (k = 12).")
 
 
 if __name__ == "__main__":

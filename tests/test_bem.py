@@ -238,3 +238,24 @@ def test_solve_releases_the_gil():
         done.set()
         worker.join()
     assert len(ticks) > 20
+
+
+def test_bem_results_repeat_bit_for_bit_on_one_and_two_threads():
+    """The solver's parallel sums run over fixed chunks in a fixed order, so a run gives the
+    same bits whatever the thread count (rayon sizes its pool once per process, hence the
+    subprocesses). The grid (129^2) holds several chunks."""
+    import os
+    import subprocess
+    import sys
+
+    code = ("import mdrvisc as mv; s = mv.Scene(indenter=mv.Paraboloid(c=1.0, edge=2.56), "
+            "medium=mv.Viscous(eta=1.0), force=1.0, duration=3.0, "
+            "outputs=('depth', 'contact_length', 'velocity')); r = mv.solve(s, 'bem', 129); "
+            "print(r.depth.tobytes().hex(), r.velocity.tobytes().hex(), r.iterations)")
+    out = []
+    for threads in ("1", "2"):
+        env = {**os.environ, "RAYON_NUM_THREADS": threads}
+        run = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True,
+                             text=True, check=True)
+        out.append(run.stdout)
+    assert out[0] == out[1]

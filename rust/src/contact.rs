@@ -49,9 +49,9 @@ pub struct SolverOptions {
 }
 
 /// Default `SolverOptions::dense_limit` (elements): a fixed set alone on its window is
-/// solved faster by faer's Cholesky up to ~256 elements and by CG from ~289–529
+/// solved faster by faer's Cholesky up to 144 elements and by the preconditioned CG from 169
 /// (`benchmarks/bench_dense_crossover.py`).
-pub const DENSE_LIMIT: usize = 256;
+pub const DENSE_LIMIT: usize = 144;
 
 /// Largest automatic active set (elements): a cap on the dense matrix (8 m^2 bytes, 128 MB),
 /// above the crossovers of grids up to ~2000^2.
