@@ -95,7 +95,6 @@ pub struct FftOperator {
     col_inv: Arc<dyn Fft<f64>>,
     /// Real kernel spectrum, transposed (half x my), normalisation included.
     spectrum: Vec<f64>,
-    rows: Vec<Complex<f64>>,
     cols: Vec<Complex<f64>>,
     workers: Vec<Worker>,
 }
@@ -160,7 +159,6 @@ impl FftOperator {
             col_fwd,
             col_inv,
             spectrum: vec![0.0; half * my],
-            rows: vec![Complex::default(); my * half],
             cols: vec![Complex::default(); half * my],
             workers,
         };
@@ -192,49 +190,70 @@ impl FftOperator {
         self.cols.iter().map(|c| c.re * norm).collect()
     }
 
-    /// Row R2C of `nrows` rows of `src` (row stride `stride`), then column FFTs into `cols`.
+    /// Row R2C of `nrows` rows of `src` (row stride `stride`), written transposed into
+    /// `cols` TILE rows at a time, then column FFTs in `cols`.
     fn forward(&mut self, src: &[f64], stride: usize, nrows: usize) {
         let (half, my, ncols_in) = (self.half, self.my, stride.min(self.mx));
         let nw = self.workers.len();
         let r2c = &self.r2c;
         let chunk = nrows.div_ceil(nw).max(1);
-        self.rows[..nrows * half]
-            .par_chunks_mut(chunk * half)
-            .zip(self.workers.par_iter_mut())
+        let cols = ColumnWriter(self.cols.as_mut_ptr());
+        self.workers
+            .par_iter_mut()
             .enumerate()
-            .for_each(|(c, (out, w))| {
-                for (r, row_out) in out.chunks_mut(half).enumerate() {
-                    let iy = c * chunk + r;
-                    w.real[..ncols_in].copy_from_slice(&src[iy * stride..iy * stride + ncols_in]);
-                    w.real[ncols_in..].fill(0.0);
-                    r2c.process_with_scratch(&mut w.real, row_out, &mut w.r2c_scratch)
-                        .expect("buffer sizes are fixed at construction");
+            .for_each(|(c, w)| {
+                let (lo, hi) = (c * chunk, ((c + 1) * chunk).min(nrows));
+                for b in (lo..hi).step_by(TILE) {
+                    let end = (b + TILE).min(hi);
+                    for iy in b..end {
+                        let spec = &mut w.halves[(iy - b) * half..(iy - b + 1) * half];
+                        w.real[..ncols_in]
+                            .copy_from_slice(&src[iy * stride..iy * stride + ncols_in]);
+                        w.real[ncols_in..].fill(0.0);
+                        r2c.process_with_scratch(&mut w.real, spec, &mut w.r2c_scratch)
+                            .expect("buffer sizes are fixed at construction");
+                    }
+                    for kx in 0..half {
+                        for iy in b..end {
+                            // SAFETY: rows lo..hi belong to this worker alone, so element
+                            // (kx, iy) of `cols` is written by one thread; kx < half and
+                            // iy < nrows <= my keep it inside the buffer (half * my).
+                            unsafe { cols.write(kx * my + iy, w.halves[(iy - b) * half + kx]) };
+                        }
+                    }
                 }
             });
-        let rows = &self.rows;
         let col_fwd = &self.col_fwd;
         let chunk = half.div_ceil(nw).max(1);
         self.cols
             .par_chunks_mut(chunk * my)
             .zip(self.workers.par_iter_mut())
-            .enumerate()
-            .for_each(|(c, (out, w))| {
-                // Transpose in blocks of TILE columns: each row segment is read contiguously.
-                let (kx0, ncol) = (c * chunk, out.len() / my);
-                for b in (0..ncol).step_by(TILE) {
-                    let end = (b + TILE).min(ncol);
-                    for iy in 0..nrows {
-                        let seg = &rows[iy * half + kx0 + b..iy * half + kx0 + end];
-                        for (k, v) in seg.iter().enumerate() {
-                            out[(b + k) * my + iy] = *v;
-                        }
-                    }
-                }
+            .for_each(|(out, w)| {
                 for col in out.chunks_mut(my) {
                     col[nrows..].fill(Complex::default());
                     col_fwd.process_with_scratch(col, &mut w.col_scratch);
                 }
             });
+    }
+}
+
+/// Raw access to the column buffer for the transposed writes of `FftOperator::forward`,
+/// where each worker writes the rows it transformed and no element twice.
+#[derive(Clone, Copy)]
+struct ColumnWriter(*mut Complex<f64>);
+
+// SAFETY: only used for writes to disjoint elements from the workers of one parallel loop,
+// while the buffer it points into is exclusively borrowed by `forward`.
+unsafe impl Send for ColumnWriter {}
+unsafe impl Sync for ColumnWriter {}
+
+impl ColumnWriter {
+    /// Writes `v` at element `i`.
+    ///
+    /// # Safety
+    /// `i` must lie inside the buffer and no other thread may access element `i` meanwhile.
+    unsafe fn write(self, i: usize, v: Complex<f64>) {
+        unsafe { *self.0.add(i) = v };
     }
 }
 
