@@ -127,6 +127,8 @@ pub struct ContactSolver<O: SurfaceOperator> {
     p_old: Vec<f64>,
     /// Per-chunk sums of the parallel passes (`pass_sums`).
     partials: Vec<[f64; MAX_SUMS]>,
+    /// Elements of the flat punch's set (`unit_punch`).
+    set_idx: Vec<usize>,
 }
 
 /// Elements per task of the solver's parallel passes: fixed, so that every sum is taken in
@@ -162,6 +164,7 @@ impl<O: SurfaceOperator> ContactSolver<O> {
             z: vec![0.0; n],
             p_old: vec![0.0; n],
             partials: vec![[0.0; MAX_SUMS]; n.div_ceil(PASS_CHUNK)],
+            set_idx: Vec::with_capacity(n),
         }
     }
 
@@ -669,38 +672,44 @@ impl<O: SurfaceOperator> ContactSolver<O> {
     }
 
     /// Flat-punch solve on a fixed contact set: the pressure (Pa at G = 1) that moves every
-    /// element of `set` by exactly 1 m. Returns (pressure, iterations, relative residual).
-    /// Sets of at most `opts.dense_limit` elements are factorised densely; larger ones use
-    /// CG, started from `start` (restricted to the set) when given.
+    /// element of `set` by exactly 1 m, left as the solver's pressure (`pressure()`).
+    /// Returns (iterations, relative residual). Sets of at most `opts.dense_limit` elements
+    /// are factorised densely; larger ones use CG, started from `start` (restricted to the
+    /// set) when given, in the solver's buffers.
     pub fn unit_punch(
         &mut self,
         set: &[bool],
         start: Option<&[f64]>,
         opts: &SolverOptions,
         monitor: &mut dyn Monitor,
-    ) -> Result<(Vec<f64>, usize, f64)> {
+    ) -> Result<(usize, f64)> {
         let n = self.p.len();
         check_len("contact set", set.len(), n)?;
         opts.validate()?;
-        let idx: Vec<usize> = (0..n).filter(|&i| set[i]).collect();
+        if let Some(s) = start {
+            check_len("starting pressure", s.len(), n)?;
+        }
+        self.set_idx.clear();
+        self.set_idx.extend((0..n).filter(|&i| set[i]));
+        let idx = &self.set_idx;
         if idx.is_empty() {
             return Err(Error::InvalidInput("the contact set is empty".into()));
         }
+        let x = &mut self.p;
+        x.fill(0.0);
         if idx.len() <= opts.dense_limit {
-            return unit_punch_dense(self.op.nx(), self.op.dx(), &idx, n);
+            return unit_punch_dense(self.op.nx(), self.op.dx(), idx, x);
         }
         // Conjugate gradient on K_SS x = 1 (symmetric positive definite), preconditioned by
         // the inverse-kernel stencil restricted to the set unless turned off.
-        let mut x = vec![0.0; n];
         if let Some(s) = start {
-            check_len("starting pressure", s.len(), n)?;
-            for &i in &idx {
+            for &i in idx {
                 x[i] = s[i];
             }
         }
         let (nx, ny) = (self.op.nx(), self.op.ny());
         let (r, d, q, z) = (&mut self.g, &mut self.t, &mut self.r, &mut self.z);
-        self.op.apply(&x, q);
+        self.op.apply(x, q);
         for i in 0..n {
             r[i] = if set[i] { 1.0 - q[i] } else { 0.0 };
         }
@@ -714,31 +723,31 @@ impl<O: SurfaceOperator> ContactSolver<O> {
         };
         let mut rz = precondition(r, z);
         d.fill(0.0);
-        for &i in &idx {
+        for &i in idx {
             d[i] = z[i];
         }
         let bnorm = (idx.len() as f64).sqrt();
         let mut rr: f64 = idx.iter().map(|&i| r[i] * r[i]).sum();
         if rr.sqrt() / bnorm < opts.tol {
-            return Ok((x, 0, rr.sqrt() / bnorm));
+            return Ok((0, rr.sqrt() / bnorm));
         }
         for it in 1..=opts.max_iter {
             self.op.apply(d, q);
             let dq: f64 = idx.iter().map(|&i| d[i] * q[i]).sum();
             let alpha = rz / dq;
-            for &i in &idx {
+            for &i in idx {
                 x[i] += alpha * d[i];
                 r[i] -= alpha * q[i];
             }
             rr = idx.iter().map(|&i| r[i] * r[i]).sum();
             let res = rr.sqrt() / bnorm;
             if res < opts.tol {
-                return Ok((x, it, res));
+                return Ok((it, res));
             }
             let rz_new = precondition(r, z);
             let beta = rz_new / rz;
             rz = rz_new;
-            for &i in &idx {
+            for &i in idx {
                 d[i] = z[i] + beta * d[i];
             }
             if it % 16 == 0 {
@@ -795,8 +804,9 @@ fn winkler_set(h: &[f64], allowed: &[bool], excess: f64, limit: usize) -> Option
     (k <= limit).then(|| low[..k.max(1)].iter().map(|v| v.1).collect())
 }
 
-/// Dense Cholesky solve of K_SS x = 1 on the elements `idx` (faer).
-fn unit_punch_dense(nx: usize, dx: f64, idx: &[usize], n: usize) -> Result<(Vec<f64>, usize, f64)> {
+/// Dense Cholesky solve of K_SS x = 1 on the elements `idx` (faer), written into `x` (zero
+/// elsewhere beforehand); returns (1, relative residual).
+fn unit_punch_dense(nx: usize, dx: f64, idx: &[usize], x: &mut [f64]) -> Result<(usize, f64)> {
     let k = DenseOperator::subset_matrix(nx, dx, idx)?;
     let llt = k.llt(Side::Lower).map_err(|e| {
         Error::Domain(format!(
@@ -805,7 +815,6 @@ fn unit_punch_dense(nx: usize, dx: f64, idx: &[usize], n: usize) -> Result<(Vec<
     })?;
     let ones = vec![1.0; idx.len()];
     let sol = llt.solve(ColRef::from_slice(&ones));
-    let mut x = vec![0.0; n];
     for (j, &i) in idx.iter().enumerate() {
         x[i] = sol[j];
     }
@@ -815,7 +824,7 @@ fn unit_punch_dense(nx: usize, dx: f64, idx: &[usize], n: usize) -> Result<(Vec<
         .sum::<f64>()
         .sqrt()
         / (idx.len() as f64).sqrt();
-    Ok((x, 1, resid))
+    Ok((1, resid))
 }
 
 /// Index of the allowed element with the smallest gap.
@@ -931,7 +940,8 @@ mod tests {
                 ..SolverOptions::default()
             };
             let mut solver = ContactSolver::new(FftOperator::new(n, n, dx).unwrap());
-            solver.unit_punch(&set, None, &opts, &mut Silent).unwrap()
+            let (its, res) = solver.unit_punch(&set, None, &opts, &mut Silent).unwrap();
+            (solver.pressure().to_vec(), its, res)
         };
         let (dense, _, _) = punch(true, usize::MAX);
         let (p_plain, it_plain, _) = punch(false, 0);

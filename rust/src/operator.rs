@@ -198,31 +198,27 @@ impl FftOperator {
         let r2c = &self.r2c;
         let chunk = nrows.div_ceil(nw).max(1);
         let cols = ColumnWriter(self.cols.as_mut_ptr());
-        self.workers
-            .par_iter_mut()
-            .enumerate()
-            .for_each(|(c, w)| {
-                let (lo, hi) = (c * chunk, ((c + 1) * chunk).min(nrows));
-                for b in (lo..hi).step_by(TILE) {
-                    let end = (b + TILE).min(hi);
+        self.workers.par_iter_mut().enumerate().for_each(|(c, w)| {
+            let (lo, hi) = (c * chunk, ((c + 1) * chunk).min(nrows));
+            for b in (lo..hi).step_by(TILE) {
+                let end = (b + TILE).min(hi);
+                for iy in b..end {
+                    let spec = &mut w.halves[(iy - b) * half..(iy - b + 1) * half];
+                    w.real[..ncols_in].copy_from_slice(&src[iy * stride..iy * stride + ncols_in]);
+                    w.real[ncols_in..].fill(0.0);
+                    r2c.process_with_scratch(&mut w.real, spec, &mut w.r2c_scratch)
+                        .expect("buffer sizes are fixed at construction");
+                }
+                for kx in 0..half {
                     for iy in b..end {
-                        let spec = &mut w.halves[(iy - b) * half..(iy - b + 1) * half];
-                        w.real[..ncols_in]
-                            .copy_from_slice(&src[iy * stride..iy * stride + ncols_in]);
-                        w.real[ncols_in..].fill(0.0);
-                        r2c.process_with_scratch(&mut w.real, spec, &mut w.r2c_scratch)
-                            .expect("buffer sizes are fixed at construction");
-                    }
-                    for kx in 0..half {
-                        for iy in b..end {
-                            // SAFETY: rows lo..hi belong to this worker alone, so element
-                            // (kx, iy) of `cols` is written by one thread; kx < half and
-                            // iy < nrows <= my keep it inside the buffer (half * my).
-                            unsafe { cols.write(kx * my + iy, w.halves[(iy - b) * half + kx]) };
-                        }
+                        // SAFETY: rows lo..hi belong to this worker alone, so element
+                        // (kx, iy) of `cols` is written by one thread; kx < half and
+                        // iy < nrows <= my keep it inside the buffer (half * my).
+                        unsafe { cols.write(kx * my + iy, w.halves[(iy - b) * half + kx]) };
                     }
                 }
-            });
+            }
+        });
         let col_fwd = &self.col_fwd;
         let chunk = half.div_ceil(nw).max(1);
         self.cols

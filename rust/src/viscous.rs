@@ -160,17 +160,32 @@ struct Punch {
 }
 
 impl Punch {
+    /// No set solved yet.
+    fn new() -> Self {
+        Punch {
+            p_unit: Vec::new(),
+            k_unit: 0.0,
+        }
+    }
+
+    /// Solves the unit punch on `set` (started from the current solution when `warm` and
+    /// it has the set's length), reusing this punch's buffer; returns (iterations,
+    /// residual).
     fn solve(
+        &mut self,
         solver: &mut ContactSolver<FftOperator>,
         set: &[bool],
-        start: Option<&[f64]>,
+        warm: bool,
         opts: &SolverOptions,
         monitor: &mut dyn Monitor,
-    ) -> Result<(Self, usize, f64)> {
+    ) -> Result<(usize, f64)> {
         let area_el = solver.operator().dx().powi(2);
-        let (p_unit, its, res) = solver.unit_punch(set, start, opts, monitor)?;
-        let k_unit = p_unit.iter().sum::<f64>() * area_el;
-        Ok((Punch { p_unit, k_unit }, its, res))
+        let start = (warm && self.p_unit.len() == set.len()).then_some(self.p_unit.as_slice());
+        let (its, res) = solver.unit_punch(set, start, opts, monitor)?;
+        self.p_unit.clear();
+        self.p_unit.extend_from_slice(solver.pressure());
+        self.k_unit = self.p_unit.iter().sum::<f64>() * area_el;
+        Ok((its, res))
     }
 
     /// Pressure (Pa) and surface velocity (m/s) under `force` (N) on a body of viscosity eta.
@@ -245,6 +260,7 @@ pub fn run_implicit(
     let mut d_p = vec![0.0; n];
     let mut contact = vec![false; n];
     let (mut sep_w, mut allowed_w, mut start_w) = (vec![], vec![], vec![]);
+    let mut punch = Punch::new();
     let mut out = ViscousSeries::default();
     let (mut t_prev, mut depth, mut depth_prev) = (0.0, 0.0, 0.0);
     let mut impulse_prev = 0.0;
@@ -306,8 +322,8 @@ pub fn run_implicit(
         if (request.rates || want_fields) && contact.iter().any(|&c| c) {
             let win = Window::around(nx, ny, 0, |i| contact[i]);
             win.gather(&contact, &mut allowed_w);
-            let (punch, its, res) =
-                Punch::solve(pool.get(win.wx, win.wy)?, &allowed_w, None, opts, monitor)?;
+            let (its, res) =
+                punch.solve(pool.get(win.wx, win.wy)?, &allowed_w, false, opts, monitor)?;
             out.solves += 1;
             iterations += its;
             residual = f64::max(residual, res);
@@ -315,11 +331,11 @@ pub fn run_implicit(
             if want_fields {
                 let mut p_unit = vec![0.0; n];
                 win.scatter(&punch.p_unit, &mut p_unit);
-                let punch = Punch {
+                let full_punch = Punch {
                     p_unit,
                     k_unit: punch.k_unit,
                 };
-                let (pressure, velocity) = punch.fields(&mut full, force, eta);
+                let (pressure, velocity) = full_punch.fields(&mut full, force, eta);
                 out.fields.push(Fields {
                     step: k,
                     pressure,
@@ -361,8 +377,9 @@ pub fn run_explicit(
         .map(|i| grid.allowed[i] && grid.height[i] <= hmin)
         .collect();
     let mut count = contact.iter().filter(|&&c| c).count();
-    let (mut punch, mut iterations, mut residual) =
-        Punch::solve(&mut solver, &contact, None, opts, monitor)?;
+    let mut punch = Punch::new();
+    let (mut iterations, mut residual) =
+        punch.solve(&mut solver, &contact, false, opts, monitor)?;
     let mut v_unit = vec![0.0; n];
     solver.operator().apply(&punch.p_unit, &mut v_unit);
     let mut solved_count = count;
@@ -389,9 +406,7 @@ pub fn run_explicit(
             }
             steps += 1;
             if count as f64 > solved_count as f64 * (1.0 + ctrl.area_change) {
-                let (p, its, res) =
-                    Punch::solve(&mut solver, &contact, Some(&punch.p_unit), opts, monitor)?;
-                punch = p;
+                let (its, res) = punch.solve(&mut solver, &contact, true, opts, monitor)?;
                 solver.operator().apply(&punch.p_unit, &mut v_unit);
                 solved_count = count;
                 out.solves += 1;
@@ -454,7 +469,8 @@ pub fn run_punch(
     check_positive("force", force)?;
     let area_el = grid.dx * grid.dx;
     let mut solver = ContactSolver::new(FftOperator::new(grid.nx, grid.ny, grid.dx)?);
-    let (p_unit, iterations, residual) = solver.unit_punch(&grid.allowed, None, opts, monitor)?;
+    let (iterations, residual) = solver.unit_punch(&grid.allowed, None, opts, monitor)?;
+    let p_unit = solver.pressure();
     let k_unit: f64 = p_unit.iter().sum::<f64>() * area_el;
     let pressure: Vec<f64> = p_unit.iter().map(|v| v * force / k_unit).collect();
     let surface_velocity = match margin {
