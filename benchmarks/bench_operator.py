@@ -10,7 +10,8 @@ What is timed (all best of N, wall clock):
   GIL release are included.
 * ``mv CG iter``: one flat-punch CG iteration of ``_core.bem_punch`` on the full n x n square
   (``dense_limit=0``), from two tolerances, (T_hi - T_lo) / (iters_hi - iters_lo): one apply
-  plus the O(n^2) vector passes of an iteration, as a solver sees it.
+  plus the preconditioner's stencil pass and the O(n^2) vector passes of an iteration, as a
+  solver sees it.
 * ``np build+apply``: ``FftOperator(n, n, dx).apply(p)`` (Love kernel, kernel rfft2, one apply;
   workers=-1); ``mv build+apply``: ``mv.arrays.SurfaceOperator((n, n), dx).apply(p)``.
 
