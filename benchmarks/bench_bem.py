@@ -79,18 +79,18 @@ def run_all(c: float, n: int, tol: float, repeats: int, np_repeats: int):
     (best of ``np_repeats``), interleaved run by run so that all see the same machine state."""
     import numpy_reference as ref
     from mdrvisc import _core
-    from mdrvisc.solve import _first_depth_estimate
+    from mdrvisc.solve import _depth_bounds
 
     ref.FFT_WORKERS = -1
     sc = scene(c)
     _, dx, h, mask = _grid(sc, n)
     ft, fv = sc.history
-    bound = _first_depth_estimate(sc)
+    bounds = _depth_bounds(sc)
     mv_run = lambda: mv.solve(sc, "bem", n, tol=tol)  # noqa: E731
     runs = {
         "mv": mv_run,
         "mv plain": lambda: _core.bem_viscous(h, mask, dx, ETA, sc.times, ft, fv, tol=tol,
-                                              first_bound=bound, precondition=False),
+                                              depth_bounds=bounds, precondition=False),
         "np-pc": lambda: ref.viscous_bem(h, mask, dx, ETA, FORCE, sc.times, tol=tol,
                                          max_iter=5000, precondition=True),
         "np": lambda: ref.viscous_bem(h, mask, dx, ETA, FORCE, sc.times, tol=tol, max_iter=5000),

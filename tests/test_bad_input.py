@@ -90,6 +90,9 @@ def test_core_rejects_non_contiguous_and_mismatched_arrays_clearly():
         _core.bem_viscous(h, np.ones((8, 8), bool), -0.1, 1.0, np.array([1.0]), np.array([0.0]), np.array([1.0]))
     with pytest.raises(mv.InvalidInputError, match="footprint"):
         _core.bem_viscous(h, np.zeros((8, 8), bool), 0.1, 1.0, np.array([1.0]), np.array([0.0]), np.array([1.0]))
+    with pytest.raises(mv.InvalidInputError, match="depth bounds"):
+        _core.bem_viscous(h, np.ones((8, 8), bool), 0.1, 1.0, np.array([1.0, 2.0]), np.array([0.0]),
+                          np.array([1.0]), depth_bounds=[0.1])
 
 
 def test_non_convergence_is_an_exception_with_its_numbers():

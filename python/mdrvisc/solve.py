@@ -178,7 +178,7 @@ def _solve_bem(scene, n, tol, max_iter, callback, explicit):
     rates = scene.wants("velocity") or scene.wants("stiffness_length")
     r = _core.bem_viscous(h, mask, dx, eta, scene.times, ft, fv, rates=rates, fields_at=steps,
                           tol=tol, max_iter=max_iter, progress=callback, explicit=explicit,
-                          first_bound=_first_depth_estimate(scene))
+                          depth_bounds=_depth_bounds(scene))
     if ind.footprint_half_width is None and np.any(r["at_border"]):
         raise DomainError("BEM: the contact reached the edge of the grid of an unbounded indenter "
                           f"at t = {r['t'][np.argmax(r['at_border'])]} s; the grid is too small")
@@ -195,16 +195,22 @@ def _solve_bem(scene, n, tol, max_iter, callback, explicit):
                   grid_shape=h.shape)
 
 
-def _first_depth_estimate(scene):
-    """1.05 times the MDR (Lee–Radok) depth at the first output time, which sizes the first
-    solve's window (the solver checks it and widens the window if it was too small); None
-    where no closed form applies."""
-    try:
-        depth = lee_radok_depth_from_impulse(scene.impulse(float(scene.times[0])), scene.indenter,
-                                             scene.medium.eta)
-    except MdrviscError:
-        return None
-    return 1.05 * float(depth)
+def _depth_bounds(scene):
+    """1.05 times the MDR (Lee–Radok) depth at each output time, which sizes that step's
+    window (the solver checks it and widens the window if it was too small); NaN where no
+    closed form applies (e.g. once the contact fills the footprint), None if nowhere."""
+    impulses = np.array([scene.impulse(float(t)) for t in scene.times])
+
+    def depth(impulse):
+        try:
+            return lee_radok_depth_from_impulse(impulse, scene.indenter, scene.medium.eta)
+        except MdrviscError:
+            return math.nan
+
+    depths = np.asarray(depth(impulses), dtype=np.float64)
+    if np.all(np.isnan(depths)):  # one time beyond the closed form fails them all: one by one
+        depths = np.array([depth(float(i)) for i in impulses])
+    return None if np.all(np.isnan(depths)) else 1.05 * depths
 
 
 def _covers(area, mask, dx):

@@ -157,7 +157,7 @@ fn history(py: Python<'_>, times: Vec<f64>, forces: Vec<f64>) -> PyResult<ForceH
 /// Implicit viscous BEM run on a grid: heights (m, (ny, nx)), footprint mask, element size
 /// dx (m), viscosity eta (Pa s), output times (s), force history samples (s, N).
 #[pyfunction]
-#[pyo3(signature = (height, allowed, dx, eta, times, force_times, force_values, rates=false, fields_at=vec![], tol=1e-10, max_iter=5000, progress=None, explicit=None, dense_limit=DENSE_LIMIT, first_bound=None, active_limit=None, precondition=true))]
+#[pyo3(signature = (height, allowed, dx, eta, times, force_times, force_values, rates=false, fields_at=vec![], tol=1e-10, max_iter=5000, progress=None, explicit=None, dense_limit=DENSE_LIMIT, depth_bounds=None, active_limit=None, precondition=true))]
 #[allow(clippy::too_many_arguments)]
 fn bem_viscous<'py>(
     py: Python<'py>,
@@ -175,7 +175,7 @@ fn bem_viscous<'py>(
     progress: Option<Py<PyAny>>,
     explicit: Option<(f64, f64, f64)>,
     dense_limit: usize,
-    first_bound: Option<f64>,
+    depth_bounds: Option<Vec<f64>>,
     active_limit: Option<usize>,
     precondition: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
@@ -189,7 +189,7 @@ fn bem_viscous<'py>(
         times: slice1(&times, "times")?,
         rates,
         fields_at,
-        first_bound,
+        depth_bounds: depth_bounds.unwrap_or_default(),
     };
     let opts = options(tol, max_iter, dense_limit, active_limit, precondition);
     let mut monitor = PyMonitor::new(progress);

@@ -443,16 +443,24 @@ impl Scene {
             }
             (Method::Bem, _) => {
                 let grid = self.indenter.bem_grid(self.n, impulse, eta)?;
-                // MDR's depth at the first output time sizes the first solve's window
-                let first = history.impulse(times[0]);
-                let estimate = self
-                    .indenter
-                    .profile_1d(self.indenter.contact_radius(first, eta));
+                // MDR's depths size the steps' windows while the contact fits the footprint
+                let half = self.indenter.half_width().unwrap_or(f64::INFINITY);
+                let depth_bounds = times
+                    .iter()
+                    .map(|&t| {
+                        let a = self.indenter.contact_radius(history.impulse(t), eta);
+                        if a < half {
+                            1.05 * self.indenter.profile_1d(a)
+                        } else {
+                            f64::NAN
+                        }
+                    })
+                    .collect();
                 let req = ViscousRequest {
                     times,
                     rates: true,
                     fields_at: vec![],
-                    first_bound: Some(1.05 * estimate),
+                    depth_bounds,
                 };
                 let s = viscous::run_implicit(&grid, eta, &history, &req, opts, monitor)?;
                 if self.indenter.half_width().is_none() && s.at_border.iter().any(|&b| b) {

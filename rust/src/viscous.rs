@@ -101,10 +101,12 @@ pub struct ViscousRequest {
     pub rates: bool,
     /// Output-time indices at which to build pressure and velocity fields.
     pub fields_at: Vec<usize>,
-    /// An estimate of the depth after the first step (m), e.g. from MDR: the first solve
-    /// runs on the window it implies, and again on a larger one if the depth exceeds it, so
-    /// the result never depends on it. None: the first solve uses the whole grid.
-    pub first_bound: Option<f64>,
+    /// Estimated upper bounds of the depth at the output times (m), e.g. 1.05 times MDR's
+    /// (one per output time, non-finite where there is none; empty: none at all). A step's
+    /// solve runs on the window the smaller of its bound and the linear extrapolation
+    /// implies, and again on a larger window if the depth exceeds it, so the result never
+    /// depends on them. Without a bound the first step uses the whole grid.
+    pub depth_bounds: Vec<f64>,
 }
 
 /// Time series of a viscous run, one entry per output time.
@@ -139,6 +141,13 @@ pub struct ViscousSeries {
 fn check_request(request: &ViscousRequest, eta: f64) -> Result<()> {
     check_positive("viscosity eta", eta)?;
     check_output_times(&request.times)?;
+    if !request.depth_bounds.is_empty() {
+        check_len(
+            "depth bounds",
+            request.depth_bounds.len(),
+            request.times.len(),
+        )?;
+    }
     match request
         .fields_at
         .iter()
@@ -270,13 +279,16 @@ pub fn run_implicit(
         let (mut iterations, mut residual) = (0, 0.0);
         if impulse > 0.0 {
             let warm = contact.iter().any(|&c| c);
-            let mut bound = if warm {
+            let extrapolated = if warm {
                 depth + 1.05 * (depth - depth_prev) * impulse / impulse_prev
             } else {
-                request
-                    .first_bound
-                    .filter(|b| b.is_finite())
-                    .unwrap_or(f64::INFINITY)
+                f64::INFINITY
+            };
+            let estimate = request.depth_bounds.get(k).copied().unwrap_or(f64::NAN);
+            let mut bound = if estimate.is_finite() {
+                estimate.min(extrapolated)
+            } else {
+                extrapolated
             };
             let (window, s) = loop {
                 let win = Window::around(nx, ny, 2, |i| grid.allowed[i] && sep[i] <= bound);
@@ -523,7 +535,8 @@ mod tests {
             times: times.clone(),
             rates: false,
             fields_at: vec![],
-            first_bound: Some(1e-3),
+            // far too small for the first step: it is solved again on a larger window
+            depth_bounds: [1e-3].into_iter().chain([f64::NAN; 7]).collect(),
         };
         let h = ForceHistory::constant(1.0).unwrap();
         let s = run_implicit(&grid, 1.0, &h, &req, &SolverOptions::default(), &mut Silent).unwrap();
