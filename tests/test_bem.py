@@ -259,3 +259,20 @@ def test_bem_results_repeat_bit_for_bit_on_one_and_two_threads():
                              text=True, check=True)
         out.append(run.stdout)
     assert out[0] == out[1]
+
+
+def test_depth_bounds_size_the_windows_but_not_the_result():
+    """Steps solved on windows from MDR's depths, on windows from far too small bounds (each
+    solved again on a larger window) and on the linear extrapolation alone agree to the
+    solver's tolerance."""
+    from mdrvisc.solve import _depth_bounds, bem_grid
+
+    scene = mv.Scene(indenter=mv.Paraboloid(c=1.0, edge=2.56), medium=VISCOUS, force=1.0, duration=5.0)
+    _, dx, h, mask = bem_grid(scene, 97)
+    ft, fv = scene.history
+    runs = [_core.bem_viscous(h, mask, dx, 1.0, scene.times, ft, fv, depth_bounds=b)
+            for b in (_depth_bounds(scene), [1e-3] * 5, None)]
+    assert runs[1]["solves"] > runs[0]["solves"] == 5
+    for r in runs[1:]:
+        np.testing.assert_allclose(r["depth"], runs[0]["depth"], rtol=1e-9)
+        np.testing.assert_allclose(r["area"], runs[0]["area"], rtol=0)
