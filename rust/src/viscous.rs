@@ -248,8 +248,9 @@ impl ViscousSeries {
 /// Each step solves on a window that holds every element that can touch: the contact lies
 /// where the separation h + u_n is at most the new depth, so a window covering
 /// {h + u_n <= d_bound} is exact whenever the solve returns d <= d_bound (checked; otherwise
-/// the step is repeated on a larger window). d_bound extrapolates the depth linearly in the
-/// impulse, an upper bound while the contact grows. The first step uses the whole grid.
+/// the step is repeated on a larger window). d_bound is the smaller of the request's depth
+/// bound for the step and the depth extrapolated linearly in the impulse (an upper bound while
+/// the contact grows); a first step without a bound uses the whole grid.
 pub fn run_implicit(
     grid: &Grid,
     eta: f64,
