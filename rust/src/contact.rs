@@ -207,7 +207,8 @@ impl<O: SurfaceOperator> ContactSolver<O> {
         &mut self.op
     }
 
-    /// Pressure of the last solve (Pa, or Pa s for impulse densities).
+    /// Pressure of the last solve (Pa, or Pa s for impulse densities; for `unit_punch`, Pa at
+    /// G = 1 per metre of punch displacement).
     pub fn pressure(&self) -> &[f64] {
         &self.p
     }
@@ -713,7 +714,8 @@ impl<O: SurfaceOperator> ContactSolver<O> {
         for i in 0..n {
             r[i] = if set[i] { 1.0 - q[i] } else { 0.0 };
         }
-        let precondition = |r: &[f64], z: &mut [f64]| {
+        // z = M r on the set (M = the stencil or 1); returns r . z over the set
+        let apply_m = |r: &[f64], z: &mut [f64]| {
             if opts.precondition {
                 precondition::apply(nx, ny, r, z);
             } else {
@@ -721,7 +723,7 @@ impl<O: SurfaceOperator> ContactSolver<O> {
             }
             idx.iter().map(|&i| r[i] * z[i]).sum::<f64>()
         };
-        let mut rz = precondition(r, z);
+        let mut rz = apply_m(r, z);
         d.fill(0.0);
         for &i in idx {
             d[i] = z[i];
@@ -744,7 +746,7 @@ impl<O: SurfaceOperator> ContactSolver<O> {
             if res < opts.tol {
                 return Ok((it, res));
             }
-            let rz_new = precondition(r, z);
+            let rz_new = apply_m(r, z);
             let beta = rz_new / rz;
             rz = rz_new;
             for &i in idx {
