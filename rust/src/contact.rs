@@ -350,9 +350,14 @@ impl<O: SurfaceOperator> ContactSolver<O> {
         // update, so most iterations cost one apply.
         self.op.apply(&self.p, &mut self.u);
         let (nx, ny) = (self.op.nx(), self.op.ny());
+        // Under force control, the mean gap over the set as the last linear update of u
+        // left it (None after a refresh).
+        let mut next_shift = None;
         for it in 1..=opts.max_iter {
-            let shift = match target {
-                Target::Force(_) => {
+            let shift = match (target, next_shift.take()) {
+                (Target::Depth(d), _) => d,
+                (Target::Force(_), Some(s)) => s,
+                (Target::Force(_), None) => {
                     let [s, k] = self.pass_sums(|c| {
                         let mut acc = [0.0; 2];
                         for j in 0..c.p.len() {
@@ -363,13 +368,8 @@ impl<O: SurfaceOperator> ContactSolver<O> {
                         }
                         acc
                     });
-                    if k > 0.0 {
-                        s / k
-                    } else {
-                        0.0
-                    }
+                    mean(s, k)
                 }
-                Target::Depth(d) => d,
             };
             // The search direction follows z = M g on the contact set: M = 1, or the
             // inverse-kernel stencil (projected to zero mean under force control, where the
@@ -516,10 +516,10 @@ impl<O: SurfaceOperator> ContactSolver<O> {
                 None => {}
             }
             // Rescale to the force, measure the change, and follow u = K[p] linearly unless
-            // it is refreshed, in one pass.
+            // it is refreshed, in one pass; a linear update also sums the next mean gap.
             let refresh = overlap || clamped || it % 32 == 0;
-            let [total, change] = self.pass_sums(|c| {
-                let mut acc = [0.0; 2];
+            let [total, change, gap_sum, count] = self.pass_sums(|c| {
+                let mut acc = [0.0; 4];
                 for j in 0..c.p.len() {
                     let v = c.p[j] * factor;
                     c.p[j] = v;
@@ -527,12 +527,18 @@ impl<O: SurfaceOperator> ContactSolver<O> {
                     acc[1] += (v - c.p_old[j]).abs();
                     if !refresh {
                         c.u[j] = factor * (c.u[j] - tau * c.r[j]);
+                        if v > 0.0 {
+                            acc[2] += compliance * c.u[j] + h[c.lo + j];
+                            acc[3] += 1.0;
+                        }
                     }
                 }
                 acc
             });
             if refresh {
                 self.op.apply(&self.p, &mut self.u);
+            } else {
+                next_shift = Some(mean(gap_sum, count));
             }
             residual = if total > 0.0 {
                 change / total.max(reference / area)
@@ -543,7 +549,8 @@ impl<O: SurfaceOperator> ContactSolver<O> {
                 monitor.progress("contact iterations", it, opts.max_iter)?;
             }
             if residual < opts.tol {
-                self.op.apply(&self.p, &mut self.u);
+                // u = K[p] to round-off: refreshed, or linearly updated at most 31 times
+                // since the last refresh.
                 self.u.iter_mut().for_each(|v| *v *= compliance);
                 let depth = match target {
                     Target::Force(_) => {
@@ -827,6 +834,15 @@ fn unit_punch_dense(nx: usize, dx: f64, idx: &[usize], x: &mut [f64]) -> Result<
         .sqrt()
         / (idx.len() as f64).sqrt();
     Ok((1, resid))
+}
+
+/// `sum / count`, or 0 for an empty set.
+fn mean(sum: f64, count: f64) -> f64 {
+    if count > 0.0 {
+        sum / count
+    } else {
+        0.0
+    }
 }
 
 /// Index of the allowed element with the smallest gap.

@@ -24,31 +24,33 @@ pub trait SurfaceOperator {
     fn apply(&mut self, p: &[f64], u: &mut [f64]);
 }
 
-/// Smallest m >= n whose prime factors are all in {2, 3, 5, 7}.
-fn smooth_size(n: usize) -> usize {
-    let mut m = n.max(1);
+/// Smallest even m >= n of the form 2^a 3^b 5^c with c <= 1 (n itself when n <= 1): the
+/// lengths at which rustfft and realfft run fastest. Odd lengths take realfft's slow path,
+/// and factors 7 and 25 cost 15-50 % more per point than the next such size up
+/// (`benchmarks/bench_operator.py --sizes`, 129..257).
+fn fast_size(n: usize) -> usize {
+    if n <= 1 {
+        return 1;
+    }
+    let mut m = n + n % 2;
     loop {
         let mut r = m;
-        for f in [2, 3, 5, 7] {
+        for f in [2, 3] {
             while r % f == 0 {
                 r /= f;
             }
         }
-        if r == 1 {
+        if r == 1 || r == 5 {
             return m;
         }
-        m += 1;
+        m += 2;
     }
 }
 
 /// Padded length for a linear convolution over `n` elements with an even kernel: offsets
 /// +(n-1) and -(n-1) may share a slot, so 2n - 2 suffices (1 for a single element).
 fn padded_size(n: usize) -> usize {
-    if n == 1 {
-        1
-    } else {
-        smooth_size(2 * n - 2)
-    }
+    fast_size(2 * n - 2)
 }
 
 /// Rows or columns moved together in the blocked transposes.
@@ -459,9 +461,20 @@ mod tests {
     }
 
     #[test]
-    fn smooth_sizes() {
+    fn fast_sizes() {
+        assert_eq!(padded_size(1), 1);
+        assert_eq!(padded_size(2), 2);
         assert_eq!(padded_size(257), 512);
-        assert_eq!(padded_size(200), 400);
-        assert_eq!(smooth_size(11 * 13), 144);
+        assert_eq!(padded_size(176), 360);
+        assert_eq!(padded_size(200), 400 + 32);
+        assert_eq!(fast_size(11 * 13), 144);
+        assert_eq!(fast_size(7), 8);
+        for n in 2..3000 {
+            let m = fast_size(n);
+            assert!(
+                m >= n && m % 2 == 0 && m as f64 <= 1.2 * n as f64 + 2.0,
+                "{n} -> {m}"
+            );
+        }
     }
 }
