@@ -276,3 +276,59 @@ def test_depth_bounds_size_the_windows_but_not_the_result():
     for r in runs[1:]:
         np.testing.assert_allclose(r["depth"], runs[0]["depth"], rtol=1e-9)
         np.testing.assert_allclose(r["area"], runs[0]["area"], rtol=0)
+
+
+def test_static_windows_hold_the_contact_and_give_the_whole_grids_solution():
+    """A static Hertz contact solved on the window from a depth bound (MDR's, or one below the
+    depth, which is exceeded, widened and solved again) or from the depth itself equals the
+    whole grid's solve: pressures to the tolerance, deflections, depth, and the set; the
+    windows (radius sqrt(2.1) a around a paraboloid: h <= 1.05 d = 1.05 a^2 / R) are 70 % of
+    the grid's side; deflection=False leaves the deflection out."""
+    n, dx, R, G = 160, 0.016, 10.0, 1.0
+    x = (np.arange(n) - (n - 1) / 2) * dx
+    xx, yy = np.meshgrid(x, x)
+    h = (xx**2 + yy**2) / (2 * R)
+    a = 36 * dx
+    force = 16 * G * a**3 / (3 * R)
+    opts = dict(tol=1e-12, active_limit=0)
+    full = mv.arrays.contact(h, dx, G, force=force, **opts)
+    assert full["window"] == (0, 0, n, n) and full["solves"] == 1
+    d_mdr = analytic.hertz(force, R, 4 * G)[1]
+    runs = [mv.arrays.contact(h, dx, G, force=force, depth_bound=1.05 * d_mdr, **opts),
+            mv.arrays.contact(h, dx, G, force=force, depth_bound=0.7 * d_mdr, **opts),
+            mv.arrays.contact(h, dx, G, depth=full["depth"], **opts)]
+    assert [r["solves"] for r in runs] == [1, 2, 1]
+    for r in runs:
+        y0, x0, wy, wx = r["window"]
+        assert 2 * a / dx < wx <= 0.75 * n and 2 * a / dx < wy <= 0.75 * n
+        assert r["contact_count"] == full["contact_count"]
+        assert r["depth"] == pytest.approx(full["depth"], rel=1e-10)
+        np.testing.assert_allclose(r["pressure"], full["pressure"], rtol=0,
+                                   atol=1e-9 * full["pressure"].max())
+        np.testing.assert_allclose(r["deflection"], full["deflection"], rtol=0,
+                                   atol=1e-10 * full["deflection"].max())
+    assert mv.arrays.contact(h, dx, G, force=force, depth_bound=d_mdr, deflection=False)["deflection"] is None
+    with pytest.raises(mv.InvalidInputError):
+        mv.arrays.contact(h, dx, G, force=force, depth_bound=float("nan"))
+
+
+def test_static_scene_solves_on_the_mdr_window_and_computes_only_what_it_asks_for():
+    """mv.solve on an elastic scene: one solve on MDR's window, the same depth and pressure as
+    arrays.contact on the whole grid, and no deflection field unless asked for."""
+    n, R, G, force = 128, 10.0, 1.0, 0.0215
+    ind = mv.Paraboloid(c=1 / (2 * R), edge=2.56)
+    scene = mv.Scene(indenter=ind, medium=mv.Elastic(G=G), force=force,
+                     outputs=("depth", "pressure"))
+    r = mv.solve(scene, "bem", n)
+    assert r.solves == 1 and set(r.fields[None]) == {"x", "y", "pressure"}
+    from mdrvisc.solve import bem_grid
+
+    _, dx, h, mask = bem_grid(scene, n)
+    full = mv.arrays.contact(h, dx, G, force=force, mask=mask)
+    assert r.depth[0] == pytest.approx(full["depth"], rel=1e-9)
+    np.testing.assert_allclose(r.fields[None]["pressure"], full["pressure"], rtol=0,
+                               atol=1e-8 * full["pressure"].max())
+    both = mv.solve(mv.Scene(indenter=ind, medium=mv.Elastic(G=G), force=force,
+                             outputs=("depth", "pressure", "deflection")), "bem", n)
+    np.testing.assert_allclose(both.fields[None]["deflection"], full["deflection"], rtol=0,
+                               atol=1e-8 * full["deflection"].max())

@@ -89,7 +89,7 @@ def _mask(mask, shape):
 
 
 def contact(height, dx, G, force=None, depth=None, mask=None, tol=1e-10, max_iter=5000,
-            active_limit=None, precondition=True):
+            active_limit=None, precondition=True, depth_bound=None, deflection=True):
     """Static elastic contact of a rigid indenter on an incompressible half-space of shear
     modulus ``G`` (Pa) under ``force`` (N) or at ``depth`` (m).
 
@@ -101,9 +101,17 @@ def contact(height, dx, G, force=None, depth=None, mask=None, tol=1e-10, max_ite
     directions (2–3x fewer iterations on large contacts, the same solution); False gives the
     plain method.
 
-    Returns a dict: depth (m), force (N), pressure (Pa, (ny, nx)), deflection (m),
-    iterations, residual, contact_count, method ("polonsky-keer" or "active-set"),
-    wall_time (s).
+    The solve runs on the window (sub-grid, 2 elements of margin) of the elements that can
+    touch: those with height <= depth, or under force control with height <= ``depth_bound``
+    (m), an upper bound on the depth such as MDR's (without one, the whole grid). The result
+    is the whole grid's, exactly, since deflections are positive; a bound the depth exceeds
+    is widened and the solve repeated (``solves``). ``deflection=False`` skips the
+    whole-grid deflection (None), which costs an operator on the whole grid when the window
+    is smaller.
+
+    Returns a dict: depth (m), force (N), pressure (Pa, (ny, nx)), deflection (m, or None),
+    iterations (over all solves), residual, contact_count, method ("polonsky-keer" or
+    "active-set"), solves, window ((y0, x0, rows, columns) of the last solve), wall_time (s).
     """
     h = _grid("height", height)
     dx = _positive("contact", "dx", dx)
@@ -112,10 +120,13 @@ def contact(height, dx, G, force=None, depth=None, mask=None, tol=1e-10, max_ite
         raise InvalidInputError("contact: give exactly one of force and depth")
     if force is not None:
         force = _positive("contact", "force", force)
+    if depth_bound is not None:
+        depth_bound = _positive("contact", "depth_bound", depth_bound)
     start = time.perf_counter()
     r = _core.contact_solve(h, _mask(mask, h.shape), dx, 1.0 / G, force=force,
                             depth=None if depth is None else float(depth), tol=tol, max_iter=max_iter,
-                            active_limit=active_limit, precondition=precondition)
+                            active_limit=active_limit, precondition=precondition,
+                            depth_bound=depth_bound, deflection=bool(deflection))
     r["wall_time"] = time.perf_counter() - start
     return r
 

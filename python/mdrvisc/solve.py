@@ -162,14 +162,19 @@ def _solve_bem(scene, n, tol, max_iter, callback, explicit):
     x, dx, h, mask = bem_grid(scene, n)
     ind = scene.indenter
     if isinstance(scene.medium, Elastic):
-        r = _core.contact_solve(h, mask, dx, 1.0 / scene.medium.G, force=scene.history[1][-1],
-                                tol=tol, max_iter=max_iter, progress=callback)
+        force = float(scene.history[1][-1])
+        r = _core.contact_solve(h, mask, dx, 1.0 / scene.medium.G, force=force, tol=tol,
+                                max_iter=max_iter, progress=callback,
+                                depth_bound=_static_depth_bound(scene, force),
+                                deflection=scene.wants("deflection"))
         area = r["contact_count"] * dx * dx
-        fields = {None: {"x": x, "y": x, "pressure": r["pressure"], "deflection": r["deflection"]}}
+        fields = {None: {"x": x, "y": x, **{k: r[k] for k in ("pressure", "deflection")
+                                            if scene.wants(k)}}}
         return Result("bem", n, dx, np.array([0.0]), np.array([r["depth"]]),
                       np.array([2 * math.sqrt(area / math.pi)]), area=np.array([area]),
-                      fields=fields if scene.wants_fields else None, steps=0, solves=1,
-                      iterations=r["iterations"], residual=r["residual"], grid_shape=h.shape)
+                      fields=fields if scene.wants_fields else None, steps=0,
+                      solves=r["solves"], iterations=r["iterations"], residual=r["residual"],
+                      grid_shape=h.shape)
     eta = scene.medium.eta
     ft, fv = scene.history
     if ind.is_flat:
@@ -193,6 +198,16 @@ def _solve_bem(scene, n, tol, max_iter, callback, explicit):
                   steps=r["steps"], solves=r["solves"],
                   iterations=int(np.sum(r["iterations"])), residual=float(np.max(r["residual"])),
                   grid_shape=h.shape)
+
+
+def _static_depth_bound(scene, force):
+    """1.05 times the MDR (Hertz-type) depth of an elastic contact under ``force``, which sizes
+    the solve's window (checked by the solver, which widens it if it was too small); None
+    where no closed form applies."""
+    try:
+        return 1.05 * float(lee_radok_depth_from_impulse(force, scene.indenter, scene.medium.G))
+    except MdrviscError:
+        return None
 
 
 def _depth_bounds(scene):

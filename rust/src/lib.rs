@@ -19,6 +19,7 @@ pub mod mdr;
 #[cfg(feature = "python")]
 mod python;
 pub mod scenes;
+pub mod static_contact;
 pub mod transforms;
 pub mod viscoelastic;
 pub mod viscous;

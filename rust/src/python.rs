@@ -2,7 +2,7 @@
 //! released during computations; progress callbacks and Ctrl-C are served between chunks of
 //! work from the calling thread.
 
-use crate::contact::{ContactSolver, SolverOptions, Target, DENSE_LIMIT};
+use crate::contact::{SolverOptions, Target, DENSE_LIMIT};
 use crate::error::check_finite;
 use crate::error::Error;
 use crate::integrator::ExplicitControl;
@@ -11,6 +11,7 @@ use crate::mdr::{self, Foundation, Medium};
 use crate::monitor::Monitor;
 use crate::operator::{DenseOperator, FftOperator, SurfaceOperator};
 use crate::rheology::Rheology;
+use crate::static_contact;
 use crate::transforms;
 use crate::viscoelastic;
 use crate::viscous::{self, Grid, ViscousRequest};
@@ -509,10 +510,13 @@ impl PySurfaceOperator {
     }
 }
 
-/// Static Polonsky–Keer contact solve: separation h (m), footprint mask, element size dx
-/// (m), compliance (1/G, 1/Pa), and either `force` (N) or `depth` (m).
+/// Static contact solve: separation h (m), footprint mask, element size dx (m), compliance
+/// (1/G, 1/Pa), and either `force` (N) or `depth` (m). The solve runs on the window that can
+/// touch (`static_contact::solve`): the elements with h <= depth, or with h <= `depth_bound`
+/// (m) under force control (the whole grid without one). `deflection=False` leaves the
+/// deflection out (None), which spares a whole-grid operator when the window is smaller.
 #[pyfunction]
-#[pyo3(signature = (height, allowed, dx, compliance, force=None, depth=None, tol=1e-10, max_iter=5000, progress=None, dense_limit=DENSE_LIMIT, active_limit=None, precondition=true))]
+#[pyo3(signature = (height, allowed, dx, compliance, force=None, depth=None, tol=1e-10, max_iter=5000, progress=None, dense_limit=DENSE_LIMIT, active_limit=None, precondition=true, depth_bound=None, deflection=true))]
 #[allow(clippy::too_many_arguments)]
 fn contact_solve<'py>(
     py: Python<'py>,
@@ -528,6 +532,8 @@ fn contact_solve<'py>(
     dense_limit: usize,
     active_limit: Option<usize>,
     precondition: bool,
+    depth_bound: Option<f64>,
+    deflection: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
     let grid = grid_from(py, &height, &allowed, dx)?;
     let target = match (force, depth) {
@@ -542,21 +548,19 @@ fn contact_solve<'py>(
     };
     let opts = options(tol, max_iter, dense_limit, active_limit, precondition);
     let mut monitor = PyMonitor::new(progress);
-    let r = py.detach(|| -> crate::Result<_> {
-        let mut solver = ContactSolver::new(FftOperator::new(grid.nx, grid.ny, grid.dx)?);
-        let s = solver.solve(
-            &grid.height,
-            &grid.allowed,
+    let r = py.detach(|| {
+        static_contact::solve(
+            &grid,
             compliance,
             target,
-            false,
-            0.0,
+            depth_bound,
+            deflection,
             &opts,
             &mut monitor,
-        )?;
-        Ok((s, solver.pressure().to_vec(), solver.deflection().to_vec()))
+        )
     });
-    let (s, p, u) = monitor.finish(py, r)?;
+    let r = monitor.finish(py, r)?;
+    let s = &r.summary;
     let shape = [grid.ny, grid.nx];
     let d = PyDict::new(py);
     d.set_item("depth", s.depth)?;
@@ -572,8 +576,14 @@ fn contact_solve<'py>(
             "polonsky-keer"
         },
     )?;
-    d.set_item("pressure", p.into_pyarray(py).reshape(shape)?)?;
-    d.set_item("deflection", u.into_pyarray(py).reshape(shape)?)?;
+    d.set_item("solves", r.solves)?;
+    let w = r.window;
+    d.set_item("window", (w.y0, w.x0, w.wy, w.wx))?;
+    d.set_item("pressure", r.pressure.into_pyarray(py).reshape(shape)?)?;
+    match r.deflection {
+        Some(u) => d.set_item("deflection", u.into_pyarray(py).reshape(shape)?)?,
+        None => d.set_item("deflection", py.None())?,
+    }
     Ok(d)
 }
 
