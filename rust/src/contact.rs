@@ -12,7 +12,7 @@ use crate::error::{check_finite, check_len, check_positive, Error, Result};
 use crate::influence;
 use crate::mdr::{depth_on_sorted, prefix_sums};
 use crate::monitor::Monitor;
-use crate::operator::{DenseOperator, SurfaceOperator};
+use crate::operator::{DenseOperator, FftOperator, SurfaceOperator};
 use crate::precondition;
 use faer::linalg::solvers::Solve;
 use faer::{ColRef, Mat, Side};
@@ -148,6 +148,30 @@ struct Chunk<'a> {
     r: &'a mut [f64],
     z: &'a mut [f64],
     p_old: &'a mut [f64],
+}
+
+impl ContactSolver<FftOperator> {
+    /// Makes this the solver of an `nx` x `ny` grid with the same padded FFT sizes
+    /// (`FftOperator::resize`), keeping operator and buffers; the pressure is zeroed.
+    pub fn resize(&mut self, nx: usize, ny: usize) -> Result<()> {
+        self.op.resize(nx, ny)?;
+        let n = nx * ny;
+        for b in [
+            &mut self.p,
+            &mut self.u,
+            &mut self.g,
+            &mut self.t,
+            &mut self.r,
+            &mut self.z,
+            &mut self.p_old,
+        ] {
+            b.clear();
+            b.resize(n, 0.0);
+        }
+        self.partials
+            .resize(n.div_ceil(PASS_CHUNK), [0.0; MAX_SUMS]);
+        Ok(())
+    }
 }
 
 impl<O: SurfaceOperator> ContactSolver<O> {

@@ -91,6 +91,11 @@ impl KernelTable {
         self.dx
     }
 
+    /// The largest grid (nx, ny) whose every offset the table holds.
+    pub fn extent(&self) -> (usize, usize) {
+        (self.nx, self.ny)
+    }
+
     /// Whether the table holds every offset of an `nx` x `ny` grid.
     pub fn covers(&self, nx: usize, ny: usize) -> bool {
         nx <= self.nx && ny <= self.ny

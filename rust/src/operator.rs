@@ -49,7 +49,7 @@ fn fast_size(n: usize) -> usize {
 
 /// Padded length for a linear convolution over `n` elements with an even kernel: offsets
 /// +(n-1) and -(n-1) may share a slot, so 2n - 2 suffices (1 for a single element).
-fn padded_size(n: usize) -> usize {
+pub fn padded_size(n: usize) -> usize {
     fast_size(2 * n - 2)
 }
 
@@ -97,6 +97,8 @@ pub struct FftOperator {
     col_inv: Arc<dyn Fft<f64>>,
     /// Real kernel spectrum, transposed (half x my), normalisation included.
     spectrum: Vec<f64>,
+    /// The largest grid whose offsets the spectrum's kernel table held.
+    covered: (usize, usize),
     cols: Vec<Complex<f64>>,
     workers: Vec<Worker>,
 }
@@ -161,6 +163,7 @@ impl FftOperator {
             col_fwd,
             col_inv,
             spectrum: vec![0.0; half * my],
+            covered: table.extent(),
             cols: vec![Complex::default(); half * my],
             workers,
         };
@@ -173,16 +176,35 @@ impl FftOperator {
         (self.mx, self.my)
     }
 
+    /// Makes this the operator of an `nx` x `ny` grid with the same padded sizes (its
+    /// kernel table must have covered that grid), keeping spectrum, plans and buffers.
+    pub fn resize(&mut self, nx: usize, ny: usize) -> Result<()> {
+        if (padded_size(nx), padded_size(ny)) != (self.mx, self.my)
+            || nx > self.covered.0
+            || ny > self.covered.1
+        {
+            return Err(Error::InvalidInput(format!(
+                "a {nx} x {ny} grid does not pad to {} x {} or exceeds the kernel table ({:?})",
+                self.mx, self.my, self.covered
+            )));
+        }
+        self.nx = nx;
+        self.ny = ny;
+        Ok(())
+    }
+
+    /// The spectrum of the circulant kernel of period (mx, my): the coefficient at offset
+    /// min(i, m - i) in each direction, wherever the table holds it. Offsets from n to m - n
+    /// never meet in a linear convolution over n elements, so it serves every grid of the
+    /// same padded sizes (see `resize`).
     fn kernel_spectrum(&mut self, table: &KernelTable) -> Vec<f64> {
-        let (nx, ny, mx, my) = (self.nx, self.ny, self.mx, self.my);
-        let wrap = |i: usize, m: usize, n: usize| -> Option<usize> {
-            let k = if i <= m / 2 { i } else { m - i };
-            (k < n).then_some(k)
-        };
+        let (mx, my) = (self.mx, self.my);
+        let fold = |i: usize, m: usize| if i <= m / 2 { i } else { m - i };
         let mut padded = vec![0.0; mx * my];
         for iy in 0..my {
             for ix in 0..mx {
-                if let (Some(kx), Some(ky)) = (wrap(ix, mx, nx), wrap(iy, my, ny)) {
+                let (kx, ky) = (fold(ix, mx), fold(iy, my));
+                if table.covers(kx + 1, ky + 1) {
                     padded[iy * mx + ix] = table.get(kx, ky);
                 }
             }
@@ -441,6 +463,33 @@ mod tests {
         a.iter()
             .zip(&b)
             .fold(0.0f64, |m, (x, y)| m.max((x - y).abs() / scale))
+    }
+
+    /// An operator resized to a smaller grid of the same padded sizes applies the dense
+    /// operator of that grid; a grid that pads differently or exceeds the kernel table is
+    /// refused.
+    #[test]
+    fn resized_operator_is_the_smaller_grids_operator() {
+        let dx = 0.37;
+        let table = KernelTable::new(40, 36, dx);
+        let mut op = FftOperator::with_kernel(40, 36, &table, &mut FftPlans::default()).unwrap();
+        assert_eq!(op.padded(), (80, 72));
+        for (nx, ny) in [(38, 35), (40, 36), (39, 34)] {
+            op.resize(nx, ny).unwrap();
+            let p = pseudo_random(nx * ny, 7);
+            let (mut a, mut b) = (vec![0.0; nx * ny], vec![0.0; nx * ny]);
+            op.apply(&p, &mut a);
+            DenseOperator::new(nx, ny, dx).unwrap().apply(&p, &mut b);
+            let scale = b.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+            for (x, y) in a.iter().zip(&b) {
+                assert!((x - y).abs() < 1e-12 * scale, "{nx} x {ny}");
+            }
+        }
+        assert!(op.resize(30, 36).is_err());
+        let small = KernelTable::new(39, 36, dx);
+        let mut op = FftOperator::with_kernel(39, 36, &small, &mut FftPlans::default()).unwrap();
+        assert_eq!(op.padded(), (80, 72));
+        assert!(op.resize(40, 36).is_err());
     }
 
     #[test]

@@ -2,8 +2,9 @@
 //!
 //! Deflections under positive pressures are positive, so no element whose height exceeds
 //! the depth can touch: under depth control the window around {h <= d} holds the whole
-//! contact, and under force control so does the window around {h <= bound} for any bound
-//! above the depth (e.g. from MDR). The windowed solution is then the full grid's, exactly.
+//! contact, and under force control so does the window around {h + u_low <= bound} for any
+//! bound above the depth (e.g. from MDR), u_low a lower bound of the deflection under the
+//! force (`Window::around_contact`). The windowed solution is then the full grid's, exactly.
 //! A bound the solve exceeds is widened and the solve repeated.
 
 use crate::contact::{ContactSolver, ContactSummary, SolverOptions, Target};
@@ -30,8 +31,8 @@ pub struct StaticContact {
 
 /// Solves the static contact of `grid` (compliance in m/Pa per unit kernel, 1/G for an
 /// elastic half-space) for `target` on the window that can touch: under depth control the
-/// elements with h <= d, under force control those with h <= `depth_bound` (m; the whole
-/// grid without one). Windows get a margin of 2 elements. When the solved depth exceeds the
+/// elements with h <= d, under force control those with h + u_low <= `depth_bound` (m; the
+/// whole grid without one). Windows get a margin of 2 elements. When the solved depth exceeds the
 /// bound, the bound grows by the excess and the solve repeats. `deflection` asks for the
 /// deflection on the whole grid, one extra whole-grid operator when the window is smaller.
 pub fn solve(
@@ -60,15 +61,22 @@ pub fn solve(
     let (mut h_w, mut allowed_w) = (vec![], vec![]);
     let (mut iterations, mut solves) = (0, 0);
     loop {
-        let window = match bound {
+        let (window, table) = match bound {
             Some(b) if (0..n).any(|i| allowed[i] && h[i] <= b) => {
-                Window::around(nx, ny, 2, |i| allowed[i] && h[i] <= b)
+                let outer = Window::around(nx, ny, 2, |i| allowed[i] && h[i] <= b);
+                let table = KernelTable::new(outer.wx, outer.wy, grid.dx);
+                let window = match target {
+                    Target::Force(f) => {
+                        Window::around_contact(nx, ny, h, allowed, b, compliance * f, &table)
+                    }
+                    Target::Depth(_) => outer,
+                };
+                (window, table)
             }
-            _ => Window::full(nx, ny),
+            _ => (Window::full(nx, ny), KernelTable::new(nx, ny, grid.dx)),
         };
         window.gather(h, &mut h_w);
         window.gather(allowed, &mut allowed_w);
-        let table = KernelTable::new(window.wx, window.wy, grid.dx);
         let op = FftOperator::with_kernel(window.wx, window.wy, &table, &mut FftPlans::default())?;
         let mut solver = ContactSolver::new(op);
         let mut summary = solver.solve(

@@ -246,9 +246,10 @@ impl ViscousSeries {
 /// Runs the implicit impulse stepping of a viscous half-space under `history`.
 ///
 /// Each step solves on a window that holds every element that can touch: the contact lies
-/// where the separation h + u_n is at most the new depth, so a window covering
-/// {h + u_n <= d_bound} is exact whenever the solve returns d <= d_bound (checked; otherwise
-/// the step is repeated on a larger window). d_bound is the smaller of the request's depth
+/// where the separation h + u_n plus the step's own deflection is at most the new depth, so
+/// a window covering {h + u_n + u_low <= d_bound} is exact whenever the solve returns
+/// d <= d_bound (checked; otherwise the step is repeated on a larger window), u_low being a
+/// lower bound of the step's deflection (`Window::around_contact`). d_bound is the smaller of the request's depth
 /// bound for the step and the depth extrapolated linearly in the impulse (an upper bound while
 /// the contact grows); a first step without a bound uses the whole grid.
 pub fn run_implicit(
@@ -292,7 +293,15 @@ pub fn run_implicit(
                 extrapolated
             };
             let (window, s) = loop {
-                let win = Window::around(nx, ny, 2, |i| grid.allowed[i] && sep[i] <= bound);
+                let win = Window::around_contact(
+                    nx,
+                    ny,
+                    &sep,
+                    &grid.allowed,
+                    bound,
+                    impulse / eta,
+                    pool.kernel(),
+                );
                 win.gather(&sep, &mut sep_w);
                 win.gather(&grid.allowed, &mut allowed_w);
                 let solver = pool.get(win.wx, win.wy)?;

@@ -1,11 +1,12 @@
 //! Rectangular sub-grids ("windows") that hold everything a step can touch, so that a solve
 //! runs on the smallest FFT grid that represents it exactly, and a cache of solvers per
-//! window size so that FFT plans and buffers are made once per size, not once per step.
+//! padded FFT size so that plans, buffers and kernel spectra are made once per size, not
+//! once per step or window.
 
 use crate::contact::ContactSolver;
 use crate::error::{check_positive, Result};
 use crate::influence::KernelTable;
-use crate::operator::{FftOperator, FftPlans};
+use crate::operator::{padded_size, FftOperator, FftPlans, SurfaceOperator};
 use std::collections::HashMap;
 
 /// A sub-grid with origin (x0, y0) and size wx x wy inside a grid `nx` x `ny`.
@@ -25,17 +26,6 @@ pub struct Window {
     pub wy: usize,
 }
 
-/// Smallest size >= n of the form m 2^k with 8 <= m < 16 (or n itself below 16): at most
-/// 12.5 % larger, and few distinct sizes per run.
-fn bucket(n: usize) -> usize {
-    if n <= 16 {
-        return n;
-    }
-    let k = usize::BITS - 1 - n.leading_zeros() - 3;
-    let m = n.div_ceil(1 << k);
-    m << k
-}
-
 impl Window {
     /// The whole grid.
     pub fn full(nx: usize, ny: usize) -> Self {
@@ -50,7 +40,7 @@ impl Window {
     }
 
     /// The bounding box of the elements where `inside` holds, grown by `margin` elements and
-    /// rounded up to a cached size; the whole grid when nothing is inside.
+    /// clipped to the grid; the whole grid when nothing is inside.
     pub fn around(nx: usize, ny: usize, margin: usize, inside: impl Fn(usize) -> bool) -> Self {
         let (mut x_lo, mut x_hi, mut y_lo, mut y_hi) = (usize::MAX, 0, usize::MAX, 0);
         for i in (0..nx * ny).filter(|&i| inside(i)) {
@@ -66,8 +56,7 @@ impl Window {
         let span = |lo: usize, hi: usize, n: usize| {
             let lo = lo.saturating_sub(margin);
             let hi = (hi + margin).min(n - 1);
-            let w = bucket(hi - lo + 1).min(n);
-            (lo.min(n - w), w)
+            (lo, hi - lo + 1)
         };
         let (x0, wx) = span(x_lo, x_hi, nx);
         let (y0, wy) = span(y_lo, y_hi, ny);
@@ -78,6 +67,45 @@ impl Window {
             y0,
             wx,
             wy,
+        }
+    }
+
+    /// The window (margin 2) around the elements that can touch while the rigid body's
+    /// approach is at most `bound` (m): allowed elements whose separation `sep` (m) plus a
+    /// lower bound of the deflection that the new load adds is <= bound. The load adds
+    /// `load` (m^3: compliance times force, 1/G F or dI/eta) spread over some elements of
+    /// {sep <= bound}; since coefficients fall with each offset, the deflection at x is at
+    /// least load / dx^2 times the coefficient to the corner of that set's bounding box
+    /// farthest from x (`table` must cover the box). The whole grid when nothing is at most
+    /// `bound` apart; the window around {sep <= bound} when nothing passes the tighter test
+    /// (the bound is then below the depth, which the solve will show).
+    pub fn around_contact(
+        nx: usize,
+        ny: usize,
+        sep: &[f64],
+        allowed: &[bool],
+        bound: f64,
+        load: f64,
+        table: &KernelTable,
+    ) -> Self {
+        let can = |i: usize| allowed[i] && sep[i] <= bound;
+        let outer = Window::around(nx, ny, 0, can);
+        if outer.is_full() {
+            return Window::around(nx, ny, 2, can);
+        }
+        let scale = load / (table.dx() * table.dx());
+        let (x_hi, y_hi) = (outer.x0 + outer.wx - 1, outer.y0 + outer.wy - 1);
+        let far = |v: usize, lo: usize, hi: usize| (v - lo).max(hi - v);
+        let tight = |i: usize| {
+            let (x, y) = (i % nx, i / nx);
+            can(i)
+                && sep[i] + scale * table.get(far(x, outer.x0, x_hi), far(y, outer.y0, y_hi))
+                    <= bound
+        };
+        if (0..nx * ny).any(tight) {
+            Window::around(nx, ny, 2, tight)
+        } else {
+            Window::around(nx, ny, 2, can)
         }
     }
 
@@ -110,8 +138,9 @@ impl Window {
     }
 }
 
-/// Contact solvers of the windows of one grid keyed by window size, made on first use from
-/// the grid's kernel table (computed once).
+/// Contact solvers of the windows of one grid keyed by their padded FFT sizes, made on first
+/// use from the grid's kernel table (computed once) and resized to each window of the same
+/// padded sizes: a run plans, allocates and transforms a kernel once per padded size.
 pub struct SolverPool {
     kernel: KernelTable,
     plans: FftPlans,
@@ -129,15 +158,20 @@ impl SolverPool {
         })
     }
 
+    /// The grid's kernel table.
+    pub fn kernel(&self) -> &KernelTable {
+        &self.kernel
+    }
+
     /// A new operator for a `wx` x `wy` window from the pool's kernel table and plans.
     pub fn operator(&mut self, wx: usize, wy: usize) -> Result<FftOperator> {
         FftOperator::with_kernel(wx, wy, &self.kernel, &mut self.plans)
     }
 
-    /// The solver for a `wx` x `wy` grid.
+    /// The solver for a `wx` x `wy` grid (its pressure zeroed when it was resized).
     pub fn get(&mut self, wx: usize, wy: usize) -> Result<&mut ContactSolver<FftOperator>> {
         use std::collections::hash_map::Entry;
-        Ok(match self.solvers.entry((wx, wy)) {
+        let solver = match self.solvers.entry((padded_size(wx), padded_size(wy))) {
             Entry::Occupied(e) => e.into_mut(),
             Entry::Vacant(e) => e.insert(ContactSolver::new(FftOperator::with_kernel(
                 wx,
@@ -145,24 +179,17 @@ impl SolverPool {
                 &self.kernel,
                 &mut self.plans,
             )?)),
-        })
+        };
+        if (solver.operator().nx(), solver.operator().ny()) != (wx, wy) {
+            solver.resize(wx, wy)?;
+        }
+        Ok(solver)
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn buckets_are_tight_and_coarse() {
-        assert_eq!(bucket(7), 7);
-        assert_eq!(bucket(17), 18);
-        assert_eq!(bucket(100), 104);
-        assert_eq!(bucket(257), 288);
-        for n in 1..2000 {
-            assert!(bucket(n) >= n && bucket(n) as f64 <= 1.125 * n as f64 + 1.0);
-        }
-    }
 
     #[test]
     fn window_round_trip() {
@@ -179,5 +206,54 @@ mod tests {
         let mut back = vec![0.0; nx * ny];
         w.scatter(&part, &mut back);
         assert_eq!(back[w.to_grid(3)], full[w.to_grid(3)]);
+    }
+
+    /// The contact of a paraboloid pressed with force F lies inside the window that
+    /// `around_contact` gives for a bound above its depth, which is tighter than the window
+    /// around {h <= bound}; and coefficients fall with each offset, as its bound assumes.
+    #[test]
+    fn contact_window_holds_the_contact_and_is_tighter() {
+        use crate::contact::{SolverOptions, Target};
+        use crate::monitor::Silent;
+        let (n, dx, force) = (120, 0.02, 0.05);
+        let c = (n as f64 - 1.0) / 2.0;
+        let h: Vec<f64> = (0..n * n)
+            .map(|i| {
+                let (x, y) = ((i % n) as f64 - c, (i / n) as f64 - c);
+                (x * x + y * y) * dx * dx / 20.0
+            })
+            .collect();
+        let allowed = vec![true; n * n];
+        let mut solver = ContactSolver::new(FftOperator::new(n, n, dx).unwrap());
+        let s = solver
+            .solve(
+                &h,
+                &allowed,
+                1.0,
+                Target::Force(force),
+                false,
+                0.0,
+                &SolverOptions::default(),
+                &mut Silent,
+            )
+            .unwrap();
+        let table = KernelTable::new(n, n, dx);
+        let bound = 1.02 * s.depth;
+        let plain = Window::around(n, n, 2, |i| h[i] <= bound);
+        let tight = Window::around_contact(n, n, &h, &allowed, bound, force, &table);
+        assert!(tight.wx + 4 <= plain.wx, "{tight:?} vs {plain:?}");
+        let inside = |w: &Window, i: usize| {
+            let (x, y) = (i % n, i / n);
+            x >= w.x0 + 2 && x + 2 < w.x0 + w.wx && y >= w.y0 + 2 && y + 2 < w.y0 + w.wy
+        };
+        for (i, &p) in solver.pressure().iter().enumerate() {
+            assert!(
+                p == 0.0 || inside(&tight, i),
+                "element {i} in contact outside {tight:?}"
+            );
+        }
+        for k in 0..n - 1 {
+            assert!(table.get(k + 1, 3) < table.get(k, 3) && table.get(3, k + 1) < table.get(3, k));
+        }
     }
 }
