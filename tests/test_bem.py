@@ -220,6 +220,24 @@ def test_progress_callback_and_interrupt():
         mv.solve(scene, "bem", 65, progress=stop)
 
 
+def test_ctrl_c_stops_a_run_within_a_fraction_of_a_second():
+    """The computation runs on a rayon worker; a signal reaching the calling thread (Ctrl-C,
+    here simulated by _thread.interrupt_main 0.3 s in) stops it at its next progress report
+    and raises KeyboardInterrupt, well before the ~4 s the whole run takes."""
+    import _thread
+    import time
+
+    scene = mv.Scene(indenter=mv.Paraboloid(c=1.0, edge=2.56), medium=VISCOUS, force=1.0,
+                     duration=20.0, times=np.linspace(0.01, 20.0, 2000))
+    timer = threading.Timer(0.3, _thread.interrupt_main)
+    start = time.perf_counter()
+    timer.start()
+    with pytest.raises(KeyboardInterrupt):
+        mv.solve(scene, "bem", 129)
+    timer.join()
+    assert time.perf_counter() - start < 1.5
+
+
 def test_solve_releases_the_gil():
     scene = mv.Scene(indenter=mv.Paraboloid(c=1.0, edge=2.56), medium=VISCOUS, force=1.0, duration=5.0)
     ticks = []

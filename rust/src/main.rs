@@ -129,7 +129,9 @@ fn run(args: &[String]) -> Result<(), String> {
 
 fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
-    match run(&args) {
+    // On a rayon worker, the solvers' parallel loops split without waking the main thread.
+    let (result, ()) = rayon::join(|| run(&args), || ());
+    match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("error: {e}");

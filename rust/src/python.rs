@@ -1,6 +1,7 @@
 //! pyo3 bindings (cargo feature "python"): numpy in, dicts of numpy arrays out. The GIL is
-//! released during computations; progress callbacks and Ctrl-C are served between chunks of
-//! work from the calling thread.
+//! released during computations, which run on a rayon worker (their parallel loops then split
+//! without waking the calling thread each time); the calling thread serves Ctrl-C meanwhile,
+//! and progress callbacks are served between chunks of work.
 
 use crate::contact::{SolverOptions, Target, DENSE_LIMIT};
 use crate::error::check_finite;
@@ -20,6 +21,9 @@ use numpy::{
 };
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::mpsc::{self, RecvTimeoutError};
+use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 /// Raises the matching exception class of `mdrvisc.errors`.
@@ -49,12 +53,14 @@ fn to_pyerr(py: Python<'_>, e: Error) -> PyErr {
     }
 }
 
-/// Serves Ctrl-C and an optional Python callback `progress(stage, done, total)` at most
-/// every 0.2 s; keeps the Python exception that stopped the run.
+/// Serves an optional Python callback `progress(stage, done, total)` at most every 200 ms
+/// (and at the end of each stage), and stops the computation when the callback raises or
+/// the calling thread caught a signal (`run`).
 struct PyMonitor {
     callback: Option<Py<PyAny>>,
     last: Instant,
     error: Option<PyErr>,
+    cancel: Arc<AtomicBool>,
 }
 
 impl PyMonitor {
@@ -63,6 +69,48 @@ impl PyMonitor {
             callback,
             last: Instant::now(),
             error: None,
+            cancel: Arc::new(AtomicBool::new(false)),
+        }
+    }
+
+    /// Runs `f` with this monitor on a rayon worker, the GIL released, while the calling
+    /// thread waits for it and checks for signals (Ctrl-C) every 50 ms; a signal stops `f` at
+    /// its next progress report. Returns f's result, or the Python exception that stopped it.
+    fn run<T: Send>(
+        mut self,
+        py: Python<'_>,
+        f: impl FnOnce(&mut PyMonitor) -> crate::Result<T> + Send,
+    ) -> PyResult<T> {
+        let cancel = Arc::clone(&self.cancel);
+        let monitor = &mut self;
+        let (r, signal) = py.detach(|| {
+            let (tx, rx) = mpsc::channel();
+            let mut signal = None;
+            let r = rayon::in_place_scope(|s| {
+                s.spawn(move |_| {
+                    // The receiver outlives the scope: the send cannot fail.
+                    let _ = tx.send(f(monitor));
+                });
+                loop {
+                    match rx.recv_timeout(Duration::from_millis(50)) {
+                        Ok(r) => break r,
+                        Err(RecvTimeoutError::Timeout) if signal.is_none() => {
+                            if let Err(e) = Python::attach(|py| py.check_signals()) {
+                                cancel.store(true, Ordering::Relaxed);
+                                signal = Some(e);
+                            }
+                        }
+                        Err(RecvTimeoutError::Timeout) => {}
+                        // The job panicked: the scope re-raises the panic when it ends.
+                        Err(RecvTimeoutError::Disconnected) => break Err(Error::Interrupted),
+                    }
+                }
+            });
+            (r, signal)
+        });
+        match signal {
+            Some(e) => Err(e),
+            None => self.finish(py, r),
         }
     }
 
@@ -77,6 +125,9 @@ impl PyMonitor {
 
 impl Monitor for PyMonitor {
     fn progress(&mut self, stage: &str, done: usize, total: usize) -> crate::Result<()> {
+        if self.cancel.load(Ordering::Relaxed) {
+            return Err(Error::Interrupted);
+        }
         if done < total && self.last.elapsed() < Duration::from_millis(200) {
             return Ok(());
         }
@@ -193,13 +244,11 @@ fn bem_viscous<'py>(
         depth_bounds: depth_bounds.unwrap_or_default(),
     };
     let opts = options(tol, max_iter, dense_limit, active_limit, precondition);
-    let mut monitor = PyMonitor::new(progress);
     let ctrl = explicit.map(explicit_control);
-    let r = py.detach(|| match &ctrl {
-        None => viscous::run_implicit(&grid, eta, &hist, &request, &opts, &mut monitor),
-        Some(c) => viscous::run_explicit(&grid, eta, &hist, &request, c, &opts, &mut monitor),
-    });
-    let s = monitor.finish(py, r)?;
+    let s = PyMonitor::new(progress).run(py, |monitor| match &ctrl {
+        None => viscous::run_implicit(&grid, eta, &hist, &request, &opts, monitor),
+        Some(c) => viscous::run_explicit(&grid, eta, &hist, &request, c, &opts, monitor),
+    })?;
     let d = PyDict::new(py);
     d.set_item("steps", s.steps)?;
     d.set_item("t", s.t.into_pyarray(py))?;
@@ -254,9 +303,9 @@ fn bem_punch<'py>(
     )
     .map_err(|e| to_pyerr(py, e))?;
     let opts = options(tol, max_iter, dense_limit, None, precondition);
-    let mut monitor = PyMonitor::new(progress);
-    let r = py.detach(|| viscous::run_punch(&grid, eta, force, margin, &opts, &mut monitor));
-    let r = monitor.finish(py, r)?;
+    let r = PyMonitor::new(progress).run(py, |monitor| {
+        viscous::run_punch(&grid, eta, force, margin, &opts, monitor)
+    })?;
     let d = PyDict::new(py);
     d.set_item("velocity", r.velocity)?;
     d.set_item("damping", r.damping)?;
@@ -313,19 +362,18 @@ fn mdr_run<'py>(
         slice1(&force_values, "force_values")?,
     )?;
     let times = slice1(&times, "times")?;
-    let mut monitor = PyMonitor::new(progress);
-    let r = py.detach(|| match (explicit, medium) {
+    let r = PyMonitor::new(progress).run(py, |monitor| match (explicit, medium) {
         (None, _) => {
-            mdr::run(&f, medium, &hist, &times, &fields_at, &mut monitor).map(|s| (s, times.len()))
+            mdr::run(&f, medium, &hist, &times, &fields_at, monitor).map(|s| (s, times.len()))
         }
         (Some(c), Medium::Viscous { eta }) => {
-            mdr::run_explicit(&f, eta, &hist, &times, &explicit_control(c), &mut monitor)
+            mdr::run_explicit(&f, eta, &hist, &times, &explicit_control(c), monitor)
         }
         (Some(_), Medium::Elastic { .. }) => Err(Error::InvalidInput(
             "the explicit integrator applies to the viscous medium only".into(),
         )),
     });
-    let (s, steps) = monitor.finish(py, r)?;
+    let (s, steps) = r?;
     let d = PyDict::new(py);
     d.set_item("steps", steps)?;
     d.set_item("t", s.t.into_pyarray(py))?;
@@ -547,8 +595,7 @@ fn contact_solve<'py>(
         }
     };
     let opts = options(tol, max_iter, dense_limit, active_limit, precondition);
-    let mut monitor = PyMonitor::new(progress);
-    let r = py.detach(|| {
+    let r = PyMonitor::new(progress).run(py, |monitor| {
         static_contact::solve(
             &grid,
             compliance,
@@ -556,10 +603,9 @@ fn contact_solve<'py>(
             depth_bound,
             deflection,
             &opts,
-            &mut monitor,
+            monitor,
         )
-    });
-    let r = monitor.finish(py, r)?;
+    })?;
     let s = &r.summary;
     let shape = [grid.ny, grid.nx];
     let d = PyDict::new(py);
@@ -651,9 +697,9 @@ fn viscoelastic_mdr<'py>(
         medium_and_loading(py, (g_inf, terms, eta), kind, &load_times, &load_values)?;
     let (g, times) = (slice1(&profile, "profile")?, slice1(&times, "times")?);
     check_finite("1D profile", &g).map_err(|e| to_pyerr(py, e))?;
-    let mut monitor = PyMonitor::new(progress);
-    let r = py.detach(|| viscoelastic::run_mdr(&g, dx, &medium, &load, &times, dt, &mut monitor));
-    let s = monitor.finish(py, r)?;
+    let s = PyMonitor::new(progress).run(py, |monitor| {
+        viscoelastic::run_mdr(&g, dx, &medium, &load, &times, dt, monitor)
+    })?;
     series_dict(py, s)
 }
 
@@ -684,10 +730,9 @@ fn viscoelastic_bem<'py>(
         medium_and_loading(py, (g_inf, terms, eta), kind, &load_times, &load_values)?;
     let times = slice1(&times, "times")?;
     let opts = options(tol, max_iter, DENSE_LIMIT, None, true);
-    let mut monitor = PyMonitor::new(progress);
-    let r =
-        py.detach(|| viscoelastic::run_bem(&grid, &medium, &load, &times, dt, &opts, &mut monitor));
-    let s = monitor.finish(py, r)?;
+    let s = PyMonitor::new(progress).run(py, |monitor| {
+        viscoelastic::run_bem(&grid, &medium, &load, &times, dt, &opts, monitor)
+    })?;
     series_dict(py, s)
 }
 
