@@ -146,6 +146,13 @@ impl Monitor for PyMonitor {
     }
 }
 
+/// Runs `f` on a rayon worker and waits for it: its parallel loops then split among the
+/// workers without waking the calling thread each time (for short computations that serve
+/// no progress callback; the others use `PyMonitor::run`).
+fn in_pool<T: Send>(f: impl FnOnce() -> T + Send) -> T {
+    rayon::join(f, || ()).0
+}
+
 fn slice1(a: &PyReadonlyArray1<'_, f64>, name: &str) -> PyResult<Vec<f64>> {
     a.as_slice().map(<[f64]>::to_vec).map_err(|_| {
         pyo3::exceptions::PyValueError::new_err(format!(
@@ -444,14 +451,16 @@ fn surface_deflection<'py>(
 ) -> PyResult<Bound<'py, numpy::PyArray2<f64>>> {
     let shape = [p.shape()[0], p.shape()[1]];
     let pv: Vec<f64> = p.as_array().iter().copied().collect();
-    let r = py.detach(|| -> crate::Result<Vec<f64>> {
-        let mut u = vec![0.0; pv.len()];
-        if dense {
-            DenseOperator::new(shape[1], shape[0], dx)?.apply(&pv, &mut u);
-        } else {
-            FftOperator::new(shape[1], shape[0], dx)?.apply(&pv, &mut u);
-        }
-        Ok(u)
+    let r = py.detach(|| {
+        in_pool(|| -> crate::Result<Vec<f64>> {
+            let mut u = vec![0.0; pv.len()];
+            if dense {
+                DenseOperator::new(shape[1], shape[0], dx)?.apply(&pv, &mut u);
+            } else {
+                FftOperator::new(shape[1], shape[0], dx)?.apply(&pv, &mut u);
+            }
+            Ok(u)
+        })
     });
     let u = r.map_err(|e| to_pyerr(py, e))?;
     u.into_pyarray(py).reshape(shape)
@@ -526,13 +535,13 @@ impl PySurfaceOperator {
                             Error::InvalidInput("out must be C-contiguous and writable".into()),
                         )
                     })?;
-                    py.detach(|| op.apply(pv, u));
+                    py.detach(|| in_pool(|| op.apply(pv, u)));
                 }
                 Ok(out)
             }
             None => {
                 let mut u = vec![0.0; pv.len()];
-                py.detach(|| op.apply(pv, &mut u));
+                py.detach(|| in_pool(|| op.apply(pv, &mut u)));
                 u.into_pyarray(py).reshape(shape)
             }
         }
