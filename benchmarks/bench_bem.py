@@ -189,13 +189,15 @@ def first_step_table(cs, tol, n, repeats, np_repeats):
     uniform start (no window yet), like numpy; the later steps are windowed and warm-started."""
     import numpy_reference as ref
     from mdrvisc import _core
+    from mdrvisc.solve import _depth_bounds
 
     rows = []
     for c in cs:
         sc = scene(c)
         _, dx, h, mask = _grid(sc, n)
         ft, fv = sc.history
-        full = _core.bem_viscous(h, mask, dx, ETA, sc.times, ft, fv, tol=tol)
+        full = _core.bem_viscous(h, mask, dx, ETA, sc.times, ft, fv, tol=tol,
+                                 depth_bounds=_depth_bounds(sc))
         one = np.array([1.0])
         res = interleaved(
             {"mv": lambda: _core.bem_viscous(h, mask, dx, ETA, one, ft, fv, tol=tol),
