@@ -209,14 +209,15 @@ impl FftOperator {
                 }
             }
         }
-        self.forward(&padded, mx, my);
+        self.rows_forward(&padded, mx, my);
+        self.columns(Columns::Forward { nrows: my });
         let norm = 1.0 / (mx * my) as f64;
         self.cols.iter().map(|c| c.re * norm).collect()
     }
 
     /// Row R2C of `nrows` rows of `src` (row stride `stride`), written transposed into
-    /// `cols` TILE rows at a time, then column FFTs in `cols`.
-    fn forward(&mut self, src: &[f64], stride: usize, nrows: usize) {
+    /// `cols` TILE rows at a time (rows nrows.. of `cols` are left as they were).
+    fn rows_forward(&mut self, src: &[f64], stride: usize, nrows: usize) {
         let (half, my, ncols_in) = (self.half, self.my, stride.min(self.mx));
         let nw = self.workers.len();
         let r2c = &self.r2c;
@@ -243,27 +244,58 @@ impl FftOperator {
                 }
             }
         });
-        let col_fwd = &self.col_fwd;
+    }
+
+    /// The column pass over `cols`, in parallel over blocks of columns: each column is
+    /// transformed while it is in cache (for a convolution: forward, times the kernel
+    /// spectrum, inverse).
+    fn columns(&mut self, pass: Columns) {
+        let (half, my) = (self.half, self.my);
+        let nw = self.workers.len();
+        let (col_fwd, col_inv, spectrum) = (&self.col_fwd, &self.col_inv, &self.spectrum);
         let chunk = half.div_ceil(nw).max(1);
         self.cols
             .par_chunks_mut(chunk * my)
             .zip(self.workers.par_iter_mut())
-            .for_each(|(out, w)| {
-                for col in out.chunks_mut(my) {
-                    col[nrows..].fill(Complex::default());
-                    col_fwd.process_with_scratch(col, &mut w.col_scratch);
+            .enumerate()
+            .for_each(|(c, (out, w))| {
+                for (k, col) in out.chunks_mut(my).enumerate() {
+                    if let Columns::Forward { nrows } | Columns::Convolve { nrows } = pass {
+                        col[nrows..].fill(Complex::default());
+                        col_fwd.process_with_scratch(col, &mut w.col_scratch);
+                    }
+                    if let Columns::Convolve { .. } = pass {
+                        let kx = c * chunk + k;
+                        let s = &spectrum[kx * my..(kx + 1) * my];
+                        col.iter_mut().zip(s).for_each(|(v, &s)| *v *= s);
+                    }
+                    if let Columns::Convolve { .. } | Columns::Inverse = pass {
+                        col_inv.process_with_scratch(col, &mut w.col_scratch);
+                    }
                 }
             });
     }
 }
 
-/// Raw access to the column buffer for the transposed writes of `FftOperator::forward`,
+/// What `FftOperator::columns` does to each column (`nrows`: the rows the row pass wrote;
+/// the rest are zeroed first).
+#[derive(Clone, Copy)]
+enum Columns {
+    /// Forward FFT.
+    Forward { nrows: usize },
+    /// Forward FFT, multiplication by the kernel spectrum, inverse FFT.
+    Convolve { nrows: usize },
+    /// Inverse FFT.
+    Inverse,
+}
+
+/// Raw access to the column buffer for the transposed writes of `FftOperator::rows_forward`,
 /// where each worker writes the rows it transformed and no element twice.
 #[derive(Clone, Copy)]
 struct ColumnWriter(*mut Complex<f64>);
 
 // SAFETY: only used for writes to disjoint elements from the workers of one parallel loop,
-// while the buffer it points into is exclusively borrowed by `forward`.
+// while the buffer it points into is exclusively borrowed by `rows_forward`.
 unsafe impl Send for ColumnWriter {}
 unsafe impl Sync for ColumnWriter {}
 
@@ -278,28 +310,11 @@ impl ColumnWriter {
 }
 
 impl FftOperator {
-    /// Column inverse FFTs of `cols` (multiplied by the kernel spectrum first when
-    /// `multiply`), then row C2R, writing the first ny rows and nx columns into `u`.
-    fn inverse(&mut self, u: &mut [f64], multiply: bool) {
+    /// Row C2R of the first ny rows of `cols` (after the column pass), writing their first
+    /// nx columns into `u`.
+    fn rows_inverse(&mut self, u: &mut [f64]) {
         let (nx, ny, half, my, mx) = (self.nx, self.ny, self.half, self.my, self.mx);
         let nw = self.workers.len();
-        let spectrum = &self.spectrum;
-        let col_inv = &self.col_inv;
-        let chunk = half.div_ceil(nw).max(1);
-        self.cols
-            .par_chunks_mut(chunk * my)
-            .zip(self.workers.par_iter_mut())
-            .enumerate()
-            .for_each(|(c, (out, w))| {
-                for (k, col) in out.chunks_mut(my).enumerate() {
-                    if multiply {
-                        let kx = c * chunk + k;
-                        let s = &spectrum[kx * my..(kx + 1) * my];
-                        col.iter_mut().zip(s).for_each(|(v, &s)| *v *= s);
-                    }
-                    col_inv.process_with_scratch(col, &mut w.col_scratch);
-                }
-            });
         let cols = &self.cols;
         let c2r = &self.c2r;
         let chunk = ny.div_ceil(nw).max(1);
@@ -352,7 +367,8 @@ impl FftOperator {
             *c = Complex::new(1.0 / (s * norm * norm), 0.0);
         }
         let mut u = vec![0.0; nx * ny];
-        self.inverse(&mut u, false);
+        self.columns(Columns::Inverse);
+        self.rows_inverse(&mut u);
         let w = radius + 1;
         Ok((0..w * w).map(|i| u[(i / w) * nx + i % w]).collect())
     }
@@ -372,8 +388,9 @@ impl SurfaceOperator for FftOperator {
     fn apply(&mut self, p: &[f64], u: &mut [f64]) {
         assert_eq!(p.len(), self.nx * self.ny, "pressure length");
         assert_eq!(u.len(), self.nx * self.ny, "deflection length");
-        self.forward(p, self.nx, self.ny);
-        self.inverse(u, true);
+        self.rows_forward(p, self.nx, self.ny);
+        self.columns(Columns::Convolve { nrows: self.ny });
+        self.rows_inverse(u);
     }
 }
 
