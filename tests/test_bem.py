@@ -129,11 +129,16 @@ def test_reusable_surface_operator_is_the_dense_operator_and_checks_input():
         mv.arrays.SurfaceOperator((0, 4), 0.1)
 
 
-def test_small_contacts_are_solved_by_the_dense_active_set():
-    n, dx, R, G = 128, 0.02, 10.0, 1.0
+def paraboloid_heights(n, dx, R):
+    """h = r^2 / (2 R) at the centres of an n x n grid of elements of side dx, centred."""
     x = (np.arange(n) - (n - 1) / 2) * dx
     xx, yy = np.meshgrid(x, x)
-    h = (xx**2 + yy**2) / (2 * R)
+    return (xx**2 + yy**2) / (2 * R)
+
+
+def test_small_contacts_are_solved_by_the_dense_active_set():
+    n, dx, R, G = 128, 0.02, 10.0, 1.0
+    h = paraboloid_heights(n, dx, R)
     a = 8 * dx
     force = 16 * G * a**3 / (3 * R)  # Hertz with E* = 4 G
     auto = mv.arrays.contact(h, dx, G, force=force)
@@ -157,9 +162,7 @@ def test_preconditioned_polonsky_keer_matches_the_plain_method_and_hertz():
     set, pressures to the tolerance, Hertz's depth; and at most half the iterations on a
     contact of ~2800 elements (force control)."""
     n, dx, R, G = 128, 0.02, 10.0, 1.0
-    x = (np.arange(n) - (n - 1) / 2) * dx
-    xx, yy = np.meshgrid(x, x)
-    h = (xx**2 + yy**2) / (2 * R)
+    h = paraboloid_heights(n, dx, R)
     a = 30 * dx
     force = 16 * G * a**3 / (3 * R)
     pre = mv.arrays.contact(h, dx, G, force=force)
@@ -303,9 +306,7 @@ def test_static_windows_hold_the_contact_and_give_the_whole_grids_solution():
     windows (radius sqrt(2.1) a around a paraboloid: h <= 1.05 d = 1.05 a^2 / R) are 70 % of
     the grid's side; deflection=False leaves the deflection out."""
     n, dx, R, G = 160, 0.016, 10.0, 1.0
-    x = (np.arange(n) - (n - 1) / 2) * dx
-    xx, yy = np.meshgrid(x, x)
-    h = (xx**2 + yy**2) / (2 * R)
+    h = paraboloid_heights(n, dx, R)
     a = 36 * dx
     force = 16 * G * a**3 / (3 * R)
     opts = dict(tol=1e-12, active_limit=0)
