@@ -249,9 +249,10 @@ impl ViscousSeries {
 /// where the separation h + u_n plus the step's own deflection is at most the new depth, so
 /// a window covering {h + u_n + u_low <= d_bound} is exact whenever the solve returns
 /// d <= d_bound (checked; otherwise the step is repeated on a larger window), u_low being a
-/// lower bound of the step's deflection (`Window::around_contact`). d_bound is the smaller of the request's depth
-/// bound for the step and the depth extrapolated linearly in the impulse (an upper bound while
-/// the contact grows); a first step without a bound uses the whole grid.
+/// lower bound of the step's deflection (`Window::around_contact`). d_bound is the smaller
+/// of the request's depth bound for the step and the depth extrapolated linearly in the
+/// impulse (an upper bound while the contact grows); a first step without a bound uses the
+/// whole grid.
 pub fn run_implicit(
     grid: &Grid,
     eta: f64,
