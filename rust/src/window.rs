@@ -168,17 +168,24 @@ impl SolverPool {
         FftOperator::with_kernel(wx, wy, &self.kernel, &mut self.plans)
     }
 
-    /// The solver for a `wx` x `wy` grid (its pressure zeroed when it was resized).
+    /// The solver for a `wx` x `wy` grid (its pressure zeroed when it was resized). A padded
+    /// size's solver is made for the largest window of that size the grid holds, so that
+    /// resizing it never allocates.
     pub fn get(&mut self, wx: usize, wy: usize) -> Result<&mut ContactSolver<FftOperator>> {
         use std::collections::hash_map::Entry;
-        let solver = match self.solvers.entry((padded_size(wx), padded_size(wy))) {
+        let (mx, my) = (padded_size(wx), padded_size(wy));
+        let solver = match self.solvers.entry((mx, my)) {
             Entry::Occupied(e) => e.into_mut(),
-            Entry::Vacant(e) => e.insert(ContactSolver::new(FftOperator::with_kernel(
-                wx,
-                wy,
-                &self.kernel,
-                &mut self.plans,
-            )?)),
+            Entry::Vacant(e) => {
+                let (nx, ny) = self.kernel.extent();
+                let (cx, cy) = ((mx / 2 + 1).min(nx).max(wx), (my / 2 + 1).min(ny).max(wy));
+                e.insert(ContactSolver::new(FftOperator::with_kernel(
+                    cx,
+                    cy,
+                    &self.kernel,
+                    &mut self.plans,
+                )?))
+            }
         };
         if (solver.operator().nx(), solver.operator().ny()) != (wx, wy) {
             solver.resize(wx, wy)?;
@@ -255,5 +262,21 @@ mod tests {
         for k in 0..n - 1 {
             assert!(table.get(k + 1, 3) < table.get(k, 3) && table.get(3, k + 1) < table.get(3, k));
         }
+    }
+
+    /// Windows of the same padded size share one solver, resized to each; another padded
+    /// size gets its own.
+    #[test]
+    fn pool_shares_a_solver_per_padded_size() {
+        let mut pool = SolverPool::new(257, 257, 0.01).unwrap();
+        for (w, pads) in [(150, 320), (160, 320), (145, 288), (155, 320)] {
+            let solver = pool.get(w, w).unwrap();
+            assert_eq!(solver.operator().padded(), (pads, pads));
+            assert_eq!(
+                (solver.operator().nx(), solver.pressure().len()),
+                (w, w * w)
+            );
+        }
+        assert_eq!(pool.solvers.len(), 2);
     }
 }
