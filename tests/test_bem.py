@@ -1,5 +1,6 @@
 """BEM against closed forms (DESIGN.md §1.3): rod, viscous paraboloid, elastic Hertz."""
 
+import os
 import threading
 
 import numpy as np
@@ -351,3 +352,29 @@ def test_static_scene_solves_on_the_mdr_window_and_computes_only_what_it_asks_fo
                              outputs=("depth", "pressure", "deflection")), "bem", n)
     np.testing.assert_allclose(both.fields[None]["deflection"], full["deflection"], rtol=0,
                                atol=1e-8 * full["deflection"].max())
+
+
+def test_a_solve_inside_a_progress_callback_runs_on_one_thread_too(tmp_path):
+    """A progress callback that runs another solve (on a rayon worker, where the outer solve
+    runs) finishes, also with a single rayon thread, where waiting on that thread for a job of
+    the pool would deadlock."""
+    import subprocess
+    import sys
+
+    script = tmp_path / "nested.py"
+    script.write_text(
+        "import mdrvisc as mv\n"
+        "sc = mv.Scene(indenter=mv.Paraboloid(c=1.0, edge=2.56), medium=mv.Viscous(eta=1.0),"
+        " force=1.0, duration=5.0)\n"
+        "inner = []\n"
+        "def cb(stage, done, total):\n"
+        "    if not inner:\n"
+        "        inner.append(mv.solve(sc, 'bem', 33).depth[-1])\n"
+        "outer = mv.solve(sc, 'bem', 33, progress=cb)\n"
+        "assert inner and abs(inner[0] - outer.depth[-1]) < 1e-12 * outer.depth[-1]\n"
+        "print('ok')\n")
+    for threads in ("1", "2"):
+        env = dict(os.environ, RAYON_NUM_THREADS=threads)
+        out = subprocess.run([sys.executable, str(script)], env=env, capture_output=True,
+                             text=True, timeout=60)
+        assert out.returncode == 0 and out.stdout.strip() == "ok", out.stderr

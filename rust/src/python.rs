@@ -75,12 +75,19 @@ impl PyMonitor {
 
     /// Runs `f` with this monitor on a rayon worker, the GIL released, while the calling
     /// thread waits for it and checks for signals (Ctrl-C) every 50 ms; a signal stops `f` at
-    /// its next progress report. Returns f's result, or the Python exception that stopped it.
+    /// its next progress report (on a worker already, `f` runs in place). Returns f's result,
+    /// or the Python exception that stopped it.
     fn run<T: Send>(
         mut self,
         py: Python<'_>,
         f: impl FnOnce(&mut PyMonitor) -> crate::Result<T> + Send,
     ) -> PyResult<T> {
+        if rayon::current_thread_index().is_some() {
+            // Called from a worker (a progress callback that runs mdrvisc): run in place, as
+            // waiting on this thread for a job of the same pool could deadlock.
+            let r = py.detach(|| f(&mut self));
+            return self.finish(py, r);
+        }
         let cancel = Arc::clone(&self.cancel);
         let monitor = &mut self;
         let (r, signal) = py.detach(|| {
