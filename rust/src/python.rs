@@ -153,11 +153,11 @@ impl Monitor for PyMonitor {
     }
 }
 
-/// Runs `f` on a rayon worker and waits for it: its parallel loops then split among the
-/// workers without waking the calling thread each time (for short computations that serve
-/// no progress callback; the others use `PyMonitor::run`).
-fn in_pool<T: Send>(f: impl FnOnce() -> T + Send) -> T {
-    rayon::join(f, || ()).0
+/// Runs `f` on a rayon worker with the GIL released and waits for it: its parallel loops
+/// then split among the workers without waking the calling thread each time (for short
+/// computations that serve no progress callback; the others use `PyMonitor::run`).
+fn in_pool<T: Send>(py: Python<'_>, f: impl FnOnce() -> T + Send) -> T {
+    py.detach(|| rayon::join(f, || ()).0)
 }
 
 fn slice1(a: &PyReadonlyArray1<'_, f64>, name: &str) -> PyResult<Vec<f64>> {
@@ -458,16 +458,14 @@ fn surface_deflection<'py>(
 ) -> PyResult<Bound<'py, numpy::PyArray2<f64>>> {
     let shape = [p.shape()[0], p.shape()[1]];
     let pv: Vec<f64> = p.as_array().iter().copied().collect();
-    let r = py.detach(|| {
-        in_pool(|| -> crate::Result<Vec<f64>> {
-            let mut u = vec![0.0; pv.len()];
-            if dense {
-                DenseOperator::new(shape[1], shape[0], dx)?.apply(&pv, &mut u);
-            } else {
-                FftOperator::new(shape[1], shape[0], dx)?.apply(&pv, &mut u);
-            }
-            Ok(u)
-        })
+    let r = in_pool(py, || -> crate::Result<Vec<f64>> {
+        let mut u = vec![0.0; pv.len()];
+        if dense {
+            DenseOperator::new(shape[1], shape[0], dx)?.apply(&pv, &mut u);
+        } else {
+            FftOperator::new(shape[1], shape[0], dx)?.apply(&pv, &mut u);
+        }
+        Ok(u)
     });
     let u = r.map_err(|e| to_pyerr(py, e))?;
     u.into_pyarray(py).reshape(shape)
@@ -542,13 +540,13 @@ impl PySurfaceOperator {
                             Error::InvalidInput("out must be C-contiguous and writable".into()),
                         )
                     })?;
-                    py.detach(|| in_pool(|| op.apply(pv, u)));
+                    in_pool(py, || op.apply(pv, u));
                 }
                 Ok(out)
             }
             None => {
                 let mut u = vec![0.0; pv.len()];
-                py.detach(|| in_pool(|| op.apply(pv, &mut u)));
+                in_pool(py, || op.apply(pv, &mut u));
                 u.into_pyarray(py).reshape(shape)
             }
         }
@@ -576,8 +574,9 @@ impl PySurfaceOperator {
 
 /// Static contact solve: separation h (m), footprint mask, element size dx (m), compliance
 /// (1/G, 1/Pa), and either `force` (N) or `depth` (m). The solve runs on the window that can
-/// touch (`static_contact::solve`): the elements with h <= depth, or with h <= `depth_bound`
-/// (m) under force control (the whole grid without one). `deflection=False` leaves the
+/// touch (`static_contact::solve`): the elements with h <= depth, or under force control
+/// those with h plus a lower bound of the deflection <= `depth_bound` (m; the whole grid
+/// without one). `deflection=False` leaves the
 /// deflection out (None), which spares a whole-grid operator when the window is smaller.
 #[pyfunction]
 #[pyo3(signature = (height, allowed, dx, compliance, force=None, depth=None, tol=1e-10, max_iter=5000, progress=None, dense_limit=DENSE_LIMIT, active_limit=None, precondition=true, depth_bound=None, deflection=true))]

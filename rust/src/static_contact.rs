@@ -59,6 +59,7 @@ pub fn solve(
     };
     let (h, allowed) = (&grid.height, &grid.allowed);
     let (mut h_w, mut allowed_w) = (vec![], vec![]);
+    let mut plans = FftPlans::default();
     let (mut iterations, mut solves) = (0, 0);
     loop {
         let (window, table) = match bound {
@@ -77,7 +78,7 @@ pub fn solve(
         };
         window.gather(h, &mut h_w);
         window.gather(allowed, &mut allowed_w);
-        let op = FftOperator::with_kernel(window.wx, window.wy, &table, &mut FftPlans::default())?;
+        let op = FftOperator::with_kernel(window.wx, window.wy, &table, &mut plans)?;
         let mut solver = ContactSolver::new(op);
         let mut summary = solver.solve(
             &h_w, &allowed_w, compliance, target, false, 0.0, opts, monitor,
