@@ -130,7 +130,7 @@ def table(columns, rows, formats=None) -> None:
 
 def interleaved(funcs: dict, rounds: int, warmup: bool = True) -> dict:
     """Times several callables *interleaved*: each round calls every one of them once, in
-    order, so that all see the same machine state (this machine's speed drifts by up to 2x
+    order, so that all see the same machine state (a shared VM's speed can drift by up to 2x
     over minutes). ``funcs`` maps a name to ``fn`` or to ``(fn, inner)``, where ``fn()`` is
     called ``inner`` times per sample and the sample is divided by ``inner`` (for calls too
     short to time alone; 0: chosen from the warm-up call for ~20 ms samples). Returns name -> (best seconds per call, last return value). With

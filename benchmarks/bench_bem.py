@@ -25,7 +25,7 @@ What is timed (wall clock):
   (K[p] and K[t]) plus one per solve.
 
 All four alternate run by run (mv, mv plain, np-pc, np, ...) so that they see the same machine
-state; this machine's speed drifts by up to 2x over minutes.
+state; a shared VM's speed can drift by up to 2x over minutes.
 
 Columns: wall times, end-to-end ratios, solves, total CG iterations, per-CG-iteration times,
 d(5 s) relative error against Lee-Radok (``mv.analytic.paraboloid_depth``). A second table

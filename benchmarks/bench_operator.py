@@ -24,9 +24,9 @@ Ratios: apply-only numpy / apply-only mdrvisc, and build+apply numpy / build+app
 A third table times the apply alone in *separate* processes (``--one CODE N``, alternately
 mdrvisc, numpy workers=-1, numpy workers=1, twice each; best of 10 samples of 5 calls in each
 process), so that neither library's threads, caches or allocator state touch the other's
-timing. On this 2-core VM the interleaved table has come out both ways: numpy up to 1.6x
-faster than alone (session 2), mdrvisc 1.1-1.7x slower than alone (session 3); the cause
-was not found, and the two tables bracket the ratio.
+timing. On a 2-core VM the interleaved table has come out both ways: in some runs numpy up
+to 1.6x faster than alone, in others mdrvisc 1.1-1.7x slower than alone; the cause was not
+found, and the two tables bracket the ratio.
 
 Run: ``python benchmarks/bench_operator.py [--sizes 129 257 513 1025] [--quick]``;
 ``--mv-only --json`` prints mdrvisc's numbers as JSON (used by bench_threads.py).

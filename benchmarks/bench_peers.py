@@ -13,12 +13,13 @@ a = 0.64 m, a quarter of the edge (F = 0.13981 N, d = 0.04096 m, p0 = 0.16297 Pa
   0.7 n wide; the solution is the whole grid's, exactly (contact lies where h <= d). The row
   "mdrvisc whole grid" solves the same problem on all n x n elements
   (``mv.arrays.contact`` without a depth bound), as the peers do.
-* tamaas and contactmechanics run in their own venv (``--peers-python``, default
-  /tmp/peers/bin/python) through ``peers_worker.py``, one subprocess per code and size; the
-  worker times model set-up + solve (the same work as mdrvisc's end-to-end time) and
-  the solve alone, and documents each code's convergence criterion and how ``--tol`` maps to
-  it. All three get the same height array and use the same discretisation (uniform-pressure
-  elements, Love's kernel, DC-FFT on the 2n x 2n zero-padded grid).
+* tamaas and contactmechanics run in their own venv (its interpreter: ``--peers-python PATH``
+  or the environment variable MDRVISC_PEERS_PYTHON) through ``peers_worker.py``, one
+  subprocess per code and size; the worker times model set-up + solve (the same work as
+  mdrvisc's end-to-end time) and the solve alone, and documents each code's convergence
+  criterion and how ``--tol`` maps to it. All three get the same height array and use the
+  same discretisation (uniform-pressure elements, Love's kernel, DC-FFT on the 2n x 2n
+  zero-padded grid).
 
 Columns: wall (best of --repeats, s), solve (the peers' solve call alone), iterations (CG
 iterations; contactmechanics does two operator applies per iteration), errors against Hertz
@@ -39,6 +40,7 @@ import argparse
 import json
 import math
 import os
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -56,6 +58,7 @@ E_STAR = 4.0 * G
 A_TARGET = EDGE / 4
 FORCE = 4.0 * A_TARGET**3 * E_STAR / (3.0 * RADIUS)
 PEERS = ("tamaas", "contactmechanics")
+PEERS_PYTHON_ENV = "MDRVISC_PEERS_PYTHON"
 
 
 def scene():
@@ -158,7 +161,10 @@ def main(argv=None) -> None:
     ap.add_argument("--tol", type=float, default=1e-8)
     ap.add_argument("--repeats", type=int, default=3)
     ap.add_argument("--peers", nargs="+", default=list(PEERS), choices=PEERS)
-    ap.add_argument("--peers-python", default="/tmp/peers/bin/python")
+    ap.add_argument("--peers-python", default=os.environ.get(PEERS_PYTHON_ENV) or None,
+                    metavar="PATH",
+                    help="Python interpreter of the venv holding tamaas and contactmechanics "
+                         f"(default: ${PEERS_PYTHON_ENV}; set-up in benchmarks/README.md)")
     ap.add_argument("--peer-limit", type=float, default=180.0,
                     help="skip a peer at a size when its predicted single run exceeds this (s)")
     ap.add_argument("--mv-threads1", action="store_true",
@@ -173,6 +179,12 @@ def main(argv=None) -> None:
         out = {n: dict(wall=r["wall"], iterations=r["iterations"]) for n, r in res.items()}
         print(json.dumps(out) if args.json else out)
         return
+    if not args.peers_python:
+        ap.error(f"no interpreter for the peers: pass --peers-python PATH or set "
+                 f"{PEERS_PYTHON_ENV} (the venv with tamaas and contactmechanics; "
+                 f"benchmarks/README.md, \"Peer codes\")")
+    if shutil.which(args.peers_python) is None:
+        ap.error(f"the peers' interpreter {args.peers_python!r} is not an executable")
 
     header(f"Hertz contact, non-periodic, E* = {E_STAR}, R = {RADIUS}, edge {EDGE}, "
            f"F = {FORCE:.6g} (a = {A_TARGET}), tol {args.tol:g}: mdrvisc vs peers")

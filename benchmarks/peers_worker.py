@@ -2,9 +2,10 @@
 `contactmechanics` (ContactMechanics), run in the peers' own environment.
 
 This file imports neither mdrvisc nor the benchmark helpers, so that it runs in a venv that
-holds only the peers (see benchmarks/README.md, "Peer codes"). The driver calls
+holds only the peers (see benchmarks/README.md, "Peer codes"). The driver calls, with
+PEERS_PYTHON that venv's interpreter (its ``--peers-python`` or $MDRVISC_PEERS_PYTHON),
 
-    /tmp/peers/bin/python peers_worker.py --code tamaas --n 512 --tol 1e-8 --repeats 3 --out DIR
+    PEERS_PYTHON peers_worker.py --code tamaas --n 512 --tol 1e-8 --repeats 3 --out DIR
 
 and reads one JSON document from the last line of stdout; the final pressure field is
 written to DIR/pressure_<code>_<n>.npy for the driver's comparison with a reference.

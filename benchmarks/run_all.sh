@@ -4,6 +4,7 @@
 # Needs the package installed (pip install . or maturin develop --release) in the active env.
 # BENCH_WAIT_QUIET=SECONDS: each script first waits (up to that long) until other processes
 # use < 0.1 cores; bench_threads.py also waits before each subprocess (--wait-quiet, 60 s).
+# bench_peers.py is not run here: it needs the peer codes' own venv (benchmarks/README.md).
 set -euo pipefail
 cd "$(dirname "$0")"
 PY=${PYTHON:-python}
