@@ -18,7 +18,8 @@ pub mod loading;
 pub mod mdr;
 #[cfg(feature = "python")]
 mod python;
-pub mod scenes;
+pub mod paper;
+pub mod scene;
 pub mod static_contact;
 pub mod transforms;
 pub mod viscoelastic;

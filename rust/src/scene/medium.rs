@@ -1,0 +1,227 @@
+//! Half-space media (incompressible: E* = 4 G). Each has a shear relaxation modulus G(t)
+//! (Pa) and creep compliance J(t) (1/Pa); all but the elastic and viscous ones are stepped
+//! as G(t) = G_inf + sum_k G_k exp(-t / tau_k) + eta delta(t) (`Rheology`).
+
+use crate::error::{check_positive, Error, Result};
+use crate::rheology::Rheology;
+use serde::{Deserialize, Serialize};
+
+/// A linear (visco)elastic half-space.
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(tag = "type", rename_all = "lowercase", deny_unknown_fields)]
+pub enum Medium {
+    /// Linear elastic: a scene with it is one static contact solve.
+    Elastic {
+        /// Shear modulus (Pa).
+        #[serde(rename = "G")]
+        g: f64,
+    },
+    /// Newtonian viscous.
+    Viscous {
+        /// Shear viscosity (Pa s).
+        eta: f64,
+    },
+    /// Spring G parallel to a dashpot eta.
+    KelvinVoigt {
+        /// Shear modulus (Pa).
+        #[serde(rename = "G")]
+        g: f64,
+        /// Viscosity (Pa s).
+        eta: f64,
+    },
+    /// Spring G in series with a dashpot eta (tau = eta / G).
+    Maxwell {
+        /// Shear modulus (Pa).
+        #[serde(rename = "G")]
+        g: f64,
+        /// Viscosity (Pa s).
+        eta: f64,
+    },
+    /// Standard linear solid G(t) = G_inf + G1 exp(-t / tau1).
+    StandardSolid {
+        /// Long-time modulus (Pa).
+        #[serde(rename = "G_inf")]
+        g_inf: f64,
+        /// Relaxing modulus (Pa).
+        #[serde(rename = "G1")]
+        g1: f64,
+        /// Relaxation time (s).
+        tau1: f64,
+    },
+    /// Generalised Maxwell body G(t) = G_inf + sum_k G_k exp(-t / tau_k).
+    Prony {
+        /// Long-time modulus (Pa), >= 0.
+        #[serde(rename = "G_inf")]
+        g_inf: f64,
+        /// Terms [G_k (Pa), tau_k (s)].
+        terms: Vec<[f64; 2]>,
+    },
+}
+
+impl Medium {
+    /// Fails on parameters that are not finite and positive (G_inf of a Prony series may
+    /// be 0 when it has a term).
+    pub fn validate(&self) -> Result<()> {
+        let ok = |pairs: &[(&str, f64)]| {
+            pairs
+                .iter()
+                .try_for_each(|(name, v)| check_positive(name, *v))
+        };
+        match self {
+            Medium::Elastic { g } => ok(&[("G", *g)]),
+            Medium::Viscous { eta } => ok(&[("eta", *eta)]),
+            Medium::KelvinVoigt { g, eta } | Medium::Maxwell { g, eta } => {
+                ok(&[("G", *g), ("eta", *eta)])
+            }
+            Medium::StandardSolid { g_inf, g1, tau1 } => {
+                ok(&[("G_inf", *g_inf), ("G1", *g1), ("tau1", *tau1)])
+            }
+            Medium::Prony { g_inf, terms } => {
+                if !(g_inf.is_finite() && *g_inf >= 0.0) {
+                    return Err(Error::InvalidInput(format!(
+                        "G_inf must be finite and >= 0, got {g_inf}"
+                    )));
+                }
+                for t in terms {
+                    ok(&[("G_k", t[0]), ("tau_k", t[1])])?;
+                }
+                if *g_inf == 0.0 && terms.is_empty() {
+                    return Err(Error::InvalidInput(
+                        "the Prony medium has no stiffness (G_inf = 0 and no terms)".into(),
+                    ));
+                }
+                Ok(())
+            }
+        }
+    }
+
+    /// The medium as G_inf + Prony terms + eta delta(t).
+    pub fn rheology(&self) -> Result<Rheology> {
+        self.validate()?;
+        match self {
+            Medium::Elastic { g } => Rheology::new(*g, vec![], 0.0),
+            Medium::Viscous { eta } => Rheology::new(0.0, vec![], *eta),
+            Medium::KelvinVoigt { g, eta } => Rheology::new(*g, vec![], *eta),
+            Medium::Maxwell { g, eta } => Rheology::new(0.0, vec![(*g, eta / g)], 0.0),
+            Medium::StandardSolid { g_inf, g1, tau1 } => {
+                Rheology::new(*g_inf, vec![(*g1, *tau1)], 0.0)
+            }
+            Medium::Prony { g_inf, terms } => {
+                Rheology::new(*g_inf, terms.iter().map(|t| (t[0], t[1])).collect(), 0.0)
+            }
+        }
+    }
+
+    /// Relaxation modulus G(t) (Pa) for t > 0 (a dashpot's delta at t = 0 left out).
+    pub fn relaxation_modulus(&self, t: f64) -> Result<f64> {
+        let r = self.rheology()?;
+        Ok(r.g_inf + r.terms.iter().map(|(g, tau)| g * (-t / tau).exp()).sum::<f64>())
+    }
+
+    /// Creep compliance J(t) (1/Pa): the strain under a unit step of stress. Closed forms,
+    /// and for a Prony series exact-exponential stepping of the hereditary law on a fine
+    /// geometric time grid.
+    pub fn creep_compliance(&self, t: f64) -> Result<f64> {
+        self.validate()?;
+        if !(t.is_finite() && t >= 0.0) {
+            return Err(Error::InvalidInput(format!(
+                "creep time must be finite and >= 0, got {t}"
+            )));
+        }
+        Ok(match *self {
+            Medium::Elastic { g } => 1.0 / g,
+            Medium::Viscous { eta } => t / eta,
+            Medium::KelvinVoigt { g, eta } => -(-g * t / eta).exp_m1() / g,
+            Medium::Maxwell { g, eta } => 1.0 / g + t / eta,
+            Medium::StandardSolid { g_inf, g1, tau1 } => {
+                let g0 = g_inf + g1;
+                1.0 / g_inf + (1.0 / g0 - 1.0 / g_inf) * (-g_inf * t / (g0 * tau1)).exp()
+            }
+            Medium::Prony { .. } => prony_creep(&self.rheology()?, t),
+        })
+    }
+
+    /// Whether the medium is elastic (no time dependence).
+    pub fn is_elastic(&self) -> bool {
+        matches!(self, Medium::Elastic { .. })
+    }
+}
+
+/// J(t) of a Prony series (no dashpot): the unit-stress response stepped exactly for a
+/// strain varying linearly over each of 20000 geometric steps from 1e-6 min tau_k to t.
+fn prony_creep(r: &Rheology, t: f64) -> f64 {
+    let g0 = r.g_inf + r.terms.iter().map(|(g, _)| g).sum::<f64>();
+    let mut x = 1.0 / g0;
+    if t <= 0.0 {
+        return x;
+    }
+    let tau_min = r.terms.iter().map(|&(_, tau)| tau).fold(t, f64::min);
+    let start = (tau_min * 1e-6).min(0.5 * t);
+    let steps = 20000;
+    let ratio = (t / start).powf(1.0 / (steps - 1) as f64);
+    let mut q: Vec<f64> = r.terms.iter().map(|(g, _)| g * x).collect();
+    let mut prev = 0.0;
+    for k in 0..steps {
+        let now = if k == steps - 1 {
+            t
+        } else {
+            start * ratio.powi(k as i32)
+        };
+        let dt = now - prev;
+        prev = now;
+        let (mut history, mut gain_sum) = (0.0, 0.0);
+        for (i, &(g, tau)) in r.terms.iter().enumerate() {
+            let e = (-dt / tau).exp();
+            let a = g * (tau / dt) * (-(-dt / tau).exp_m1());
+            history += e * q[i];
+            gain_sum += a;
+        }
+        let x_new = (1.0 - (history - gain_sum * x)) / (r.g_inf + gain_sum);
+        for (i, &(g, tau)) in r.terms.iter().enumerate() {
+            let a = g * (tau / dt) * (-(-dt / tau).exp_m1());
+            q[i] = (-dt / tau).exp() * q[i] + a * (x_new - x);
+        }
+        x = x_new;
+    }
+    x
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The stepped Prony compliance of a one-term series is the standard solid's closed form.
+    #[test]
+    fn prony_creep_matches_the_standard_solid() {
+        let sls = Medium::StandardSolid {
+            g_inf: 1.0,
+            g1: 3.0,
+            tau1: 0.5,
+        };
+        let prony = Medium::Prony {
+            g_inf: 1.0,
+            terms: vec![[3.0, 0.5]],
+        };
+        for t in [0.0, 0.1, 1.0, 7.0] {
+            let (a, b) = (
+                sls.creep_compliance(t).unwrap(),
+                prony.creep_compliance(t).unwrap(),
+            );
+            assert!((a - b).abs() < 1e-6 * a, "t = {t}: {a} vs {b}");
+        }
+    }
+
+    #[test]
+    fn bad_media_are_refused() {
+        for m in [
+            Medium::Viscous { eta: 0.0 },
+            Medium::Maxwell { g: 1.0, eta: f64::NAN },
+            Medium::Prony {
+                g_inf: 0.0,
+                terms: vec![],
+            },
+        ] {
+            assert!(matches!(m.validate(), Err(Error::InvalidInput(_))));
+        }
+    }
+}

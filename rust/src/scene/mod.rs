@@ -1,0 +1,336 @@
+//! The scene model: what to compute (indenter, medium, loading, outputs and their times),
+//! its validation and defaults, its TOML and JSON forms, and its run (`run`) into a typed
+//! `Report`. The binary reads scenes from files; the Python package builds them and wraps
+//! their reports. Units are SI: m, s, N, Pa, Pa s.
+
+pub mod file;
+pub mod indenter;
+pub mod medium;
+pub mod profile;
+pub mod report;
+pub mod run;
+
+pub use file::SceneFile;
+pub use indenter::{Footprint, Indenter};
+pub use medium::Medium;
+pub use profile::{Profile, ProfileTable};
+pub use report::{FieldSet, Report};
+pub use run::{run, Integrator, Method, RunSettings};
+
+use crate::error::{check_finite, check_positive, Error, Result};
+use crate::loading::{DepthHistory, ForceHistory, Loading};
+use serde::{Deserialize, Serialize};
+
+/// Most time steps a scene may ask for (duration / dt), so that no step list outgrows memory.
+pub const MAX_STEPS: f64 = 1e8;
+
+/// A force (N) or depth (m) history: a constant from t = 0, or samples [t (s), value],
+/// piecewise linear from t = 0 and held after the last sample.
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(untagged, expecting = "a number or a list of [t, value] pairs")]
+pub enum History {
+    /// A constant from t = 0.
+    Constant(f64),
+    /// Samples [t, value], t from 0 and increasing.
+    Samples(Vec<[f64; 2]>),
+}
+
+impl History {
+    /// Sample times (s) and values.
+    pub fn samples(&self) -> (Vec<f64>, Vec<f64>) {
+        match self {
+            History::Constant(v) => (vec![0.0], vec![*v]),
+            History::Samples(s) => s.iter().map(|p| (p[0], p[1])).unzip(),
+        }
+    }
+
+    /// Largest value of the history.
+    pub fn max(&self) -> f64 {
+        self.samples().1.into_iter().fold(f64::NEG_INFINITY, f64::max)
+    }
+
+    /// Value after the last sample.
+    pub fn last(&self) -> f64 {
+        *self.samples().1.last().unwrap_or(&f64::NAN)
+    }
+
+    /// The validated force history (N, >= 0; a constant must be > 0).
+    pub fn force(&self) -> Result<ForceHistory> {
+        match self {
+            History::Constant(f) => {
+                check_positive("force", *f)?;
+                ForceHistory::constant(*f)
+            }
+            History::Samples(_) => {
+                let (t, f) = self.samples();
+                ForceHistory::piecewise_linear(t, f)
+            }
+        }
+    }
+
+    /// The validated depth history (m).
+    pub fn depth(&self) -> Result<DepthHistory> {
+        let (t, d) = self.samples();
+        DepthHistory::piecewise_linear(t, d)
+    }
+}
+
+/// What a scene can be asked to compute.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Output {
+    /// Tip depth d (m); always computed.
+    Depth,
+    /// Contact length (m) from the contact area (BEM) or the element count (MDR); always
+    /// computed.
+    ContactLength,
+    /// Penetration rate dd/dt (m/s) of a viscous medium.
+    Velocity,
+    /// F / (4 eta dd/dt) (m), the paper's contact length (Eq. 23) of a viscous medium.
+    StiffnessLength,
+    /// Pressure field (Pa) at the field times.
+    Pressure,
+    /// Surface velocity field (m/s) of a viscous medium at the field times.
+    SurfaceVelocity,
+    /// Surface deflection field (m) at the field times.
+    Deflection,
+}
+
+impl Output {
+    /// Whether the output is a field (built at the field times only).
+    pub fn is_field(self) -> bool {
+        matches!(
+            self,
+            Output::Pressure | Output::SurfaceVelocity | Output::Deflection
+        )
+    }
+}
+
+/// A rigid indenter pressed into a half-space: what to compute, independent of the method.
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Scene {
+    /// The indenter.
+    pub indenter: Indenter,
+    /// The half-space.
+    pub medium: Medium,
+    /// Force history (N); give this or `depth`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub force: Option<History>,
+    /// Depth history (m; negative holds the tip above the surface) of a time-dependent
+    /// medium.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub depth: Option<History>,
+    /// Simulated time (s); required unless the medium is elastic (a static solve).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub duration: Option<f64>,
+    /// Output times (s) in (0, duration], increasing; default five equal steps up to the
+    /// duration.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub times: Option<Vec<f64>>,
+    /// What to compute; default depth and contact length. Fields only when named.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub outputs: Option<Vec<Output>>,
+    /// Times (s) of the field outputs; default the duration. Added to the output times.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub field_times: Option<Vec<f64>>,
+    /// Longest time step (s) of the viscoelastic stepping; default duration / 500.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub dt: Option<f64>,
+}
+
+/// Outputs of a scene that names none.
+pub const DEFAULT_OUTPUTS: [Output; 2] = [Output::Depth, Output::ContactLength];
+
+/// Number of default output times.
+const DEFAULT_TIMES: usize = 5;
+
+impl Scene {
+    /// Parses and validates a scene from JSON text.
+    pub fn from_json(text: &str) -> Result<Self> {
+        let scene: Scene = serde_json::from_str(text)
+            .map_err(|e| Error::InvalidInput(format!("scene: {e}")))?;
+        scene.validate()?;
+        Ok(scene)
+    }
+
+    /// The scene as JSON text.
+    pub fn to_json(&self) -> String {
+        serde_json::to_string(self).expect("a validated scene serialises")
+    }
+
+    /// Fails unless the scene is complete and consistent; error messages name the key.
+    pub fn validate(&self) -> Result<()> {
+        self.indenter.validate()?;
+        self.medium.validate()?;
+        match (&self.force, &self.depth) {
+            (Some(f), None) => {
+                f.force()?;
+            }
+            (None, Some(d)) => {
+                if self.medium.is_elastic() {
+                    return Err(Error::InvalidInput(
+                        "depth control needs a time-dependent medium, not an elastic one".into(),
+                    ));
+                }
+                d.depth()?;
+            }
+            (None, None) => {
+                return Err(Error::InvalidInput(
+                    "scene: give force (or depth)".into(),
+                ))
+            }
+            (Some(_), Some(_)) => {
+                return Err(Error::InvalidInput(
+                    "scene: give only one of force and depth".into(),
+                ))
+            }
+        }
+        if let Some(dt) = self.dt {
+            check_positive("dt", dt)?;
+        }
+        if self.medium.is_elastic() {
+            if self.duration.is_some() || self.times.is_some() || self.field_times.is_some() {
+                return Err(Error::InvalidInput(
+                    "an elastic scene is static: give no duration, times or field_times".into(),
+                ));
+            }
+            return Ok(());
+        }
+        let duration = self.duration.ok_or_else(|| {
+            Error::InvalidInput("a time-dependent scene needs a duration (s)".into())
+        })?;
+        check_positive("duration", duration)?;
+        if let Some(dt) = self.dt {
+            let steps = duration / dt;
+            if steps > MAX_STEPS {
+                return Err(Error::InvalidInput(format!(
+                    "dt = {dt} s over {duration} s is {steps:.3e} steps, more than {MAX_STEPS:.0e}"
+                )));
+            }
+        }
+        check_times("times", &self.requested_times(), duration)?;
+        check_times("field_times", &self.requested_field_times(), duration)?;
+        let times = self.requested_times();
+        if times.windows(2).any(|w| w[1] <= w[0]) {
+            return Err(Error::InvalidInput(format!(
+                "times must increase, got {times:?}"
+            )));
+        }
+        Ok(())
+    }
+
+    /// The outputs asked for.
+    pub fn outputs(&self) -> Vec<Output> {
+        self.outputs
+            .clone()
+            .unwrap_or_else(|| DEFAULT_OUTPUTS.to_vec())
+    }
+
+    /// Whether the scene asks for `output`.
+    pub fn wants(&self, output: Output) -> bool {
+        self.outputs().contains(&output)
+    }
+
+    /// Whether any field is asked for.
+    pub fn wants_fields(&self) -> bool {
+        self.outputs().iter().any(|o| o.is_field())
+    }
+
+    /// The loading: force or depth history.
+    pub fn loading(&self) -> Result<Loading> {
+        match (&self.force, &self.depth) {
+            (Some(f), _) => f.force().map(Loading::Force),
+            (None, Some(d)) => d.depth().map(Loading::Depth),
+            (None, None) => Err(Error::InvalidInput("scene: give force (or depth)".into())),
+        }
+    }
+
+    fn duration_or_zero(&self) -> f64 {
+        self.duration.unwrap_or(0.0)
+    }
+
+    /// Output times as given, or the default: five equal steps up to the duration
+    /// (numpy's `linspace(duration / 5, duration, 5)`).
+    fn requested_times(&self) -> Vec<f64> {
+        let duration = self.duration_or_zero();
+        self.times.clone().unwrap_or_else(|| {
+            let start = duration / DEFAULT_TIMES as f64;
+            let step = (duration - start) / (DEFAULT_TIMES - 1) as f64;
+            (0..DEFAULT_TIMES)
+                .map(|k| {
+                    if k == DEFAULT_TIMES - 1 {
+                        duration
+                    } else {
+                        start + k as f64 * step
+                    }
+                })
+                .collect()
+        })
+    }
+
+    fn requested_field_times(&self) -> Vec<f64> {
+        self.field_times
+            .clone()
+            .unwrap_or_else(|| vec![self.duration_or_zero()])
+    }
+
+    /// The field times (s): empty when no field is asked for; [0] for a static scene.
+    pub fn field_times(&self) -> Vec<f64> {
+        if !self.wants_fields() {
+            vec![]
+        } else if self.medium.is_elastic() {
+            vec![0.0]
+        } else {
+            self.requested_field_times()
+        }
+    }
+
+    /// Output times (s): the requested ones plus field times not within round-off
+    /// (1e-12 duration) of one of them, sorted; [0] for a static scene.
+    pub fn output_times(&self) -> Vec<f64> {
+        if self.medium.is_elastic() {
+            return vec![0.0];
+        }
+        let mut times = self.requested_times();
+        let tol = 1e-12 * self.duration_or_zero();
+        for f in self.field_times() {
+            if !times.iter().any(|&t| (t - f).abs() <= tol) {
+                times.push(f);
+            }
+        }
+        times.sort_by(f64::total_cmp);
+        times.dedup();
+        times
+    }
+
+    /// Index into `output_times` of each field time.
+    pub fn field_steps(&self) -> Vec<usize> {
+        let times = self.output_times();
+        self.field_times()
+            .iter()
+            .map(|&f| {
+                (0..times.len())
+                    .min_by(|&a, &b| (times[a] - f).abs().total_cmp(&(times[b] - f).abs()))
+                    .unwrap_or(0)
+            })
+            .collect()
+    }
+}
+
+/// Fails unless `times` are finite and in (0, duration].
+fn check_times(name: &str, times: &[f64], duration: f64) -> Result<()> {
+    if times.is_empty() {
+        return Err(Error::InvalidInput(format!("{name} must not be empty")));
+    }
+    check_finite(name, times)?;
+    if let Some(t) = times
+        .iter()
+        .find(|&&t| t <= 0.0 || t > duration * (1.0 + 1e-12))
+    {
+        return Err(Error::InvalidInput(format!(
+            "{name} must lie in (0, duration = {duration}], got {t}"
+        )));
+    }
+    Ok(())
+}

@@ -1,0 +1,204 @@
+//! What a run computed and how: series at the output times, fields at the field times, and
+//! the run's own numbers (resolution, steps, solves, iterations, residual, wall time,
+//! warnings). Units: SI (see `UNITS`).
+
+use super::run::Method;
+use super::Scene;
+use serde::Serialize;
+
+/// The unit of each quantity of a report.
+pub const UNITS: [(&str, &str); 14] = [
+    ("t", "s"),
+    ("depth", "m"),
+    ("contact_length", "m"),
+    ("area", "m^2"),
+    ("force", "N"),
+    ("velocity", "m/s"),
+    ("stiffness_length", "m"),
+    ("central_pressure", "Pa"),
+    ("dx", "m"),
+    ("wall_time", "s"),
+    ("pressure", "Pa"),
+    ("surface_velocity", "m/s"),
+    ("deflection", "m"),
+    ("x, y, r", "m"),
+];
+
+/// Fields at one time. BEM fields are (ny, nx) row-major maps over element centres `x`,
+/// `y`; MDR fields are radial profiles at radii `r` (inverse transforms of the 1D fields).
+#[derive(Debug, Clone, PartialEq, Serialize, Default)]
+pub struct FieldSet {
+    /// Time (s); 0 for a static scene.
+    pub t: f64,
+    /// Element-centre x (m) of BEM maps.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub x: Option<Vec<f64>>,
+    /// Element-centre y (m) of BEM maps.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub y: Option<Vec<f64>>,
+    /// Radii (m) of MDR profiles.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub r: Option<Vec<f64>>,
+    /// Pressure (Pa).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub pressure: Option<Vec<f64>>,
+    /// Surface velocity (m/s); for a BEM flat punch over `x_extended` on both axes.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub surface_velocity: Option<Vec<f64>>,
+    /// Element centres (m) of the grid extended around a flat punch, both axes.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub x_extended: Option<Vec<f64>>,
+    /// Surface deflection (m).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub deflection: Option<Vec<f64>>,
+}
+
+/// What a run reports. Series have one entry per output time; quantities a run did not
+/// compute are None.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Report {
+    /// The method.
+    pub method: Method,
+    /// Resolution asked for: BEM elements across the footprint, MDR elements.
+    pub n: usize,
+    /// Element size (m).
+    pub dx: f64,
+    /// BEM grid (ny, nx); None for MDR.
+    pub grid_shape: Option<[usize; 2]>,
+    /// Time integration: "implicit", "explicit", "one solve" (a flat punch), "static"
+    /// (elastic) or "viscoelastic" (exact exponential steps).
+    pub integrator: String,
+    /// Output times (s); [0] for a static scene.
+    pub t: Vec<f64>,
+    /// Tip depth (m).
+    pub depth: Vec<f64>,
+    /// Contact length (m): 2 sqrt(area / pi) (BEM) or the contact's element count times dx
+    /// (MDR).
+    pub contact_length: Vec<f64>,
+    /// Contact area (m^2) (BEM).
+    pub area: Option<Vec<f64>>,
+    /// Force on the indenter (N): prescribed or computed.
+    pub force: Vec<f64>,
+    /// Penetration rate dd/dt (m/s), viscous medium.
+    pub velocity: Option<Vec<f64>>,
+    /// F / (4 eta dd/dt) (m), the paper's contact length, viscous medium.
+    pub stiffness_length: Option<Vec<f64>>,
+    /// Pressure at the centre of a flat punch (Pa).
+    pub central_pressure: Option<Vec<f64>>,
+    /// Whether the contact covers the whole indenter.
+    pub saturated: Option<Vec<bool>>,
+    /// Whether the contact reached the outermost ring of the BEM grid.
+    pub at_edge: Option<Vec<bool>>,
+    /// Fields at the field times.
+    pub fields: Vec<FieldSet>,
+    /// Time steps taken.
+    pub steps: usize,
+    /// Contact solves.
+    pub solves: usize,
+    /// Solver iterations in all.
+    pub iterations: usize,
+    /// The static contact solver used: "polonsky-keer" or "active-set".
+    pub solver: Option<String>,
+    /// Window (y0, x0, rows, columns) of the grid the last static solve ran on.
+    pub window: Option<[usize; 4]>,
+    /// Largest final relative residual of the contact solves.
+    pub residual: f64,
+    /// Wall time of the run (s).
+    pub wall_time: f64,
+    /// What the caller should know about the result's accuracy.
+    pub warnings: Vec<String>,
+}
+
+/// Contacts narrower than this many elements are flagged as under-resolved.
+pub const MIN_CONTACT_ELEMENTS: f64 = 10.0;
+
+impl Report {
+    /// Flags output times whose contact spans fewer than `MIN_CONTACT_ELEMENTS` elements.
+    pub fn check_resolution(&mut self) {
+        let thin: Vec<usize> = (0..self.t.len())
+            .filter(|&k| self.contact_length[k] / self.dx < MIN_CONTACT_ELEMENTS)
+            .collect();
+        if thin.is_empty() {
+            return;
+        }
+        let min = thin
+            .iter()
+            .map(|&k| self.contact_length[k] / self.dx)
+            .fold(f64::INFINITY, f64::min);
+        let times: Vec<f64> = thin.iter().map(|&k| self.t[k]).collect();
+        self.warnings.push(format!(
+            "{}: the contact spans fewer than {MIN_CONTACT_ELEMENTS} elements (min {min:.1}) at t = {times:?} s; expect errors of several percent there (refine n)",
+            self.method.name().to_uppercase()
+        ));
+    }
+
+    /// One line: method, resolution, steps, solves, iterations, residual, wall time.
+    pub fn summary(&self) -> String {
+        format!(
+            "{} n={} dx={:.4e} m steps={} solves={} iterations={} residual={:.2e} wall={:.3} s",
+            self.method.name().to_uppercase(),
+            self.n,
+            self.dx,
+            self.steps,
+            self.solves,
+            self.iterations,
+            self.residual,
+            self.wall_time
+        )
+    }
+
+    /// A text table of the series, headed by `name` and the summary.
+    pub fn table(&self, name: &str) -> String {
+        let mut out = format!("{name} — {}\n", self.summary());
+        if let Some(p0) = &self.central_pressure {
+            out += &format!("  central pressure p0 = {:.6} Pa\n", p0[p0.len() - 1]);
+        }
+        let mut columns: Vec<(&str, &Vec<f64>)> = vec![
+            ("t [s]", &self.t),
+            ("d [m]", &self.depth),
+            ("l [m]", &self.contact_length),
+            ("F [N]", &self.force),
+        ];
+        if let Some(v) = &self.velocity {
+            columns.push(("dd/dt [m/s]", v));
+        }
+        if let Some(v) = &self.stiffness_length {
+            columns.push(("l_F [m]", v));
+        }
+        out += "  ";
+        out += &columns
+            .iter()
+            .map(|(h, _)| format!("{h:>14}"))
+            .collect::<Vec<_>>()
+            .join(" ");
+        out += "\n";
+        for k in 0..self.t.len() {
+            out += "  ";
+            out += &columns
+                .iter()
+                .map(|(_, v)| format!("{:>14.8}", v[k]))
+                .collect::<Vec<_>>()
+                .join(" ");
+            out += "\n";
+        }
+        for w in &self.warnings {
+            out += &format!("  warning: {w}\n");
+        }
+        out
+    }
+
+    /// The report as one JSON entry of a run document: `{"scene": name, "input": the
+    /// scene, "n": .., "result": the report, "units": {...}}`.
+    pub fn document(&self, name: &str, scene: &Scene) -> serde_json::Value {
+        let units: serde_json::Map<String, serde_json::Value> = UNITS
+            .iter()
+            .map(|(k, u)| (k.to_string(), serde_json::Value::String(u.to_string())))
+            .collect();
+        serde_json::json!({
+            "scene": name,
+            "input": scene,
+            "result": self,
+            "units": units,
+        })
+    }
+}
