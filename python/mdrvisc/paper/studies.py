@@ -2,10 +2,10 @@
 one beyond it: viscoelastic loading and unloading against Ting's closed form.
 
 Every function runs its scenes and returns dicts of numbers, lists of row dicts and numpy
-arrays; nothing is printed (:mod:`mdrvisc.report` formats and plots). Units are SI: lengths and
-depths in m, times in s, forces in N, pressures in Pa, velocities in m/s, viscosities in Pa s,
-wall times in s. Relative differences are (a - b) / b, dimensionless. NaN marks a closed form
-that does not apply.
+arrays; nothing is printed (:mod:`mdrvisc.paper.report` formats and plots). Units are SI:
+lengths and depths in m, times in s, forces in N, pressures in Pa, velocities in m/s,
+viscosities in Pa s, wall times in s. Relative differences are (a - b) / b, dimensionless.
+NaN marks a closed form that does not apply.
 
 ``progress``, where accepted, is a callable ``progress(label)`` called before each solve with a
 short label naming it (e.g. ``"paraboloid c=1 BEM n=257"``).
@@ -17,11 +17,11 @@ import time
 
 import numpy as np
 
-from . import analytic
-from .geometry import Paraboloid, Rod
-from .media import KelvinVoigt, StandardSolid, Viscous
-from .scene import Scene
-from .solve import solve
+from .. import analytic
+from ..geometry import Paraboloid, Rod
+from ..media import KelvinVoigt, StandardSolid, Viscous
+from ..scene import Scene
+from ..solve import solve
 
 __all__ = ["paper", "paper_rod", "paper_paraboloids", "PAPER", "QUICK", "PAPER_ROD",
            "ROD_UNITS", "PARABOLOID_UNITS", "viscoelastic", "VISCOELASTIC", "VISCOELASTIC_QUICK",
