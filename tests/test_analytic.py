@@ -373,3 +373,22 @@ def test_lee_radok_needs_an_indenter():
 def test_ting_needs_a_medium():
     with pytest.raises(InvalidInputError, match="medium"):
         A.ting_paraboloid_triangle(1.0, 2.0, 1.0, 1.0, 1.0)
+
+
+def test_indenter_and_medium_are_duck_typed():
+    # analytic imports no indenter or medium classes: anything with their methods will do
+    class Flat:
+        def depth_from_impulse(self, impulse, eta):
+            return impulse / (8.0 * eta)
+
+    assert A.lee_radok_depth_from_impulse(2.0, Flat(), 0.5) == 0.5
+
+    class Spring:
+        def rheology(self):
+            return 2.0, [], 0.0
+
+    t = np.linspace(0.0, 2.0, 9)
+    np.testing.assert_array_equal(A.ting_paraboloid_triangle(t, Spring(), 0.5, 0.2, 1.0)[0],
+                                  A.ting_paraboloid_triangle(t, Elastic(2.0), 0.5, 0.2, 1.0)[0])
+    with pytest.raises(InvalidInputError, match="Indenter"):
+        A.lee_radok_depth_from_impulse(1.0, Paraboloid, 1.0)  # the class, not an indenter

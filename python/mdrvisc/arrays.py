@@ -12,7 +12,7 @@ import time
 import numpy as np
 
 from . import _core
-from .analytic import _positive
+from ._validate import _positive
 from .errors import DomainError, InvalidInputError
 from .scene import Result, _history
 

@@ -15,15 +15,11 @@ import math
 
 import numpy as np
 
-from .analytic import _array, _positive, sphere_mdr_profile
+from ._validate import _array, _optional_positive, _out, _positive
+from .analytic import cone_depth, paraboloid_depth, sphere_mdr_profile
 from .errors import DomainError, InvalidInputError
 
 __all__ = ["Indenter", "Rod", "Paraboloid", "Cone", "Sphere", "Axisymmetric"]
-
-
-def _optional_positive(owner, name, value):
-    """``value`` as a float, None kept; InvalidInputError unless finite and > 0."""
-    return None if value is None else _positive(owner, name, value)
 
 
 def _bisect(g, target, hi):
@@ -154,6 +150,44 @@ class Indenter(abc.ABC):
         for discs, whose radius caps a (the contact then covers the whole face).
         """
 
+    def depth_from_impulse(self, impulse, eta):
+        """Depth (m) of the indenter pressed into a viscous half-space by an impulse.
+
+        Monotone contact (Lee-Radok) through MDR: the depth d and contact radius a solve
+        g(a) = d and 4 eta * integral_{-a}^{a} (d - g(x)) dx = J, with g the 1D profile and J
+        the impulse (integral of the force over time, N s; F t for a constant force F from
+        first touch). Parameters: impulse J >= 0 (N s, scalar or array), viscosity eta
+        (Pa s); a float for a scalar impulse, else an array of its shape. By Radok's
+        correspondence the same map gives the elastic depth under a force F with J -> F and
+        eta -> G.
+
+        Rod, Paraboloid and Cone use closed forms (:mod:`mdrvisc.analytic`); other indenters
+        are solved numerically with scipy (``brentq`` on a, ``quad`` for the integral). Once
+        the contact fills a disc footprint of radius R (Rod, ``Axisymmetric(..., radius=R)``)
+        the indenter moves on like a rod: d = g(R) + (J - J_R) / (8 eta R). Raises
+        DomainError once the contact circle reaches the edge of a square footprint, where it
+        stops being circular and no closed form applies.
+        """
+        owner = f"{type(self).__name__}.depth_from_impulse"
+        impulse = _array(owner, "impulse", impulse, minimum=0.0)
+        eta = _positive(owner, "eta", eta)
+        return self._depth_from_impulse(impulse, eta)
+
+    def _depth_from_impulse(self, impulse, eta):
+        """:meth:`depth_from_impulse` for a validated ``impulse`` (array, N s) and ``eta``
+        (Pa s). Here numerically; subclasses with a closed form or a bounded footprint
+        override it."""
+        return _LeeRadok(self, eta, disc=None, rim=None,
+                         edge=getattr(self, "edge", None)).depths(impulse)
+
+    def _check_square(self, depth, impulse):
+        """DomainError if the contact circle at the largest ``depth`` (m) outgrows the square
+        footprint (the largest ``impulse``, N s, is named); nothing without a square."""
+        if self._square is not None and np.size(depth):
+            radius = self.contact_radius_at_depth(float(np.max(depth)))
+            if radius > 0.5 * self._square:
+                raise _edge_error(self, float(np.max(impulse)))
+
 
 class Rod(Indenter):
     """Flat cylindrical punch of radius ``radius`` (m): h = 0 on the disc r <= radius.
@@ -185,6 +219,10 @@ class Rod(Indenter):
         """The rod's radius (m): the whole face touches at any depth ``d`` >= 0 (m)."""
         self._depth(d)
         return self._disc
+
+    def _depth_from_impulse(self, impulse, eta):
+        """8 eta a d = J: the rod's depth rate is F / (8 a eta)."""
+        return _out(impulse / (8.0 * eta * self._disc))
 
     def __repr__(self):
         """``Rod(radius=...)``."""
@@ -223,6 +261,12 @@ class Paraboloid(Indenter):
     def contact_radius_at_depth(self, d):
         """Contact radius a = sqrt(d / (2c)) (m) at depth ``d`` (m)."""
         return math.sqrt(self._depth(d) / (2.0 * self._c))
+
+    def _depth_from_impulse(self, impulse, eta):
+        """Closed form d = (3 J sqrt(2c) / (16 eta))^(2/3) (:func:`analytic.paraboloid_depth`)."""
+        depth = paraboloid_depth(impulse, 1.0, self._c, eta)
+        self._check_square(depth, impulse)
+        return depth
 
     def __repr__(self):
         """``Paraboloid(c=..., edge=...)``."""
@@ -263,6 +307,12 @@ class Cone(Indenter):
         """Contact radius a = 2 d / (pi slope) (m) at depth ``d`` (m)."""
         return 2.0 * self._depth(d) / (math.pi * self._slope)
 
+    def _depth_from_impulse(self, impulse, eta):
+        """Closed form d = sqrt(pi s J / (8 eta)) (:func:`analytic.cone_depth`)."""
+        depth = cone_depth(impulse, 1.0, self._slope, eta)
+        self._check_square(depth, impulse)
+        return depth
+
     def __repr__(self):
         """``Cone(slope=..., edge=...)``."""
         return f"Cone(slope={self._slope!r}, edge={self._square!r})"
@@ -298,6 +348,10 @@ class Sphere(Indenter):
         """Contact radius a < R (m) with g(a) = ``d`` (m), by bisection on the closed form."""
         d = self._depth(d)
         return _bisect(lambda a: sphere_mdr_profile(a, self._disc), d, self._disc)
+
+    def _depth_from_impulse(self, impulse, eta):
+        """Numerical; the rim, where g diverges, bounds the contact radius."""
+        return _LeeRadok(self, eta, disc=None, rim=self._disc, edge=None).depths(impulse)
 
     def __repr__(self):
         """``Sphere(radius=...)``."""
@@ -492,6 +546,20 @@ class Axisymmetric(Indenter):
                 return _bisect(g, d, hi)
         raise DomainError(f"{self!r}: no contact radius up to {hi!r} m reaches depth {d!r} m")
 
+    def _depth_from_impulse(self, impulse, eta):
+        """Numerical. A disc footprint is filled (then the indenter moves on like a rod)
+        unless g diverges at its rim, which then bounds the contact radius (a spherical cap);
+        a square footprint's half edge bounds it."""
+        disc = rim = None
+        if self._disc is not None:
+            try:
+                with np.errstate(divide="ignore", invalid="ignore"):
+                    self.profile_1d(self._disc)
+                disc = self._disc
+            except InvalidInputError:  # g diverges at the rim, like the sphere's
+                rim = self._disc
+        return _LeeRadok(self, eta, disc=disc, rim=rim, edge=self._square).depths(impulse)
+
     def __repr__(self):
         """``Axisymmetric(f=<name>, df=<name or None>, edge=..., radius=...)``."""
 
@@ -501,4 +569,83 @@ class Axisymmetric(Indenter):
         return (
             f"Axisymmetric(f={name(self._f)}, df={name(self._df)}, edge={self._square!r}, "
             f"radius={self._disc!r})"
+        )
+
+
+# ----------------------------------------------------------------------------- Lee-Radok
+def _edge_error(indenter, impulse):
+    """The DomainError for a contact circle that outgrows a square footprint."""
+    return DomainError(
+        f"{type(indenter).__name__}.depth_from_impulse: at an impulse of {impulse!r} N s the "
+        f"contact radius of {indenter!r} exceeds half the edge ({0.5 * indenter.edge!r} m); "
+        "the contact is no longer circular"
+    )
+
+
+class _LeeRadok:
+    """Numerical Lee-Radok depth of one indenter from J(a) = 8 eta int_0^a (g(a) - g(x)) dx.
+
+    ``disc``: radius of a disc footprint the contact can fill (then the indenter moves on like a
+    rod); ``rim``: radius where g diverges (the sphere), which bounds the contact radius;
+    ``edge``: side of a square footprint, whose half bounds it. None of them: the contact radius
+    is sought up to 2^20 m.
+    """
+
+    def __init__(self, indenter, eta, disc, rim, edge):
+        self.indenter = indenter
+        self.eta = eta
+        self.disc = disc
+        self.rim = rim
+        self.edge = edge
+
+    def depths(self, impulse):
+        """Depths (m) at the validated ``impulse`` array (N s): a float for a 0-d one."""
+        return _out(np.vectorize(self, otypes=[np.float64])(impulse))
+
+    def g(self, x):
+        """The indenter's 1D profile at one point (m)."""
+        return float(self.indenter.profile_1d(x))
+
+    def impulse(self, a):
+        """Impulse (N s) that brings the contact radius to ``a`` (m)."""
+        from scipy.integrate import quad
+
+        depth = self.g(a)
+        integral, _ = quad(lambda x: depth - self.g(x), 0.0, a, epsabs=0.0, epsrel=1e-12,
+                           limit=200)
+        return 8.0 * self.eta * integral
+
+    def __call__(self, impulse):
+        """Depth (m) reached at ``impulse`` (N s)."""
+        from scipy.optimize import brentq
+
+        if impulse == 0.0:
+            return 0.0
+        if self.disc is not None:
+            filled = self.impulse(self.disc)
+            if impulse >= filled:
+                return self.g(self.disc) + (impulse - filled) / (8.0 * self.eta * self.disc)
+            upper = self.disc
+        else:
+            upper = self._bracket(impulse)
+        radius = brentq(lambda a: self.impulse(a) - impulse, 0.0, upper, xtol=1e-15 * upper,
+                        rtol=4.0 * np.finfo(float).eps, maxiter=200)
+        return self.g(radius)
+
+    def _bracket(self, impulse):
+        """A contact radius (m) whose impulse is at least ``impulse``."""
+        if self.edge is not None:
+            candidates = [0.5 * self.edge]
+        elif self.rim is not None:
+            candidates = [self.rim * (1.0 - 2.0**-k) for k in range(1, 53)]
+        else:
+            candidates = [2.0**k for k in range(21)]
+        for upper in candidates:
+            if self.impulse(upper) >= impulse:
+                return upper
+        if self.edge is not None:
+            raise _edge_error(self.indenter, impulse)
+        raise DomainError(
+            f"{type(self.indenter).__name__}.depth_from_impulse: no contact radius of "
+            f"{self.indenter!r} up to {candidates[-1]!r} m carries an impulse of {impulse!r} N s"
         )

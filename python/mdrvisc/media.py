@@ -9,7 +9,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .analytic import _positive
+from ._validate import _positive
 from .errors import InvalidInputError
 
 __all__ = ["Viscous", "Elastic", "KelvinVoigt", "Maxwell", "StandardSolid", "Prony"]
