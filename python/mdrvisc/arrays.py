@@ -29,7 +29,8 @@ def _grid(name, a):
     arr = np.ascontiguousarray(arr, dtype=np.float64)
     bad = np.argwhere(~np.isfinite(arr))
     if bad.size:
-        raise InvalidInputError(f"{name} must be finite, got {arr[tuple(bad[0])]} at index {tuple(bad[0].tolist())}")
+        index = tuple(bad[0].tolist())
+        raise InvalidInputError(f"{name} must be finite, got {arr[tuple(bad[0])]} at index {index}")
     return arr
 
 
@@ -154,10 +155,12 @@ def viscous(height, dx, eta, force, times, mask=None, rates=False, tol=1e-10, ma
                           tol=tol, max_iter=max_iter, progress=progress,
                           precondition=precondition)
     if unbounded and np.any(r["at_border"]):
-        raise DomainError(f"BEM: the contact reached the edge of the grid at t = {r['t'][np.argmax(r['at_border'])]} s")
+        first = r["t"][np.argmax(r["at_border"])]
+        raise DomainError(f"BEM: the contact reached the edge of the grid at t = {first} s")
     return Result("bem", max(h.shape), dx, r["t"], r["depth"], r["contact_length"], area=r["area"],
                   velocity=r["velocity"] if rates else None,
-                  stiffness_length=r["stiffness_length"] if rates else None, saturated=r["area"] >= m.sum() * dx * dx * (1 - 1e-12), at_edge=r["at_border"],
+                  stiffness_length=r["stiffness_length"] if rates else None,
+                  saturated=r["area"] >= m.sum() * dx * dx * (1 - 1e-12), at_edge=r["at_border"],
                   steps=r["steps"], solves=r["solves"], iterations=int(np.sum(r["iterations"])),
                   residual=float(np.max(r["residual"])), wall_time=time.perf_counter() - start,
                   grid_shape=h.shape)

@@ -153,7 +153,8 @@ class StandardSolid(_Medium):
     def creep_compliance(self, t):
         """J(t) = 1/G_inf + (1/G0 - 1/G_inf) exp(-G_inf t / (G0 tau1)), G0 = G_inf + G1."""
         g0 = self.G_inf + self.G1
-        return 1.0 / self.G_inf + (1.0 / g0 - 1.0 / self.G_inf) * np.exp(-self.G_inf * _times(t) / (g0 * self.tau1))
+        decay = np.exp(-self.G_inf * _times(t) / (g0 * self.tau1))
+        return 1.0 / self.G_inf + (1.0 / g0 - 1.0 / self.G_inf) * decay
 
 
 @dataclass(frozen=True)
@@ -168,7 +169,8 @@ class Prony(_Medium):
         if not (np.isfinite(g_inf) and g_inf >= 0):
             raise InvalidInputError(f"Prony: G_inf must be finite and >= 0, got {self.G_inf!r}")
         try:
-            terms = tuple((_positive("Prony", "G_k", g), _positive("Prony", "tau_k", tau)) for g, tau in self.terms)
+            terms = tuple((_positive("Prony", "G_k", g), _positive("Prony", "tau_k", tau))
+                          for g, tau in self.terms)
         except (TypeError, ValueError) as exc:
             if isinstance(exc, InvalidInputError):
                 raise

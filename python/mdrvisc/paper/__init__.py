@@ -12,9 +12,20 @@ plotting functions: importing it does not import matplotlib.
 """
 
 from . import report, studies
-from .report import (error_table, orders_table, paper_document, paraboloid_tables,
-                     plot_error_vs_runtime, plot_paraboloids, plot_rod, plot_viscoelastic,
-                     rod_table, viscoelastic_table, write_error_vs_runtime, write_paper)
+from .report import (
+    error_table,
+    orders_table,
+    paper_document,
+    paraboloid_tables,
+    plot_error_vs_runtime,
+    plot_paraboloids,
+    plot_rod,
+    plot_viscoelastic,
+    rod_table,
+    viscoelastic_table,
+    write_error_vs_runtime,
+    write_paper,
+)
 from .studies import error_vs_runtime, paper, paper_paraboloids, paper_rod, viscoelastic
 
 __all__ = ["studies", "report", "paper", "paper_rod", "paper_paraboloids", "viscoelastic",

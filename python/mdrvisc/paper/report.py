@@ -11,8 +11,15 @@ import math
 from pathlib import Path
 
 from ..formatting import text_table, to_jsonable
-from .studies import (ERROR_UNITS, ORDER_UNITS, PARABOLOID_UNITS, QUANTITIES, ROD_UNITS,
-                      ROUNDING, VISCOELASTIC_UNITS)
+from .studies import (
+    ERROR_UNITS,
+    ORDER_UNITS,
+    PARABOLOID_UNITS,
+    QUANTITIES,
+    ROD_UNITS,
+    ROUNDING,
+    VISCOELASTIC_UNITS,
+)
 
 __all__ = ["rod_table", "paraboloid_tables", "viscoelastic_table", "write_csv", "paper_document",
            "write_paper", "plot_rod", "plot_paraboloids", "plot_viscoelastic", "error_table",

@@ -634,7 +634,7 @@ def convergence_orders(rows, cross_step=0.01):
         else:
             groups.setdefault(("dx", r["series"], r["case"], r["quantity"]), []).append(r)
     orders = []
-    for (variable, series, _, _), group in groups.items():
+    for (variable, _, _, _), group in groups.items():
         if len(group) < 2:
             continue
         first = group[0]
