@@ -14,8 +14,10 @@ nor :mod:`mdrvisc.media`. The functions that take an indenter or a medium call t
 """
 
 import math
+from typing import Protocol
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ._validate import _array, _out, _positive
 from .errors import InvalidInputError
@@ -40,7 +42,7 @@ __all__ = [
 
 
 # ----------------------------------------------------------------------------- flat rod
-def rod_velocity(force, radius, eta):
+def rod_velocity(force: float, radius: float, eta: float) -> float:
     """Indentation velocity of a flat rod on a viscous half-space, ddot = F / (8 a eta).
 
     Parameters: force F (N), rod radius a (m), viscosity eta (Pa s). Returns m/s.
@@ -51,7 +53,7 @@ def rod_velocity(force, radius, eta):
     return force / (8.0 * radius * eta)
 
 
-def rod_central_pressure(force, radius):
+def rod_central_pressure(force: float, radius: float) -> float:
     """Pressure at the centre of a flat rod's contact, p0 = F / (2 pi a^2) (Pa).
 
     Parameters: force F (N), rod radius a (m). Holds for elastic and viscous half-spaces.
@@ -61,7 +63,7 @@ def rod_central_pressure(force, radius):
     return force / (2.0 * math.pi * radius**2)
 
 
-def rod_pressure(r, force, radius):
+def rod_pressure(r: ArrayLike, force: float, radius: float) -> float | np.ndarray:
     """Pressure under a flat rod, p(r) = p0 (1 - r^2/a^2)^(-1/2) for r < a, 0 for r >= a (Pa).
 
     Parameters: radial distance r >= 0 (m, scalar or array), force F (N), rod radius a (m).
@@ -76,7 +78,7 @@ def rod_pressure(r, force, radius):
     return _out(np.where(inside, p0 / np.sqrt((1.0 - ratio) * (1.0 + ratio)), 0.0))
 
 
-def rod_surface_velocity(r, force, radius, eta):
+def rod_surface_velocity(r: ArrayLike, force: float, radius: float, eta: float) -> float | np.ndarray:
     """Surface deflection rate around a flat rod on a viscous half-space (m/s).
 
     du/dt = ddot for r <= a and (2/pi) ddot asin(a/r) for r > a, with ddot = F / (8 a eta).
@@ -92,7 +94,7 @@ def rod_surface_velocity(r, force, radius, eta):
 
 
 # ----------------------------------------------------------------------------- paraboloid
-def paraboloid_depth(t, force, c, eta):
+def paraboloid_depth(t: ArrayLike, force: float, c: float, eta: float) -> float | np.ndarray:
     """Depth of a paraboloid h = c r^2 under a constant force on a viscous half-space (m).
 
     Lee-Radok: d(t) = (3 F t sqrt(2c) / (16 eta))^(2/3), the force F (N) acting from first touch
@@ -106,7 +108,7 @@ def paraboloid_depth(t, force, c, eta):
     return _out((3.0 * force * t * math.sqrt(2.0 * c) / (16.0 * eta)) ** (2.0 / 3.0))
 
 
-def paraboloid_contact_radius(t, force, c, eta):
+def paraboloid_contact_radius(t: ArrayLike, force: float, c: float, eta: float) -> float | np.ndarray:
     """Contact radius a = sqrt(d / (2c)) of :func:`paraboloid_depth`'s indentation (m).
 
     Same parameters as :func:`paraboloid_depth`.
@@ -115,7 +117,7 @@ def paraboloid_contact_radius(t, force, c, eta):
     return _out(np.sqrt(np.asarray(depth) / (2.0 * float(c))))
 
 
-def paraboloid_contact_length(t, force, c, eta):
+def paraboloid_contact_length(t: ArrayLike, force: float, c: float, eta: float) -> float | np.ndarray:
     """Contact length l = 2a of :func:`paraboloid_depth`'s indentation (m).
 
     Same parameters as :func:`paraboloid_depth`.
@@ -124,7 +126,7 @@ def paraboloid_contact_length(t, force, c, eta):
 
 
 # ----------------------------------------------------------------------------- cone
-def cone_depth(t, force, slope, eta):
+def cone_depth(t: ArrayLike, force: float, slope: float, eta: float) -> float | np.ndarray:
     """Depth of a cone h = slope r under a constant force on a viscous half-space (m).
 
     The elastic cone (MDR profile g = (pi/2) s |x|, contact radius a = 2d / (pi s)) carries
@@ -139,7 +141,7 @@ def cone_depth(t, force, slope, eta):
     return _out(np.sqrt(math.pi * slope * force * t / (8.0 * eta)))
 
 
-def cone_contact_radius(t, force, slope, eta):
+def cone_contact_radius(t: ArrayLike, force: float, slope: float, eta: float) -> float | np.ndarray:
     """Contact radius a = 2d / (pi s) of :func:`cone_depth`'s indentation (m).
 
     Same parameters as :func:`cone_depth`.
@@ -149,7 +151,7 @@ def cone_contact_radius(t, force, slope, eta):
 
 
 # ----------------------------------------------------------------------------- MDR maps
-def power_law_mdr_factor(n):
+def power_law_mdr_factor(n: float) -> float:
     """Factor kappa_n of the MDR map of a power-law profile (dimensionless).
 
     f(r) = c r^n maps to g(x) = kappa_n c |x|^n with
@@ -160,7 +162,7 @@ def power_law_mdr_factor(n):
     return math.sqrt(math.pi) * math.exp(math.lgamma(0.5 * n + 1.0) - math.lgamma(0.5 * n + 0.5))
 
 
-def sphere_mdr_profile(x, radius):
+def sphere_mdr_profile(x: ArrayLike, radius: float) -> float | np.ndarray:
     """MDR profile of a spherical cap of radius R: g(x) = (|x|/2) ln((R + |x|) / (R - |x|)) (m).
 
     Evaluated as |x| artanh(|x|/R). Parameters: 1D coordinate x (m, scalar or array) with
@@ -177,7 +179,7 @@ def sphere_mdr_profile(x, radius):
 
 
 # ----------------------------------------------------------------------------- Hertz
-def hertz(force, radius_of_curvature, e_star):
+def hertz(force: float, radius_of_curvature: float, e_star: float) -> tuple[float, float, float]:
     """Hertz contact of a rigid paraboloid on an elastic half-space.
 
     Parameters: force F (N), radius of curvature R (m; h = r^2 / (2R)), effective modulus E*
@@ -192,7 +194,7 @@ def hertz(force, radius_of_curvature, e_star):
     return a, a * a / radius, 3.0 * force / (2.0 * math.pi * a * a)
 
 
-def hertz_pressure(r, a, p0):
+def hertz_pressure(r: ArrayLike, a: float, p0: float) -> float | np.ndarray:
     """Hertz pressure p(r) = p0 sqrt(1 - r^2/a^2) for r < a, 0 outside (Pa).
 
     Parameters: radial distance r >= 0 (m, scalar or array), contact radius a (m), central
@@ -206,7 +208,16 @@ def hertz_pressure(r, a, p0):
 
 
 # ----------------------------------------------------------------------------- Lee-Radok
-def lee_radok_depth_from_impulse(impulse, indenter, eta):
+class _DepthFromImpulse(Protocol):
+    """What :func:`lee_radok_depth_from_impulse` needs of an indenter (an
+    :class:`mdrvisc.geometry.Indenter` has it)."""
+
+    def depth_from_impulse(self, impulse: ArrayLike, eta: float) -> float | np.ndarray: ...
+
+
+def lee_radok_depth_from_impulse(
+    impulse: ArrayLike, indenter: _DepthFromImpulse, eta: float
+) -> float | np.ndarray:
     """Depth of any :mod:`mdrvisc.geometry` indenter pressed into a viscous half-space (m).
 
     Monotone contact (Lee-Radok) through MDR: the depth d and contact radius a solve
@@ -231,7 +242,16 @@ def lee_radok_depth_from_impulse(impulse, indenter, eta):
 
 
 # ----------------------------------------------------------------------------- Ting
-def ting_paraboloid_triangle(t, medium, radius_of_curvature, rate, t_peak):
+class _Rheology(Protocol):
+    """What :func:`ting_paraboloid_triangle` needs of a medium (every
+    :mod:`mdrvisc.media` medium has it): (G_inf, [(G_k, tau_k), ...], eta)."""
+
+    def rheology(self) -> tuple[float, list[tuple[float, float]], float]: ...
+
+
+def ting_paraboloid_triangle(
+    t: ArrayLike, medium: _Rheology, radius_of_curvature: float, rate: float, t_peak: float
+) -> tuple[float | np.ndarray, float | np.ndarray, float]:
     """Ting's solution for a paraboloid pushed in and pulled out at a constant rate.
 
     A rigid paraboloid h = r^2 / (2R) on an incompressible linear viscoelastic half-space of

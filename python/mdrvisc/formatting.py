@@ -4,8 +4,12 @@
 """
 
 import math
+from collections.abc import Iterable, Mapping, Sequence
+from typing import Any
 
 import numpy as np
+
+from .scene import Result
 
 __all__ = ["text_table", "result_table", "to_jsonable"]
 
@@ -19,7 +23,7 @@ def _cell(value, fmt):
     return format(value, fmt)
 
 
-def text_table(columns, rows):
+def text_table(columns: Sequence[tuple[str, str, str]], rows: Iterable[Mapping[str, object]]) -> str:
     """Right-aligned text table; ``columns``: (header, key, format spec) triples."""
     cells = [[_cell(row[key], fmt) for _, key, fmt in columns] for row in rows]
     headers = [h for h, _, _ in columns]
@@ -30,7 +34,7 @@ def text_table(columns, rows):
     return "\n".join(lines)
 
 
-def result_table(name, result):
+def result_table(name: str, result: Result) -> str:
     """One :class:`mdrvisc.Result` as aligned text: its summary and its time series."""
     lines = [f"{name}: {result.summary()}"]
     if result.central_pressure is not None:
@@ -50,7 +54,7 @@ def result_table(name, result):
     return "\n".join(lines)
 
 
-def to_jsonable(value):
+def to_jsonable(value: object) -> Any:
     """``value`` with numpy arrays and scalars as lists and numbers, NaN and inf as None."""
     if isinstance(value, dict):
         return {str(k): to_jsonable(v) for k, v in value.items()}

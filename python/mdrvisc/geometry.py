@@ -12,8 +12,10 @@ L maps to a 1D indenter of half-length L / sqrt(pi) (equal area).
 
 import abc
 import math
+from collections.abc import Callable
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ._validate import _array, _optional_positive, _out, _positive
 from .analytic import cone_depth, paraboloid_depth, sphere_mdr_profile
@@ -51,7 +53,7 @@ class Indenter(abc.ABC):
     #: Whether element centres exactly on the rim of a disc footprint belong to it.
     _rim_inside = True
 
-    def height_map(self, x, y):
+    def height_map(self, x: ArrayLike, y: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
         """Heights of the indenter over a grid of element centres.
 
         Parameters: x (nx,), y (ny,) 1-D arrays of element-centre coordinates (m).
@@ -86,7 +88,7 @@ class Indenter(abc.ABC):
         """Height f(r) (m) at radii ``r`` (m, 1-D array) inside the footprint."""
 
     @property
-    def footprint_half_width(self):
+    def footprint_half_width(self) -> float | None:
         """Half the side of the smallest centred square holding the footprint (m).
 
         Disc: its radius; square of edge L: L/2; unbounded: None.
@@ -98,7 +100,7 @@ class Indenter(abc.ABC):
         return None
 
     @property
-    def mdr_half_length(self):
+    def mdr_half_length(self) -> float | None:
         """Half-length of the 1D MDR indenter (m).
 
         Disc: its radius; square of edge L: L / sqrt(pi) (equal area); unbounded: None.
@@ -110,7 +112,7 @@ class Indenter(abc.ABC):
         return None
 
     @property
-    def is_flat(self):
+    def is_flat(self) -> bool:
         """True for a flat face (the rod), whose contact never changes."""
         return False
 
@@ -139,18 +141,18 @@ class Indenter(abc.ABC):
         return float(d)
 
     @abc.abstractmethod
-    def profile_1d(self, x):
+    def profile_1d(self, x: ArrayLike) -> np.ndarray:
         """MDR 1D profile g(x) (m), even in x; float64 array of the shape of ``x`` (m)."""
 
     @abc.abstractmethod
-    def contact_radius_at_depth(self, d):
+    def contact_radius_at_depth(self, d: float) -> float:
         """Radius a (m) of the 3D contact at tip depth ``d`` (m), from the MDR relation d = g(a).
 
         Holds for elastic and viscous half-spaces alike. The footprint's edge is ignored except
         for discs, whose radius caps a (the contact then covers the whole face).
         """
 
-    def depth_from_impulse(self, impulse, eta):
+    def depth_from_impulse(self, impulse: ArrayLike, eta: float) -> float | np.ndarray:
         """Depth (m) of the indenter pressed into a viscous half-space by an impulse.
 
         Monotone contact (Lee-Radok) through MDR: the depth d and contact radius a solve
@@ -173,7 +175,7 @@ class Indenter(abc.ABC):
         eta = _positive(owner, "eta", eta)
         return self._depth_from_impulse(impulse, eta)
 
-    def _depth_from_impulse(self, impulse, eta):
+    def _depth_from_impulse(self, impulse: np.ndarray, eta: float) -> float | np.ndarray:
         """:meth:`depth_from_impulse` for a validated ``impulse`` (array, N s) and ``eta``
         (Pa s). Here numerically; subclasses with a closed form or a bounded footprint
         override it."""
@@ -195,36 +197,36 @@ class Rod(Indenter):
     Its MDR image is a flat line, g = 0 for |x| <= radius.
     """
 
-    def __init__(self, radius):
+    def __init__(self, radius: float) -> None:
         self._disc = _positive("Rod", "radius", radius)
 
     @property
-    def radius(self):
+    def radius(self) -> float:
         """Radius of the face (m)."""
         return self._disc
 
     @property
-    def is_flat(self):
+    def is_flat(self) -> bool:
         """True: the rod's contact is its whole face, at every depth."""
         return True
 
     def _height(self, r):
         return np.zeros_like(r)
 
-    def profile_1d(self, x):
+    def profile_1d(self, x: ArrayLike) -> np.ndarray:
         """MDR profile g = 0 (m) for |x| <= radius (m); other x raise InvalidInputError."""
         return np.zeros_like(self._coordinates(x))
 
-    def contact_radius_at_depth(self, d):
+    def contact_radius_at_depth(self, d: float) -> float:
         """The rod's radius (m): the whole face touches at any depth ``d`` >= 0 (m)."""
         self._depth(d)
         return self._disc
 
-    def _depth_from_impulse(self, impulse, eta):
+    def _depth_from_impulse(self, impulse: np.ndarray, eta: float) -> float | np.ndarray:
         """8 eta a d = J: the rod's depth rate is F / (8 a eta)."""
         return _out(impulse / (8.0 * eta * self._disc))
 
-    def __repr__(self):
+    def __repr__(self) -> str:
         """``Rod(radius=...)``."""
         return f"Rod(radius={self._disc!r})"
 
@@ -236,39 +238,39 @@ class Paraboloid(Indenter):
     an unbounded paraboloid. MDR profile g = 2 c x^2.
     """
 
-    def __init__(self, c, edge=None):
+    def __init__(self, c: float, edge: float | None = None) -> None:
         self._c = _positive("Paraboloid", "c", c)
         self._square = _optional_positive("Paraboloid", "edge", edge)
 
     @property
-    def c(self):
+    def c(self) -> float:
         """Curvature parameter c (1/m) of h = c r^2."""
         return self._c
 
     @property
-    def edge(self):
+    def edge(self) -> float | None:
         """Side of the square footprint (m), or None (unbounded)."""
         return self._square
 
     def _height(self, r):
         return self._c * r * r
 
-    def profile_1d(self, x):
+    def profile_1d(self, x: ArrayLike) -> np.ndarray:
         """MDR profile g = 2 c x^2 (m) at ``x`` (m)."""
         x = self._coordinates(x)
         return 2.0 * self._c * x * x
 
-    def contact_radius_at_depth(self, d):
+    def contact_radius_at_depth(self, d: float) -> float:
         """Contact radius a = sqrt(d / (2c)) (m) at depth ``d`` (m)."""
         return math.sqrt(self._depth(d) / (2.0 * self._c))
 
-    def _depth_from_impulse(self, impulse, eta):
+    def _depth_from_impulse(self, impulse: np.ndarray, eta: float) -> float | np.ndarray:
         """Closed form d = (3 J sqrt(2c) / (16 eta))^(2/3) (:func:`analytic.paraboloid_depth`)."""
         depth = paraboloid_depth(impulse, 1.0, self._c, eta)
         self._check_square(depth, impulse)
         return depth
 
-    def __repr__(self):
+    def __repr__(self) -> str:
         """``Paraboloid(c=..., edge=...)``."""
         return f"Paraboloid(c={self._c!r}, edge={self._square!r})"
 
@@ -281,39 +283,39 @@ class Cone(Indenter):
     g = (pi/2) slope |x|.
     """
 
-    def __init__(self, slope, edge=None):
+    def __init__(self, slope: float, edge: float | None = None) -> None:
         self._slope = _positive("Cone", "slope", slope)
         self._square = _optional_positive("Cone", "edge", edge)
 
     @property
-    def slope(self):
+    def slope(self) -> float:
         """Slope s of h = s r (dimensionless)."""
         return self._slope
 
     @property
-    def edge(self):
+    def edge(self) -> float | None:
         """Side of the square footprint (m), or None (unbounded)."""
         return self._square
 
     def _height(self, r):
         return self._slope * r
 
-    def profile_1d(self, x):
+    def profile_1d(self, x: ArrayLike) -> np.ndarray:
         """MDR profile g = (pi/2) slope |x| (m) at ``x`` (m)."""
         x = self._coordinates(x)
         return 0.5 * math.pi * self._slope * np.abs(x)
 
-    def contact_radius_at_depth(self, d):
+    def contact_radius_at_depth(self, d: float) -> float:
         """Contact radius a = 2 d / (pi slope) (m) at depth ``d`` (m)."""
         return 2.0 * self._depth(d) / (math.pi * self._slope)
 
-    def _depth_from_impulse(self, impulse, eta):
+    def _depth_from_impulse(self, impulse: np.ndarray, eta: float) -> float | np.ndarray:
         """Closed form d = sqrt(pi s J / (8 eta)) (:func:`analytic.cone_depth`)."""
         depth = cone_depth(impulse, 1.0, self._slope, eta)
         self._check_square(depth, impulse)
         return depth
 
-    def __repr__(self):
+    def __repr__(self) -> str:
         """``Cone(slope=..., edge=...)``."""
         return f"Cone(slope={self._slope!r}, edge={self._square!r})"
 
@@ -327,11 +329,11 @@ class Sphere(Indenter):
 
     _rim_inside = False
 
-    def __init__(self, radius):
+    def __init__(self, radius: float) -> None:
         self._disc = _positive("Sphere", "radius", radius)
 
     @property
-    def radius(self):
+    def radius(self) -> float:
         """Radius R of the sphere (m)."""
         return self._disc
 
@@ -339,21 +341,21 @@ class Sphere(Indenter):
         radius = self._disc
         return r * r / (radius + np.sqrt((radius - r) * (radius + r)))
 
-    def profile_1d(self, x):
+    def profile_1d(self, x: ArrayLike) -> np.ndarray:
         """MDR profile g(x) (m) at ``x`` (m); |x| >= radius raises InvalidInputError."""
         x = self._coordinates(x)
         return np.asarray(sphere_mdr_profile(x, self._disc), dtype=np.float64)
 
-    def contact_radius_at_depth(self, d):
+    def contact_radius_at_depth(self, d: float) -> float:
         """Contact radius a < R (m) with g(a) = ``d`` (m), by bisection on the closed form."""
         d = self._depth(d)
         return _bisect(lambda a: sphere_mdr_profile(a, self._disc), d, self._disc)
 
-    def _depth_from_impulse(self, impulse, eta):
+    def _depth_from_impulse(self, impulse: np.ndarray, eta: float) -> float | np.ndarray:
         """Numerical; the rim, where g diverges, bounds the contact radius."""
         return _LeeRadok(self, eta, disc=None, rim=self._disc, edge=None).depths(impulse)
 
-    def __repr__(self):
+    def __repr__(self) -> str:
         """``Sphere(radius=...)``."""
         return f"Sphere(radius={self._disc!r})"
 
@@ -422,7 +424,9 @@ class Axisymmetric(Indenter):
     # x values per block of the vectorised quadrature (block * nodes ~ 2^18 evaluations).
     _BLOCK = 2048
 
-    def __init__(self, f, df=None, edge=None, radius=None):
+    def __init__(self, f: Callable[[np.ndarray], ArrayLike],
+                 df: Callable[[np.ndarray], ArrayLike] | None = None,
+                 edge: float | None = None, radius: float | None = None) -> None:
         if not callable(f):
             raise InvalidInputError(f"Axisymmetric: f must be callable, got {f!r}")
         if df is not None and not callable(df):
@@ -448,22 +452,22 @@ class Axisymmetric(Indenter):
         self._sin_theta, self._weights = _tanh_sinh_sin_nodes()
 
     @property
-    def f(self):
+    def f(self) -> Callable[[np.ndarray], ArrayLike]:
         """The profile f(r) (m)."""
         return self._f
 
     @property
-    def df(self):
+    def df(self) -> Callable[[np.ndarray], ArrayLike] | None:
         """The derivative f'(r) given by the caller, or None (central differences)."""
         return self._df
 
     @property
-    def edge(self):
+    def edge(self) -> float | None:
         """Side of the square footprint (m), or None."""
         return self._square
 
     @property
-    def radius(self):
+    def radius(self) -> float | None:
         """Radius of the disc footprint (m), or None."""
         return self._disc
 
@@ -505,7 +509,7 @@ class Axisymmetric(Indenter):
         f = self._f
         return (self._call(f, "f", upper) - self._call(f, "f", lower)) / (upper - lower)
 
-    def profile_1d(self, x):
+    def profile_1d(self, x: ArrayLike) -> np.ndarray:
         """MDR profile g(x) (m) at ``x`` (m) by tanh-sinh quadrature (see the class docstring).
 
         For a disc footprint |x| <= radius is required.
@@ -520,7 +524,7 @@ class Axisymmetric(Indenter):
             g[index] = flat[index] * (self._slope(r) @ self._weights)
         return g.reshape(x.shape)
 
-    def contact_radius_at_depth(self, d):
+    def contact_radius_at_depth(self, d: float) -> float:
         """Contact radius a (m) with g(a) = ``d`` (m), by bisection on the numerical profile.
 
         A disc footprint caps a at its radius. Otherwise a is sought up to 2^20 times the
@@ -546,7 +550,7 @@ class Axisymmetric(Indenter):
                 return _bisect(g, d, hi)
         raise DomainError(f"{self!r}: no contact radius up to {hi!r} m reaches depth {d!r} m")
 
-    def _depth_from_impulse(self, impulse, eta):
+    def _depth_from_impulse(self, impulse: np.ndarray, eta: float) -> float | np.ndarray:
         """Numerical. A disc footprint is filled (then the indenter moves on like a rod)
         unless g diverges at its rim, which then bounds the contact radius (a spherical cap);
         a square footprint's half edge bounds it."""
@@ -560,7 +564,7 @@ class Axisymmetric(Indenter):
                 rim = self._disc
         return _LeeRadok(self, eta, disc=disc, rim=rim, edge=self._square).depths(impulse)
 
-    def __repr__(self):
+    def __repr__(self) -> str:
         """``Axisymmetric(f=<name>, df=<name or None>, edge=..., radius=...)``."""
 
         def name(func):

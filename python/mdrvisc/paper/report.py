@@ -8,6 +8,8 @@ Units as in :mod:`mdrvisc.paper.studies`: SI throughout; relative differences ar
 import csv
 import json
 import math
+import os
+from collections.abc import Iterable, Mapping
 from pathlib import Path
 
 from ..formatting import text_table, to_jsonable
@@ -27,7 +29,7 @@ __all__ = ["rod_table", "paraboloid_tables", "viscoelastic_table", "write_csv", 
 
 
 # ----------------------------------------------------------------------------- text tables
-def rod_table(rod):
+def rod_table(rod: dict) -> str:
     """The rod comparison (:func:`mdrvisc.paper.studies.paper_rod`'s result) as aligned
     text."""
     p = rod["parameters"]
@@ -40,7 +42,7 @@ def rod_table(rod):
     return title + "\n" + text_table(columns, rod["rows"])
 
 
-def paraboloid_tables(par):
+def paraboloid_tables(par: dict) -> str:
     """The paraboloid comparison (:func:`mdrvisc.paper.studies.paper_paraboloids`'s result)
     as aligned text: depths, contact lengths and run statistics."""
     p = par["parameters"]
@@ -72,7 +74,7 @@ def paraboloid_tables(par):
                         "Runs\n" + text_table(runs, par["runs"])])
 
 
-def viscoelastic_table(ve):
+def viscoelastic_table(ve: dict) -> str:
     """The viscoelastic section (:func:`mdrvisc.paper.studies.viscoelastic`'s result) as
     aligned text: errors against Ting's closed form and the outputs bracketing the
     separation."""
@@ -95,7 +97,8 @@ def viscoelastic_table(ve):
 
 
 # ----------------------------------------------------------------------------- files
-def write_csv(path, rows, units):
+def write_csv(path: str | os.PathLike, rows: Iterable[Mapping[str, object]],
+              units: Mapping[str, str]) -> None:
     """Writes ``rows`` (dicts with the keys of ``units``) to ``path``; headers carry units as
     ``name [unit]``; None is written empty, NaN as ``nan``."""
     headers = [f"{k} [{u}]" if u else k for k, u in units.items()]
@@ -107,7 +110,7 @@ def write_csv(path, rows, units):
                              else row[k] for k in units])
 
 
-def paper_document(results, study=None):
+def paper_document(results: dict, study: dict | None = None) -> dict:
     """The JSON document of :func:`mdrvisc.paper.studies.paper`'s result: tables, units,
     runs; with ``study`` (:func:`mdrvisc.paper.studies.error_vs_runtime`'s result) also its
     :func:`study_document` under ``error_vs_runtime``."""
@@ -125,7 +128,7 @@ def paper_document(results, study=None):
     return to_jsonable(doc)
 
 
-def write_paper(results, out, study=None):
+def write_paper(results: dict, out: str | os.PathLike, study: dict | None = None) -> list[Path]:
     """Writes rod.csv, paraboloids.csv, viscoelastic.csv, paper.json, fig3_rod.png,
     fig4_paraboloids.png and fig_viscoelastic.png into the folder ``out`` (created if
     missing); returns their paths. paper.json holds :func:`paper_document` (with ``study``
@@ -157,7 +160,7 @@ def _pyplot():
     return plt
 
 
-def plot_rod(rod, path):
+def plot_rod(rod: dict, path: str | os.PathLike) -> None:
     """Fig. 3: surface velocity (m/s) and pressure (Pa) along x through the rod's centre, vs
     x/a: BEM line, closed form dots, MDR inverse transforms dashed. Saves a PNG at ``path``."""
     plt = _pyplot()
@@ -187,7 +190,7 @@ def plot_rod(rod, path):
     plt.close(fig)
 
 
-def plot_paraboloids(par, path):
+def plot_paraboloids(par: dict, path: str | os.PathLike) -> None:
     """Fig. 4: depth d(t) (m) and contact length l(t) (m) of every paraboloid: MDR lines, BEM
     symbols (filled: Eq. 23, open: from the contact area). Saves a PNG at ``path``."""
     plt = _pyplot()
@@ -229,7 +232,7 @@ def plot_paraboloids(par, path):
     plt.close(fig)
 
 
-def plot_viscoelastic(ve, path):
+def plot_viscoelastic(ve: dict, path: str | os.PathLike) -> None:
     """Force F(t) (N) and contact radius a(t) (m) of the viscoelastic section, one colour per
     medium: Ting's closed form as lines, MDR and BEM as symbols (every 10th output, offset),
     Ting's separation times dotted. Saves a PNG at ``path``."""
@@ -300,7 +303,7 @@ def _row_order(row):
             row["n"], -(row["step"] or 0.0))
 
 
-def error_table(study):
+def error_table(study: dict) -> str:
     """The error-vs-run-time rows (:func:`mdrvisc.paper.studies.error_vs_runtime`) as aligned
     text: one table per case and quantity; ``*`` marks the paper's settings."""
     p = study["parameters"]
@@ -326,7 +329,7 @@ def error_table(study):
     return "\n".join(lines)
 
 
-def orders_table(study):
+def orders_table(study: dict) -> str:
     """The observed convergence orders of the study as aligned text."""
     columns = [("case", "case", ""), ("quantity", "quantity", ""), ("method", "method", ""),
                ("integrator", "integrator", ""), ("fixed", "fixed", ""),
@@ -338,7 +341,7 @@ def orders_table(study):
             "the points; 'last': the two finest)\n" + text_table(columns, study["orders"]))
 
 
-def study_document(study):
+def study_document(study: dict) -> dict:
     """The JSON document of :func:`mdrvisc.paper.studies.error_vs_runtime`'s result."""
     return to_jsonable({"quick": study["quick"], "parameters": study["parameters"],
                         "settings": study["settings"], "paper_settings": study["paper_settings"],
@@ -347,7 +350,7 @@ def study_document(study):
                         "order_units": ORDER_UNITS, "orders": study["orders"]})
 
 
-def write_error_vs_runtime(study, out):
+def write_error_vs_runtime(study: dict, out: str | os.PathLike) -> list[Path]:
     """Writes error_vs_runtime.csv (rows), error_vs_runtime_orders.csv, error_vs_runtime.json
     and error_vs_runtime.png into the folder ``out`` (created if missing); returns the paths."""
     out = Path(out)
@@ -387,7 +390,7 @@ def _style(row, bem_explicit_n):
     return (f"MDR explicit, area {row['area_change']:g} (step varies)", "C3", "D", "--")
 
 
-def plot_error_vs_runtime(study, path):
+def plot_error_vs_runtime(study: dict, path: str | os.PathLike) -> None:
     """|relative error| against wall time (s), log-log: one panel per case and quantity, one
     curve per method x integrator (explicit: per n or area rule, the step varying; dotted:
     explicit at the fixed step with n varying); stars mark the paper's settings. Saves a PNG."""
