@@ -133,8 +133,9 @@ def interleaved(funcs: dict, rounds: int, warmup: bool = True) -> dict:
     order, so that all see the same machine state (a shared VM's speed can drift by up to 2x
     over minutes). ``funcs`` maps a name to ``fn`` or to ``(fn, inner)``, where ``fn()`` is
     called ``inner`` times per sample and the sample is divided by ``inner`` (for calls too
-    short to time alone; 0: chosen from the warm-up call for ~20 ms samples). Returns name -> (best seconds per call, last return value). With
-    ``warmup``, every function is called once, untimed, first."""
+    short to time alone; 0: chosen from the warm-up call for ~20 ms samples). Returns
+    name -> (best seconds per call, last return value). With ``warmup``, every function is
+    called once, untimed, first."""
     specs = {k: (v if isinstance(v, tuple) else (v, 1)) for k, v in funcs.items()}
     out = {k: [float("inf"), None] for k in specs}
     if warmup:

@@ -199,9 +199,10 @@ def first_step_table(cs, tol, n, repeats, np_repeats):
         full = _core.bem_viscous(h, mask, dx, ETA, sc.times, ft, fv, tol=tol,
                                  depth_bounds=_depth_bounds(sc))
         one = np.array([1.0])
+        # the closures run within this iteration, so the loop variables they use are current
         res = interleaved(
-            {"mv": lambda: _core.bem_viscous(h, mask, dx, ETA, one, ft, fv, tol=tol),
-             "np": lambda: ref.viscous_bem(h, mask, dx, ETA, FORCE, one, tol=tol,
+            {"mv": lambda: _core.bem_viscous(h, mask, dx, ETA, one, ft, fv, tol=tol),  # noqa: B023
+             "np": lambda: ref.viscous_bem(h, mask, dx, ETA, FORCE, one, tol=tol,  # noqa: B023
                                            precondition=True)},
             max(repeats, np_repeats))
         (t1, r1), (tn1, rn1) = res["mv"], res["np"]

@@ -12,8 +12,9 @@ K = 0 (CG), tol 1e-10, in two layouts:
 * ``alone``: the set is the whole k x k grid.
 
 The two modes are timed interleaved (dense, CG, dense, CG, ...); short calls are repeated
-within a sample (~20 ms samples). Also prints the CG iterations and the relative difference of the punch stiffness (velocity)
-between the two modes. The crossover is the smallest k from which CG is faster.
+within a sample (~20 ms samples). Also prints the CG iterations and the relative difference
+of the punch stiffness (velocity) between the two modes. The crossover is the smallest k from
+which CG is faster.
 
 Run: ``python benchmarks/bench_dense_crossover.py [--ks 4 8 11 16 23 32 45] [--grid 257]``.
 """

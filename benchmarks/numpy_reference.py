@@ -211,8 +211,8 @@ def polonsky_keer(op: FftOperator, h: np.ndarray, mask: np.ndarray, force: float
         delta = 1; p *= force / (sum(p) dx^2); error = sum|p - p_old| / sum(p).
     With ``precondition``, t follows z = S g_Ic - mean_Ic(S g_Ic) on Ic instead of g (S the
     truncated inverse-kernel stencil, :func:`apply_stencil`) and G = sum_Ic(g z), as in
-    mdrvisc's Rust solver. The loop stops when error < tol. The convergence test is made at the top of the next
-    pass, after its K[p]: that apply is the final p's, so the returned depth
+    mdrvisc's Rust solver. The loop stops when error < tol. The convergence test is made at
+    the top of the next pass, after its K[p]: that apply is the final p's, so the returned depth
     d = gbar = mean_Ic(compliance*K[p] + h) (the rigid-body approach, positive into the
     body) and the deflection belong to the returned p, at no extra cost.
 
@@ -448,9 +448,9 @@ def main(argv=None) -> None:
               f"{res['iterations']}")
         print(f"{'t':>5} {'d BEM':>12} {'d exact':>12} {'rel err':>10} "
               f"{'l BEM':>12} {'l exact':>12} {'rel err':>10}")
-        for tk, d, de, l, le in zip(res["t"], res["depth"], d_ex, res["contact_length"], l_ex):
+        for tk, d, de, length, le in zip(res["t"], res["depth"], d_ex, res["contact_length"], l_ex):
             print(f"{tk:5.2f} {d:12.8f} {de:12.8f} {(d - de) / de:10.2e} "
-                  f"{l:12.8f} {le:12.8f} {(l - le) / le:10.2e}")
+                  f"{length:12.8f} {le:12.8f} {(length - le) / le:10.2e}")
 
 
 if __name__ == "__main__":

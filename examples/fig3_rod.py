@@ -7,7 +7,8 @@ Run: python examples/fig3_rod.py [OUT.png] [--quick]   (default OUT: fig3_rod.pn
 import sys
 
 import mdrvisc as mv
-from mdrvisc import analytic, report, studies
+from mdrvisc import analytic
+from mdrvisc.paper import report, studies
 
 quick = "--quick" in sys.argv
 out = next((a for a in sys.argv[1:] if not a.startswith("--")), "fig3_rod.png")

@@ -8,7 +8,8 @@ Run: python examples/fig4_paraboloids.py [OUT.png] [--quick]   (default OUT: fig
 import sys
 
 import mdrvisc as mv
-from mdrvisc import analytic, report, studies
+from mdrvisc import analytic
+from mdrvisc.paper import report, studies
 
 quick = "--quick" in sys.argv
 out = next((a for a in sys.argv[1:] if not a.startswith("--")), "fig4_paraboloids.png")

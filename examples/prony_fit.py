@@ -17,7 +17,8 @@ import mdrvisc as mv
 
 def fit_prony(t, g, per_decade=2):
     """G_inf and terms [(G_k, tau_k)] with G_k >= 0 fitting G(t) at times t (s)."""
-    taus = np.logspace(np.log10(t.min()), np.log10(t.max()), int(per_decade * np.log10(t.max() / t.min())) + 1)
+    count = int(per_decade * np.log10(t.max() / t.min())) + 1
+    taus = np.logspace(np.log10(t.min()), np.log10(t.max()), count)
     basis = np.column_stack([np.ones_like(t)] + [np.exp(-t / tau) for tau in taus]) / g[:, None]
     coef, _ = nnls(basis, np.ones_like(t))
     terms = [(float(c), float(tau)) for c, tau in zip(coef[1:], taus) if c > 0]

@@ -134,7 +134,7 @@ def test_sphere_profile():
     np.testing.assert_allclose(A.sphere_mdr_profile(x, R), expected, rtol=1e-12)
     # against the MDR integral of h = R - sqrt(R^2 - r^2), f' = r / sqrt(R^2 - r^2)
     for xi in [0.3, 1.0, 1.8]:
-        direct = xi * quad(lambda r: r / math.sqrt(R * R - r * r) / math.sqrt(xi + r), 0, xi,
+        direct = xi * quad(lambda r, xi=xi: r / math.sqrt(R * R - r * r) / math.sqrt(xi + r), 0, xi,
                            weight="alg", wvar=(0.0, -0.5), epsabs=0.0, epsrel=1e-13)[0]
         assert A.sphere_mdr_profile(xi, R) == pytest.approx(direct, rel=1e-10)
     # shallow limit: the paraboloid of the same curvature, g = 2 c x^2 = x^2 / R
@@ -260,7 +260,7 @@ def ting_by_quadrature(t, medium, R, v, t_peak):
 
 def test_ting_root_integral_matches_quadrature():
     x = np.array([1e-3, 0.5, 5.0, 39.0, 41.0, 300.0, 1000.0])
-    direct = [quad(lambda s: math.exp(-(xi - s)) * math.sqrt(s), 0.0, xi, epsabs=0.0,
+    direct = [quad(lambda s, xi=xi: math.exp(-(xi - s)) * math.sqrt(s), 0.0, xi, epsabs=0.0,
                    epsrel=1e-13, limit=200)[0] for xi in x]
     np.testing.assert_allclose(A._relaxing_root_integral(x), direct, rtol=1e-12)
     assert A._relaxing_root_integral(np.array(0.0)) == 0.0
@@ -373,3 +373,22 @@ def test_lee_radok_needs_an_indenter():
 def test_ting_needs_a_medium():
     with pytest.raises(InvalidInputError, match="medium"):
         A.ting_paraboloid_triangle(1.0, 2.0, 1.0, 1.0, 1.0)
+
+
+def test_indenter_and_medium_are_duck_typed():
+    # analytic imports no indenter or medium classes: anything with their methods will do
+    class Flat:
+        def depth_from_impulse(self, impulse, eta):
+            return impulse / (8.0 * eta)
+
+    assert A.lee_radok_depth_from_impulse(2.0, Flat(), 0.5) == 0.5
+
+    class Spring:
+        def rheology(self):
+            return 2.0, [], 0.0
+
+    t = np.linspace(0.0, 2.0, 9)
+    np.testing.assert_array_equal(A.ting_paraboloid_triangle(t, Spring(), 0.5, 0.2, 1.0)[0],
+                                  A.ting_paraboloid_triangle(t, Elastic(2.0), 0.5, 0.2, 1.0)[0])
+    with pytest.raises(InvalidInputError, match="Indenter"):
+        A.lee_radok_depth_from_impulse(1.0, Paraboloid, 1.0)  # the class, not an indenter

@@ -203,7 +203,8 @@ def test_run_errors_exit_2(tmp_path):
 
 
 # ------------------------------------------------------------------ scene files
-@pytest.mark.parametrize("path", sorted(p for p in EXAMPLES.glob("*.toml") if p.name.startswith(("rod", "paraboloid"))),
+@pytest.mark.parametrize("path", sorted(p for p in EXAMPLES.glob("*.toml")
+                                       if p.name.startswith(("rod", "paraboloid"))),
                          ids=lambda p: p.name)
 def test_example_scene_files_load(path):
     scene, method, n = load_scene(path)
@@ -303,7 +304,8 @@ def test_viscoelastic_scene_file_with_a_depth_history(tmp_path):
     scene_p, _, _ = load_scene(prony)
     assert np.allclose(mv.solve(scene_p, method, n).force, r.force, rtol=1e-12)
     both = tmp_path / "both.toml"
-    both.write_text((EXAMPLES / "standard_solid_unloading.toml").read_text().replace("duration", "force = 1.0\nduration"))
+    unloading = (EXAMPLES / "standard_solid_unloading.toml").read_text()
+    both.write_text(unloading.replace("duration", "force = 1.0\nduration"))
     with pytest.raises(mv.InvalidInputError, match="only one"):
         load_scene(both)
 

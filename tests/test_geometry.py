@@ -326,3 +326,27 @@ def test_bad_coordinates_and_depths():
         Paraboloid(1.0).contact_radius_at_depth(-1.0)
     with pytest.raises(InvalidInputError, match="single depth"):
         Cone(1.0).contact_radius_at_depth([0.1, 0.2])
+
+
+# ------------------------------------------------------------------ Lee-Radok depth
+@pytest.mark.parametrize("indenter", [Rod(0.5), Paraboloid(0.7), Cone(0.4), Sphere(1.0),
+                                      Paraboloid(0.05, edge=2.56),
+                                      Axisymmetric(lambda r: 0.7 * r * r, radius=0.5)],
+                         ids=repr)
+def test_depth_from_impulse_is_the_lee_radok_depth(indenter):
+    from mdrvisc.analytic import lee_radok_depth_from_impulse
+
+    impulse = np.array([0.0, 1e-3, 0.3, 1.0])
+    np.testing.assert_array_equal(indenter.depth_from_impulse(impulse, 2.0),
+                                  lee_radok_depth_from_impulse(impulse, indenter, 2.0))
+    assert isinstance(indenter.depth_from_impulse(0.3, 2.0), float)
+
+
+def test_depth_from_impulse_validates():
+    with pytest.raises(InvalidInputError, match=r"^Cone.depth_from_impulse: impulse must be "
+                                                r"finite and >= 0.0, got -1.0 at index \(1,\)"):
+        Cone(1.0).depth_from_impulse([1.0, -1.0], 1.0)
+    with pytest.raises(InvalidInputError, match="^Rod.depth_from_impulse: eta must be a finite"):
+        Rod(1.0).depth_from_impulse(1.0, 0.0)
+    with pytest.raises(DomainError, match="^Paraboloid.depth_from_impulse: at an impulse of 5.0"):
+        Paraboloid(0.05, edge=2.56).depth_from_impulse([1.0, 5.0], 1.0)

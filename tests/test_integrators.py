@@ -13,8 +13,8 @@ EXACT = analytic.paraboloid_depth(5.0, 1.0, 1.0, 1.0)
 
 
 def test_explicit_mdr_converges_first_order_in_the_step():
-    errs = [abs(mv.solve(SCENE, "mdr", 66049, integrator="explicit", step=s, area_change=0.0).depth[-1] / EXACT - 1)
-            for s in (0.1, 0.01, 0.001)]
+    errs = [abs(mv.solve(SCENE, "mdr", 66049, integrator="explicit", step=s, area_change=0.0)
+                .depth[-1] / EXACT - 1) for s in (0.1, 0.01, 0.001)]
     for coarse, fine in zip(errs, errs[1:]):
         assert 5 < coarse / fine < 20
 

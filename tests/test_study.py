@@ -8,7 +8,8 @@ import math
 import numpy as np
 import pytest
 
-from mdrvisc import analytic, report, studies
+from mdrvisc import analytic
+from mdrvisc.paper import report, studies
 
 
 @pytest.fixture(scope="module")

@@ -52,8 +52,8 @@ def test_creep_compliance_closed_forms_match_the_generic_stepping():
 
 def test_held_depth_relaxes_the_force_of_a_maxwell_body():
     medium = mv.Maxwell(G=2.0, eta=0.6)
-    scene = mv.Scene(indenter=mv.Paraboloid(c=C), medium=medium, depth=([0.0, 1e-6], [0.0, 0.2]), duration=1.0,
-                     times=[1e-6, 0.1, 0.5, 1.0])
+    scene = mv.Scene(indenter=mv.Paraboloid(c=C), medium=medium, depth=([0.0, 1e-6], [0.0, 0.2]),
+                     duration=1.0, times=[1e-6, 0.1, 0.5, 1.0])
     for method, n in (("mdr", 4001), ("bem", 65)):
         r = mv.solve(scene, method, n, dt=0.01)
         expected = r.force[0] * np.exp(-(r.t - 1e-6) / (medium.eta / medium.G))
@@ -142,7 +142,9 @@ def test_constant_indentation_rate_follows_lee_radok(medium):
     eta = medium.rheology()[2]  # of eta delta(t) in G(t), which relaxation_modulus leaves out
     # the depth history is held after t = 1 s: integrate the hereditary law piecewise
     def force(t):
-        rate = lambda s: 1.5 * v**1.5 * np.sqrt(s) if s <= 1.0 else 0.0
+        def rate(s):
+            return 1.5 * v**1.5 * np.sqrt(s) if s <= 1.0 else 0.0
+
         val, _ = quad(lambda s: medium.relaxation_modulus(t - s) * rate(s), 0.0, min(t, 1.0), limit=200)
         # the dashpot adds eta d/dt (v t)^(3/2) at t; at the kink t = 1 s the solution there
         # is the end of the loading step, so the rate from the left

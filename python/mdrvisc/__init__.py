@@ -20,5 +20,6 @@ from .solve import solve
 __version__ = "0.1.0"
 
 __all__ = ["Scene", "Result", "OUTPUTS", "solve", "Rod", "Paraboloid", "Cone", "Sphere",
-           "Axisymmetric", "Indenter", "Viscous", "Elastic", "KelvinVoigt", "Maxwell", "StandardSolid", "Prony", "analytic", "arrays", "MdrviscError",
-           "InvalidInputError", "ConvergenceError", "DomainError", "__version__"]
+           "Axisymmetric", "Indenter", "Viscous", "Elastic", "KelvinVoigt", "Maxwell",
+           "StandardSolid", "Prony", "analytic", "arrays", "MdrviscError", "InvalidInputError",
+           "ConvergenceError", "DomainError", "__version__"]

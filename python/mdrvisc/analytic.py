@@ -7,13 +7,20 @@ correspondence a viscous half-space of viscosity eta behaves like an elastic one
 E* = 4 eta once forces are replaced by impulses (constant force F from t = 0: impulse F t) and
 deflections by deflection rates. Functions taking times, radii or coordinates accept scalars or
 numpy arrays and return a float or an array of the broadcast shape.
+
+This module is the bottom layer of the package: it imports neither :mod:`mdrvisc.geometry`
+nor :mod:`mdrvisc.media`. The functions that take an indenter or a medium call their methods
+(``depth_from_impulse``, ``rheology``) and accept any object that has them.
 """
 
 import math
+from typing import Protocol
 
 import numpy as np
+from numpy.typing import ArrayLike
 
-from .errors import DomainError, InvalidInputError
+from ._validate import _array, _out, _positive
+from .errors import InvalidInputError
 
 __all__ = [
     "rod_velocity",
@@ -34,49 +41,8 @@ __all__ = [
 ]
 
 
-# ----------------------------------------------------------------------------- validation
-def _positive(owner, name, value):
-    """``value`` as a float, or InvalidInputError unless it is a finite number > 0."""
-    try:
-        number = float(value)
-    except (TypeError, ValueError):
-        number = None
-    if isinstance(value, bool) or number is None or not math.isfinite(number) or number <= 0.0:
-        shown = repr(value) if number is None or isinstance(value, bool) else repr(number)
-        raise InvalidInputError(f"{owner}: {name} must be a finite positive number, got {shown}")
-    return number
-
-
-def _array(owner, name, value, minimum=None):
-    """``value`` as a float64 array, or InvalidInputError naming the first bad entry.
-
-    Every entry must be finite and, when ``minimum`` is given, >= ``minimum``.
-    """
-    try:
-        array = np.asarray(value, dtype=np.float64)
-    except (TypeError, ValueError):
-        raise InvalidInputError(f"{owner}: {name} must be real numbers, got {value!r}") from None
-    bad = ~np.isfinite(array)
-    rule = "finite"
-    if minimum is not None:
-        bad |= array < minimum
-        rule = f"finite and >= {minimum!r}"
-    if bad.any():
-        index = np.unravel_index(np.argmax(bad), array.shape) if array.ndim else ()
-        where = f" at index {tuple(int(i) for i in index)}" if array.ndim else ""
-        raise InvalidInputError(
-            f"{owner}: {name} must be {rule}, got {float(array[index])!r}{where}"
-        )
-    return array
-
-
-def _out(array):
-    """A 0-d result as a Python float, anything else unchanged."""
-    return float(array) if np.ndim(array) == 0 else array
-
-
 # ----------------------------------------------------------------------------- flat rod
-def rod_velocity(force, radius, eta):
+def rod_velocity(force: float, radius: float, eta: float) -> float:
     """Indentation velocity of a flat rod on a viscous half-space, ddot = F / (8 a eta).
 
     Parameters: force F (N), rod radius a (m), viscosity eta (Pa s). Returns m/s.
@@ -87,7 +53,7 @@ def rod_velocity(force, radius, eta):
     return force / (8.0 * radius * eta)
 
 
-def rod_central_pressure(force, radius):
+def rod_central_pressure(force: float, radius: float) -> float:
     """Pressure at the centre of a flat rod's contact, p0 = F / (2 pi a^2) (Pa).
 
     Parameters: force F (N), rod radius a (m). Holds for elastic and viscous half-spaces.
@@ -97,7 +63,7 @@ def rod_central_pressure(force, radius):
     return force / (2.0 * math.pi * radius**2)
 
 
-def rod_pressure(r, force, radius):
+def rod_pressure(r: ArrayLike, force: float, radius: float) -> float | np.ndarray:
     """Pressure under a flat rod, p(r) = p0 (1 - r^2/a^2)^(-1/2) for r < a, 0 for r >= a (Pa).
 
     Parameters: radial distance r >= 0 (m, scalar or array), force F (N), rod radius a (m).
@@ -112,7 +78,7 @@ def rod_pressure(r, force, radius):
     return _out(np.where(inside, p0 / np.sqrt((1.0 - ratio) * (1.0 + ratio)), 0.0))
 
 
-def rod_surface_velocity(r, force, radius, eta):
+def rod_surface_velocity(r: ArrayLike, force: float, radius: float, eta: float) -> float | np.ndarray:
     """Surface deflection rate around a flat rod on a viscous half-space (m/s).
 
     du/dt = ddot for r <= a and (2/pi) ddot asin(a/r) for r > a, with ddot = F / (8 a eta).
@@ -128,7 +94,7 @@ def rod_surface_velocity(r, force, radius, eta):
 
 
 # ----------------------------------------------------------------------------- paraboloid
-def paraboloid_depth(t, force, c, eta):
+def paraboloid_depth(t: ArrayLike, force: float, c: float, eta: float) -> float | np.ndarray:
     """Depth of a paraboloid h = c r^2 under a constant force on a viscous half-space (m).
 
     Lee-Radok: d(t) = (3 F t sqrt(2c) / (16 eta))^(2/3), the force F (N) acting from first touch
@@ -142,7 +108,7 @@ def paraboloid_depth(t, force, c, eta):
     return _out((3.0 * force * t * math.sqrt(2.0 * c) / (16.0 * eta)) ** (2.0 / 3.0))
 
 
-def paraboloid_contact_radius(t, force, c, eta):
+def paraboloid_contact_radius(t: ArrayLike, force: float, c: float, eta: float) -> float | np.ndarray:
     """Contact radius a = sqrt(d / (2c)) of :func:`paraboloid_depth`'s indentation (m).
 
     Same parameters as :func:`paraboloid_depth`.
@@ -151,7 +117,7 @@ def paraboloid_contact_radius(t, force, c, eta):
     return _out(np.sqrt(np.asarray(depth) / (2.0 * float(c))))
 
 
-def paraboloid_contact_length(t, force, c, eta):
+def paraboloid_contact_length(t: ArrayLike, force: float, c: float, eta: float) -> float | np.ndarray:
     """Contact length l = 2a of :func:`paraboloid_depth`'s indentation (m).
 
     Same parameters as :func:`paraboloid_depth`.
@@ -160,7 +126,7 @@ def paraboloid_contact_length(t, force, c, eta):
 
 
 # ----------------------------------------------------------------------------- cone
-def cone_depth(t, force, slope, eta):
+def cone_depth(t: ArrayLike, force: float, slope: float, eta: float) -> float | np.ndarray:
     """Depth of a cone h = slope r under a constant force on a viscous half-space (m).
 
     The elastic cone (MDR profile g = (pi/2) s |x|, contact radius a = 2d / (pi s)) carries
@@ -175,7 +141,7 @@ def cone_depth(t, force, slope, eta):
     return _out(np.sqrt(math.pi * slope * force * t / (8.0 * eta)))
 
 
-def cone_contact_radius(t, force, slope, eta):
+def cone_contact_radius(t: ArrayLike, force: float, slope: float, eta: float) -> float | np.ndarray:
     """Contact radius a = 2d / (pi s) of :func:`cone_depth`'s indentation (m).
 
     Same parameters as :func:`cone_depth`.
@@ -185,7 +151,7 @@ def cone_contact_radius(t, force, slope, eta):
 
 
 # ----------------------------------------------------------------------------- MDR maps
-def power_law_mdr_factor(n):
+def power_law_mdr_factor(n: float) -> float:
     """Factor kappa_n of the MDR map of a power-law profile (dimensionless).
 
     f(r) = c r^n maps to g(x) = kappa_n c |x|^n with
@@ -196,7 +162,7 @@ def power_law_mdr_factor(n):
     return math.sqrt(math.pi) * math.exp(math.lgamma(0.5 * n + 1.0) - math.lgamma(0.5 * n + 0.5))
 
 
-def sphere_mdr_profile(x, radius):
+def sphere_mdr_profile(x: ArrayLike, radius: float) -> float | np.ndarray:
     """MDR profile of a spherical cap of radius R: g(x) = (|x|/2) ln((R + |x|) / (R - |x|)) (m).
 
     Evaluated as |x| artanh(|x|/R). Parameters: 1D coordinate x (m, scalar or array) with
@@ -213,7 +179,7 @@ def sphere_mdr_profile(x, radius):
 
 
 # ----------------------------------------------------------------------------- Hertz
-def hertz(force, radius_of_curvature, e_star):
+def hertz(force: float, radius_of_curvature: float, e_star: float) -> tuple[float, float, float]:
     """Hertz contact of a rigid paraboloid on an elastic half-space.
 
     Parameters: force F (N), radius of curvature R (m; h = r^2 / (2R)), effective modulus E*
@@ -228,7 +194,7 @@ def hertz(force, radius_of_curvature, e_star):
     return a, a * a / radius, 3.0 * force / (2.0 * math.pi * a * a)
 
 
-def hertz_pressure(r, a, p0):
+def hertz_pressure(r: ArrayLike, a: float, p0: float) -> float | np.ndarray:
     """Hertz pressure p(r) = p0 sqrt(1 - r^2/a^2) for r < a, 0 outside (Pa).
 
     Parameters: radial distance r >= 0 (m, scalar or array), contact radius a (m), central
@@ -242,7 +208,16 @@ def hertz_pressure(r, a, p0):
 
 
 # ----------------------------------------------------------------------------- Lee-Radok
-def lee_radok_depth_from_impulse(impulse, indenter, eta):
+class _DepthFromImpulse(Protocol):
+    """What :func:`lee_radok_depth_from_impulse` needs of an indenter (an
+    :class:`mdrvisc.geometry.Indenter` has it)."""
+
+    def depth_from_impulse(self, impulse: ArrayLike, eta: float) -> float | np.ndarray: ...
+
+
+def lee_radok_depth_from_impulse(
+    impulse: ArrayLike, indenter: _DepthFromImpulse, eta: float
+) -> float | np.ndarray:
     """Depth of any :mod:`mdrvisc.geometry` indenter pressed into a viscous half-space (m).
 
     Monotone contact (Lee-Radok) through MDR: the depth d and contact radius a solve
@@ -251,123 +226,32 @@ def lee_radok_depth_from_impulse(impulse, indenter, eta):
     first touch). Parameters: impulse J >= 0 (scalar or array), indenter (a
     :class:`mdrvisc.geometry.Indenter`), viscosity eta (Pa s).
 
-    Rod, Paraboloid and Cone use closed forms; other indenters are solved numerically with
-    scipy (``brentq`` on a, ``quad`` for the integral). Once the contact fills a disc footprint
-    of radius R (Rod, ``Axisymmetric(..., radius=R)``) the indenter moves on like a rod:
-    d = g(R) + (J - J_R) / (8 eta R). Raises DomainError once the contact circle reaches the
-    edge of a square footprint, where it stops being circular and no closed form applies.
+    The indenter computes it: this is :meth:`mdrvisc.geometry.Indenter.depth_from_impulse`
+    (closed forms for Rod, Paraboloid and Cone; numerical otherwise, with scipy), which
+    raises DomainError once the contact circle reaches the edge of a square footprint. Any
+    object with a ``depth_from_impulse(impulse, eta)`` method is accepted as the indenter.
     """
-    # Imported here: geometry builds on this module's closed forms.
-    from . import geometry
-
-    if not isinstance(indenter, geometry.Indenter):
+    depth_from_impulse = getattr(indenter, "depth_from_impulse", None)
+    if isinstance(indenter, type) or not callable(depth_from_impulse):
         raise InvalidInputError(
             f"lee_radok_depth_from_impulse: indenter must be an mdrvisc Indenter, got {indenter!r}"
         )
     impulse = _array("lee_radok_depth_from_impulse", "impulse", impulse, minimum=0.0)
     eta = _positive("lee_radok_depth_from_impulse", "eta", eta)
-    if isinstance(indenter, geometry.Rod):
-        return _out(impulse / (8.0 * eta * indenter.radius))
-    if isinstance(indenter, (geometry.Paraboloid, geometry.Cone)):
-        if isinstance(indenter, geometry.Paraboloid):
-            depth = paraboloid_depth(impulse, 1.0, indenter.c, eta)
-        else:
-            depth = cone_depth(impulse, 1.0, indenter.slope, eta)
-        if indenter.edge is not None and np.size(depth):
-            radius = indenter.contact_radius_at_depth(float(np.max(depth)))
-            if radius > 0.5 * indenter.edge:
-                raise _edge_error(indenter, float(np.max(impulse)))
-        return depth
-    disc = rim = None
-    if isinstance(indenter, geometry.Sphere):
-        rim = indenter.radius
-    elif isinstance(indenter, geometry.Axisymmetric) and indenter.radius is not None:
-        try:
-            with np.errstate(divide="ignore", invalid="ignore"):
-                indenter.profile_1d(indenter.radius)
-            disc = indenter.radius
-        except InvalidInputError:  # g diverges at the rim, like the sphere's
-            rim = indenter.radius
-    solver = _LeeRadok(indenter, eta, disc=disc, rim=rim, edge=getattr(indenter, "edge", None))
-    return _out(np.vectorize(solver, otypes=[np.float64])(impulse))
-
-
-def _edge_error(indenter, impulse):
-    """The DomainError for a contact circle that outgrows a square footprint."""
-    return DomainError(
-        f"lee_radok_depth_from_impulse: at an impulse of {impulse!r} N s the contact radius "
-        f"of {indenter!r} exceeds half the edge ({0.5 * indenter.edge!r} m); the contact is no "
-        "longer circular"
-    )
-
-
-class _LeeRadok:
-    """Numerical Lee-Radok depth of one indenter from J(a) = 8 eta int_0^a (g(a) - g(x)) dx.
-
-    ``disc``: radius of a disc footprint the contact can fill (then the indenter moves on like a
-    rod); ``rim``: radius where g diverges (the sphere), which bounds the contact radius;
-    ``edge``: side of a square footprint, whose half bounds it. None of them: the contact radius
-    is sought up to 2^20 m.
-    """
-
-    def __init__(self, indenter, eta, disc, rim, edge):
-        self.indenter = indenter
-        self.eta = eta
-        self.disc = disc
-        self.rim = rim
-        self.edge = edge
-
-    def g(self, x):
-        """The indenter's 1D profile at one point (m)."""
-        return float(self.indenter.profile_1d(x))
-
-    def impulse(self, a):
-        """Impulse (N s) that brings the contact radius to ``a`` (m)."""
-        from scipy.integrate import quad
-
-        depth = self.g(a)
-        integral, _ = quad(lambda x: depth - self.g(x), 0.0, a, epsabs=0.0, epsrel=1e-12,
-                           limit=200)
-        return 8.0 * self.eta * integral
-
-    def __call__(self, impulse):
-        """Depth (m) reached at ``impulse`` (N s)."""
-        from scipy.optimize import brentq
-
-        if impulse == 0.0:
-            return 0.0
-        if self.disc is not None:
-            filled = self.impulse(self.disc)
-            if impulse >= filled:
-                return self.g(self.disc) + (impulse - filled) / (8.0 * self.eta * self.disc)
-            upper = self.disc
-        else:
-            upper = self._bracket(impulse)
-        radius = brentq(lambda a: self.impulse(a) - impulse, 0.0, upper, xtol=1e-15 * upper,
-                        rtol=4.0 * np.finfo(float).eps, maxiter=200)
-        return self.g(radius)
-
-    def _bracket(self, impulse):
-        """A contact radius (m) whose impulse is at least ``impulse``."""
-        if self.edge is not None:
-            candidates = [0.5 * self.edge]
-        elif self.rim is not None:
-            candidates = [self.rim * (1.0 - 2.0**-k) for k in range(1, 53)]
-        else:
-            candidates = [2.0**k for k in range(21)]
-        for upper in candidates:
-            if self.impulse(upper) >= impulse:
-                return upper
-        if self.edge is not None:
-            raise _edge_error(self.indenter, impulse)
-        raise DomainError(
-            f"lee_radok_depth_from_impulse: no contact radius of {self.indenter!r} up to "
-            f"{candidates[-1]!r} m carries an impulse of {impulse!r} N s"
-        )
+    return depth_from_impulse(impulse, eta)
 
 
 # ----------------------------------------------------------------------------- Ting
-def ting_paraboloid_triangle(t, medium, radius_of_curvature, rate, t_peak):
+class _Rheology(Protocol):
+    """What :func:`ting_paraboloid_triangle` needs of a medium (every
+    :mod:`mdrvisc.media` medium has it): (G_inf, [(G_k, tau_k), ...], eta)."""
+
+    def rheology(self) -> tuple[float, list[tuple[float, float]], float]: ...
+
+
+def ting_paraboloid_triangle(
+    t: ArrayLike, medium: _Rheology, radius_of_curvature: float, rate: float, t_peak: float
+) -> tuple[float | np.ndarray, float | np.ndarray, float]:
     """Ting's solution for a paraboloid pushed in and pulled out at a constant rate.
 
     A rigid paraboloid h = r^2 / (2R) on an incompressible linear viscoelastic half-space of
@@ -390,10 +274,9 @@ def ting_paraboloid_triangle(t, medium, radius_of_curvature, rate, t_peak):
     t_s (s). The roots are found by bisection to within t_peak * 2^-53; the integrals of the Prony
     terms by Gauss-Legendre quadrature (relative error ~1e-13 for t / tau_k up to 1e3).
     """
-    # Imported here: media builds on this module's validation.
-    from . import media
-
-    if not isinstance(medium, media._Medium):
+    # Duck-typed, so that this module stays below media and imports nothing from it: any
+    # object with the media's rheology() will do.
+    if isinstance(medium, type) or not callable(getattr(medium, "rheology", None)):
         raise InvalidInputError(
             f"ting_paraboloid_triangle: medium must be an mdrvisc medium, got {medium!r}"
         )

@@ -8,11 +8,13 @@ are errors.
 """
 
 import time
+from collections.abc import Callable
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from . import _core
-from .analytic import _positive
+from ._validate import _positive
 from .errors import DomainError, InvalidInputError
 from .scene import Result, _history
 
@@ -29,7 +31,8 @@ def _grid(name, a):
     arr = np.ascontiguousarray(arr, dtype=np.float64)
     bad = np.argwhere(~np.isfinite(arr))
     if bad.size:
-        raise InvalidInputError(f"{name} must be finite, got {arr[tuple(bad[0])]} at index {tuple(bad[0].tolist())}")
+        index = tuple(bad[0].tolist())
+        raise InvalidInputError(f"{name} must be finite, got {arr[tuple(bad[0])]} at index {index}")
     return arr
 
 
@@ -50,7 +53,7 @@ class SurfaceOperator:
     Attributes ``shape``, ``dx`` and ``padded`` (the FFT sizes (y, x)).
     """
 
-    def __init__(self, shape, dx):
+    def __init__(self, shape: tuple[int, int], dx: float) -> None:
         try:
             ny, nx = (int(v) for v in shape)
         except (TypeError, ValueError):
@@ -59,11 +62,22 @@ class SurfaceOperator:
             raise InvalidInputError(f"SurfaceOperator: shape must be >= (1, 1), got {shape!r}")
         self._op = _core.SurfaceOperator(nx, ny, _positive("SurfaceOperator", "dx", dx))
 
-    shape = property(lambda self: self._op.shape, doc="Grid shape (ny, nx).")
-    dx = property(lambda self: self._op.dx, doc="Element side (m).")
-    padded = property(lambda self: self._op.padded, doc="Zero-padded FFT sizes (y, x).")
+    @property
+    def shape(self) -> tuple[int, int]:
+        """Grid shape (ny, nx)."""
+        return self._op.shape
 
-    def apply(self, p, out=None):
+    @property
+    def dx(self) -> float:
+        """Element side (m)."""
+        return self._op.dx
+
+    @property
+    def padded(self) -> tuple[int, int]:
+        """Zero-padded FFT sizes (y, x)."""
+        return self._op.padded
+
+    def apply(self, p: ArrayLike, out: np.ndarray | None = None) -> np.ndarray:
         """Deflection (m, shape (ny, nx)) under pressures ``p`` (Pa, shape (ny, nx), any real
         dtype; non-finite values are errors) at G = 1 Pa. With ``out`` (a C-contiguous,
         writable float64 array of that shape) the deflection is written there and ``out`` is
@@ -75,7 +89,7 @@ class SurfaceOperator:
             raise InvalidInputError(f"out must be a float64 numpy array, got {out!r:.60}")
         return self._op.apply(np.ascontiguousarray(arr, dtype=np.float64), out)
 
-    def __repr__(self):
+    def __repr__(self) -> str:
         return f"SurfaceOperator(shape={self.shape}, dx={self.dx!r})"
 
 
@@ -88,8 +102,10 @@ def _mask(mask, shape):
     return np.ascontiguousarray(m)
 
 
-def contact(height, dx, G, force=None, depth=None, mask=None, tol=1e-10, max_iter=5000,
-            active_limit=None, precondition=True, depth_bound=None, deflection=True):
+def contact(height: ArrayLike, dx: float, G: float, force: float | None = None,
+            depth: float | None = None, mask: ArrayLike | None = None, tol: float = 1e-10,
+            max_iter: int = 5000, active_limit: int | None = None, precondition: bool = True,
+            depth_bound: float | None = None, deflection: bool = True) -> dict:
     """Static elastic contact of a rigid indenter on an incompressible half-space of shear
     modulus ``G`` (Pa) under ``force`` (N) or at ``depth`` (m).
 
@@ -131,8 +147,12 @@ def contact(height, dx, G, force=None, depth=None, mask=None, tol=1e-10, max_ite
     return r
 
 
-def viscous(height, dx, eta, force, times, mask=None, rates=False, tol=1e-10, max_iter=5000,
-            unbounded=False, progress=None, precondition=True):
+def viscous(height: ArrayLike, dx: float, eta: float,
+            force: float | tuple[ArrayLike, ArrayLike], times: ArrayLike,
+            mask: ArrayLike | None = None, rates: bool = False, tol: float = 1e-10,
+            max_iter: int = 5000, unbounded: bool = False,
+            progress: Callable[[str, int, int], object] | None = None,
+            precondition: bool = True) -> Result:
     """Implicit viscous BEM run for any height map: a rigid indenter under ``force`` (N, a
     number or (times, forces) samples) on a half-space of viscosity ``eta`` (Pa s), with
     output at ``times`` (s).
@@ -154,10 +174,12 @@ def viscous(height, dx, eta, force, times, mask=None, rates=False, tol=1e-10, ma
                           tol=tol, max_iter=max_iter, progress=progress,
                           precondition=precondition)
     if unbounded and np.any(r["at_border"]):
-        raise DomainError(f"BEM: the contact reached the edge of the grid at t = {r['t'][np.argmax(r['at_border'])]} s")
+        first = r["t"][np.argmax(r["at_border"])]
+        raise DomainError(f"BEM: the contact reached the edge of the grid at t = {first} s")
     return Result("bem", max(h.shape), dx, r["t"], r["depth"], r["contact_length"], area=r["area"],
                   velocity=r["velocity"] if rates else None,
-                  stiffness_length=r["stiffness_length"] if rates else None, saturated=r["area"] >= m.sum() * dx * dx * (1 - 1e-12), at_edge=r["at_border"],
+                  stiffness_length=r["stiffness_length"] if rates else None,
+                  saturated=r["area"] >= m.sum() * dx * dx * (1 - 1e-12), at_edge=r["at_border"],
                   steps=r["steps"], solves=r["solves"], iterations=int(np.sum(r["iterations"])),
                   residual=float(np.max(r["residual"])), wall_time=time.perf_counter() - start,
                   grid_shape=h.shape)

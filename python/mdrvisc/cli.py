@@ -10,8 +10,9 @@ import json
 import sys
 import time
 
-from . import report, scenefile, studies
+from . import formatting, scenefile
 from .errors import MdrviscError
+from .paper import report, studies
 from .solve import solve
 
 __all__ = ["main"]
@@ -111,9 +112,9 @@ def _run(args):
         if result.fields:
             out["fields"] = [{"t": t, **f} for t, f in result.fields.items()]
         doc = [{"scene": args.scene, "input": data, "result": out}]
-        print(json.dumps(report.to_jsonable(doc)))
+        print(json.dumps(formatting.to_jsonable(doc)))
     else:
-        print(report.result_table(args.scene, result))
+        print(formatting.result_table(args.scene, result))
 
 
 def main(argv=None):

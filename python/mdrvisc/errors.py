@@ -24,7 +24,7 @@ class ConvergenceError(MdrviscError, RuntimeError):
         Relative residual when the solver stopped.
     """
 
-    def __init__(self, message: str, iterations: int = 0, residual: float = float("nan")):
+    def __init__(self, message: str, iterations: int = 0, residual: float = float("nan")) -> None:
         super().__init__(message)
         self.iterations = iterations
         self.residual = residual

@@ -12,18 +12,16 @@ L maps to a 1D indenter of half-length L / sqrt(pi) (equal area).
 
 import abc
 import math
+from collections.abc import Callable
 
 import numpy as np
+from numpy.typing import ArrayLike
 
-from .analytic import _array, _positive, sphere_mdr_profile
+from ._validate import _array, _optional_positive, _out, _positive
+from .analytic import cone_depth, paraboloid_depth, sphere_mdr_profile
 from .errors import DomainError, InvalidInputError
 
 __all__ = ["Indenter", "Rod", "Paraboloid", "Cone", "Sphere", "Axisymmetric"]
-
-
-def _optional_positive(owner, name, value):
-    """``value`` as a float, None kept; InvalidInputError unless finite and > 0."""
-    return None if value is None else _positive(owner, name, value)
 
 
 def _bisect(g, target, hi):
@@ -55,7 +53,7 @@ class Indenter(abc.ABC):
     #: Whether element centres exactly on the rim of a disc footprint belong to it.
     _rim_inside = True
 
-    def height_map(self, x, y):
+    def height_map(self, x: ArrayLike, y: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
         """Heights of the indenter over a grid of element centres.
 
         Parameters: x (nx,), y (ny,) 1-D arrays of element-centre coordinates (m).
@@ -90,7 +88,7 @@ class Indenter(abc.ABC):
         """Height f(r) (m) at radii ``r`` (m, 1-D array) inside the footprint."""
 
     @property
-    def footprint_half_width(self):
+    def footprint_half_width(self) -> float | None:
         """Half the side of the smallest centred square holding the footprint (m).
 
         Disc: its radius; square of edge L: L/2; unbounded: None.
@@ -102,7 +100,7 @@ class Indenter(abc.ABC):
         return None
 
     @property
-    def mdr_half_length(self):
+    def mdr_half_length(self) -> float | None:
         """Half-length of the 1D MDR indenter (m).
 
         Disc: its radius; square of edge L: L / sqrt(pi) (equal area); unbounded: None.
@@ -114,7 +112,7 @@ class Indenter(abc.ABC):
         return None
 
     @property
-    def is_flat(self):
+    def is_flat(self) -> bool:
         """True for a flat face (the rod), whose contact never changes."""
         return False
 
@@ -143,16 +141,54 @@ class Indenter(abc.ABC):
         return float(d)
 
     @abc.abstractmethod
-    def profile_1d(self, x):
+    def profile_1d(self, x: ArrayLike) -> np.ndarray:
         """MDR 1D profile g(x) (m), even in x; float64 array of the shape of ``x`` (m)."""
 
     @abc.abstractmethod
-    def contact_radius_at_depth(self, d):
+    def contact_radius_at_depth(self, d: float) -> float:
         """Radius a (m) of the 3D contact at tip depth ``d`` (m), from the MDR relation d = g(a).
 
         Holds for elastic and viscous half-spaces alike. The footprint's edge is ignored except
         for discs, whose radius caps a (the contact then covers the whole face).
         """
+
+    def depth_from_impulse(self, impulse: ArrayLike, eta: float) -> float | np.ndarray:
+        """Depth (m) of the indenter pressed into a viscous half-space by an impulse.
+
+        Monotone contact (Lee-Radok) through MDR: the depth d and contact radius a solve
+        g(a) = d and 4 eta * integral_{-a}^{a} (d - g(x)) dx = J, with g the 1D profile and J
+        the impulse (integral of the force over time, N s; F t for a constant force F from
+        first touch). Parameters: impulse J >= 0 (N s, scalar or array), viscosity eta
+        (Pa s); a float for a scalar impulse, else an array of its shape. By Radok's
+        correspondence the same map gives the elastic depth under a force F with J -> F and
+        eta -> G.
+
+        Rod, Paraboloid and Cone use closed forms (:mod:`mdrvisc.analytic`); other indenters
+        are solved numerically with scipy (``brentq`` on a, ``quad`` for the integral). Once
+        the contact fills a disc footprint of radius R (Rod, ``Axisymmetric(..., radius=R)``)
+        the indenter moves on like a rod: d = g(R) + (J - J_R) / (8 eta R). Raises
+        DomainError once the contact circle reaches the edge of a square footprint, where it
+        stops being circular and no closed form applies.
+        """
+        owner = f"{type(self).__name__}.depth_from_impulse"
+        impulse = _array(owner, "impulse", impulse, minimum=0.0)
+        eta = _positive(owner, "eta", eta)
+        return self._depth_from_impulse(impulse, eta)
+
+    def _depth_from_impulse(self, impulse: np.ndarray, eta: float) -> float | np.ndarray:
+        """:meth:`depth_from_impulse` for a validated ``impulse`` (array, N s) and ``eta``
+        (Pa s). Here numerically; subclasses with a closed form or a bounded footprint
+        override it."""
+        return _LeeRadok(self, eta, disc=None, rim=None,
+                         edge=getattr(self, "edge", None)).depths(impulse)
+
+    def _check_square(self, depth, impulse):
+        """DomainError if the contact circle at the largest ``depth`` (m) outgrows the square
+        footprint (the largest ``impulse``, N s, is named); nothing without a square."""
+        if self._square is not None and np.size(depth):
+            radius = self.contact_radius_at_depth(float(np.max(depth)))
+            if radius > 0.5 * self._square:
+                raise _edge_error(self, float(np.max(impulse)))
 
 
 class Rod(Indenter):
@@ -161,32 +197,36 @@ class Rod(Indenter):
     Its MDR image is a flat line, g = 0 for |x| <= radius.
     """
 
-    def __init__(self, radius):
+    def __init__(self, radius: float) -> None:
         self._disc = _positive("Rod", "radius", radius)
 
     @property
-    def radius(self):
+    def radius(self) -> float:
         """Radius of the face (m)."""
         return self._disc
 
     @property
-    def is_flat(self):
+    def is_flat(self) -> bool:
         """True: the rod's contact is its whole face, at every depth."""
         return True
 
     def _height(self, r):
         return np.zeros_like(r)
 
-    def profile_1d(self, x):
+    def profile_1d(self, x: ArrayLike) -> np.ndarray:
         """MDR profile g = 0 (m) for |x| <= radius (m); other x raise InvalidInputError."""
         return np.zeros_like(self._coordinates(x))
 
-    def contact_radius_at_depth(self, d):
+    def contact_radius_at_depth(self, d: float) -> float:
         """The rod's radius (m): the whole face touches at any depth ``d`` >= 0 (m)."""
         self._depth(d)
         return self._disc
 
-    def __repr__(self):
+    def _depth_from_impulse(self, impulse: np.ndarray, eta: float) -> float | np.ndarray:
+        """8 eta a d = J: the rod's depth rate is F / (8 a eta)."""
+        return _out(impulse / (8.0 * eta * self._disc))
+
+    def __repr__(self) -> str:
         """``Rod(radius=...)``."""
         return f"Rod(radius={self._disc!r})"
 
@@ -198,33 +238,39 @@ class Paraboloid(Indenter):
     an unbounded paraboloid. MDR profile g = 2 c x^2.
     """
 
-    def __init__(self, c, edge=None):
+    def __init__(self, c: float, edge: float | None = None) -> None:
         self._c = _positive("Paraboloid", "c", c)
         self._square = _optional_positive("Paraboloid", "edge", edge)
 
     @property
-    def c(self):
+    def c(self) -> float:
         """Curvature parameter c (1/m) of h = c r^2."""
         return self._c
 
     @property
-    def edge(self):
+    def edge(self) -> float | None:
         """Side of the square footprint (m), or None (unbounded)."""
         return self._square
 
     def _height(self, r):
         return self._c * r * r
 
-    def profile_1d(self, x):
+    def profile_1d(self, x: ArrayLike) -> np.ndarray:
         """MDR profile g = 2 c x^2 (m) at ``x`` (m)."""
         x = self._coordinates(x)
         return 2.0 * self._c * x * x
 
-    def contact_radius_at_depth(self, d):
+    def contact_radius_at_depth(self, d: float) -> float:
         """Contact radius a = sqrt(d / (2c)) (m) at depth ``d`` (m)."""
         return math.sqrt(self._depth(d) / (2.0 * self._c))
 
-    def __repr__(self):
+    def _depth_from_impulse(self, impulse: np.ndarray, eta: float) -> float | np.ndarray:
+        """Closed form d = (3 J sqrt(2c) / (16 eta))^(2/3) (:func:`analytic.paraboloid_depth`)."""
+        depth = paraboloid_depth(impulse, 1.0, self._c, eta)
+        self._check_square(depth, impulse)
+        return depth
+
+    def __repr__(self) -> str:
         """``Paraboloid(c=..., edge=...)``."""
         return f"Paraboloid(c={self._c!r}, edge={self._square!r})"
 
@@ -237,33 +283,39 @@ class Cone(Indenter):
     g = (pi/2) slope |x|.
     """
 
-    def __init__(self, slope, edge=None):
+    def __init__(self, slope: float, edge: float | None = None) -> None:
         self._slope = _positive("Cone", "slope", slope)
         self._square = _optional_positive("Cone", "edge", edge)
 
     @property
-    def slope(self):
+    def slope(self) -> float:
         """Slope s of h = s r (dimensionless)."""
         return self._slope
 
     @property
-    def edge(self):
+    def edge(self) -> float | None:
         """Side of the square footprint (m), or None (unbounded)."""
         return self._square
 
     def _height(self, r):
         return self._slope * r
 
-    def profile_1d(self, x):
+    def profile_1d(self, x: ArrayLike) -> np.ndarray:
         """MDR profile g = (pi/2) slope |x| (m) at ``x`` (m)."""
         x = self._coordinates(x)
         return 0.5 * math.pi * self._slope * np.abs(x)
 
-    def contact_radius_at_depth(self, d):
+    def contact_radius_at_depth(self, d: float) -> float:
         """Contact radius a = 2 d / (pi slope) (m) at depth ``d`` (m)."""
         return 2.0 * self._depth(d) / (math.pi * self._slope)
 
-    def __repr__(self):
+    def _depth_from_impulse(self, impulse: np.ndarray, eta: float) -> float | np.ndarray:
+        """Closed form d = sqrt(pi s J / (8 eta)) (:func:`analytic.cone_depth`)."""
+        depth = cone_depth(impulse, 1.0, self._slope, eta)
+        self._check_square(depth, impulse)
+        return depth
+
+    def __repr__(self) -> str:
         """``Cone(slope=..., edge=...)``."""
         return f"Cone(slope={self._slope!r}, edge={self._square!r})"
 
@@ -277,11 +329,11 @@ class Sphere(Indenter):
 
     _rim_inside = False
 
-    def __init__(self, radius):
+    def __init__(self, radius: float) -> None:
         self._disc = _positive("Sphere", "radius", radius)
 
     @property
-    def radius(self):
+    def radius(self) -> float:
         """Radius R of the sphere (m)."""
         return self._disc
 
@@ -289,17 +341,21 @@ class Sphere(Indenter):
         radius = self._disc
         return r * r / (radius + np.sqrt((radius - r) * (radius + r)))
 
-    def profile_1d(self, x):
+    def profile_1d(self, x: ArrayLike) -> np.ndarray:
         """MDR profile g(x) (m) at ``x`` (m); |x| >= radius raises InvalidInputError."""
         x = self._coordinates(x)
         return np.asarray(sphere_mdr_profile(x, self._disc), dtype=np.float64)
 
-    def contact_radius_at_depth(self, d):
+    def contact_radius_at_depth(self, d: float) -> float:
         """Contact radius a < R (m) with g(a) = ``d`` (m), by bisection on the closed form."""
         d = self._depth(d)
         return _bisect(lambda a: sphere_mdr_profile(a, self._disc), d, self._disc)
 
-    def __repr__(self):
+    def _depth_from_impulse(self, impulse: np.ndarray, eta: float) -> float | np.ndarray:
+        """Numerical; the rim, where g diverges, bounds the contact radius."""
+        return _LeeRadok(self, eta, disc=None, rim=self._disc, edge=None).depths(impulse)
+
+    def __repr__(self) -> str:
         """``Sphere(radius=...)``."""
         return f"Sphere(radius={self._disc!r})"
 
@@ -368,7 +424,9 @@ class Axisymmetric(Indenter):
     # x values per block of the vectorised quadrature (block * nodes ~ 2^18 evaluations).
     _BLOCK = 2048
 
-    def __init__(self, f, df=None, edge=None, radius=None):
+    def __init__(self, f: Callable[[np.ndarray], ArrayLike],
+                 df: Callable[[np.ndarray], ArrayLike] | None = None,
+                 edge: float | None = None, radius: float | None = None) -> None:
         if not callable(f):
             raise InvalidInputError(f"Axisymmetric: f must be callable, got {f!r}")
         if df is not None and not callable(df):
@@ -394,22 +452,22 @@ class Axisymmetric(Indenter):
         self._sin_theta, self._weights = _tanh_sinh_sin_nodes()
 
     @property
-    def f(self):
+    def f(self) -> Callable[[np.ndarray], ArrayLike]:
         """The profile f(r) (m)."""
         return self._f
 
     @property
-    def df(self):
+    def df(self) -> Callable[[np.ndarray], ArrayLike] | None:
         """The derivative f'(r) given by the caller, or None (central differences)."""
         return self._df
 
     @property
-    def edge(self):
+    def edge(self) -> float | None:
         """Side of the square footprint (m), or None."""
         return self._square
 
     @property
-    def radius(self):
+    def radius(self) -> float | None:
         """Radius of the disc footprint (m), or None."""
         return self._disc
 
@@ -451,7 +509,7 @@ class Axisymmetric(Indenter):
         f = self._f
         return (self._call(f, "f", upper) - self._call(f, "f", lower)) / (upper - lower)
 
-    def profile_1d(self, x):
+    def profile_1d(self, x: ArrayLike) -> np.ndarray:
         """MDR profile g(x) (m) at ``x`` (m) by tanh-sinh quadrature (see the class docstring).
 
         For a disc footprint |x| <= radius is required.
@@ -466,7 +524,7 @@ class Axisymmetric(Indenter):
             g[index] = flat[index] * (self._slope(r) @ self._weights)
         return g.reshape(x.shape)
 
-    def contact_radius_at_depth(self, d):
+    def contact_radius_at_depth(self, d: float) -> float:
         """Contact radius a (m) with g(a) = ``d`` (m), by bisection on the numerical profile.
 
         A disc footprint caps a at its radius. Otherwise a is sought up to 2^20 times the
@@ -492,7 +550,21 @@ class Axisymmetric(Indenter):
                 return _bisect(g, d, hi)
         raise DomainError(f"{self!r}: no contact radius up to {hi!r} m reaches depth {d!r} m")
 
-    def __repr__(self):
+    def _depth_from_impulse(self, impulse: np.ndarray, eta: float) -> float | np.ndarray:
+        """Numerical. A disc footprint is filled (then the indenter moves on like a rod)
+        unless g diverges at its rim, which then bounds the contact radius (a spherical cap);
+        a square footprint's half edge bounds it."""
+        disc = rim = None
+        if self._disc is not None:
+            try:
+                with np.errstate(divide="ignore", invalid="ignore"):
+                    self.profile_1d(self._disc)
+                disc = self._disc
+            except InvalidInputError:  # g diverges at the rim, like the sphere's
+                rim = self._disc
+        return _LeeRadok(self, eta, disc=disc, rim=rim, edge=self._square).depths(impulse)
+
+    def __repr__(self) -> str:
         """``Axisymmetric(f=<name>, df=<name or None>, edge=..., radius=...)``."""
 
         def name(func):
@@ -501,4 +573,83 @@ class Axisymmetric(Indenter):
         return (
             f"Axisymmetric(f={name(self._f)}, df={name(self._df)}, edge={self._square!r}, "
             f"radius={self._disc!r})"
+        )
+
+
+# ----------------------------------------------------------------------------- Lee-Radok
+def _edge_error(indenter, impulse):
+    """The DomainError for a contact circle that outgrows a square footprint."""
+    return DomainError(
+        f"{type(indenter).__name__}.depth_from_impulse: at an impulse of {impulse!r} N s the "
+        f"contact radius of {indenter!r} exceeds half the edge ({0.5 * indenter.edge!r} m); "
+        "the contact is no longer circular"
+    )
+
+
+class _LeeRadok:
+    """Numerical Lee-Radok depth of one indenter from J(a) = 8 eta int_0^a (g(a) - g(x)) dx.
+
+    ``disc``: radius of a disc footprint the contact can fill (then the indenter moves on like a
+    rod); ``rim``: radius where g diverges (the sphere), which bounds the contact radius;
+    ``edge``: side of a square footprint, whose half bounds it. None of them: the contact radius
+    is sought up to 2^20 m.
+    """
+
+    def __init__(self, indenter, eta, disc, rim, edge):
+        self.indenter = indenter
+        self.eta = eta
+        self.disc = disc
+        self.rim = rim
+        self.edge = edge
+
+    def depths(self, impulse):
+        """Depths (m) at the validated ``impulse`` array (N s): a float for a 0-d one."""
+        return _out(np.vectorize(self, otypes=[np.float64])(impulse))
+
+    def g(self, x):
+        """The indenter's 1D profile at one point (m)."""
+        return float(self.indenter.profile_1d(x))
+
+    def impulse(self, a):
+        """Impulse (N s) that brings the contact radius to ``a`` (m)."""
+        from scipy.integrate import quad
+
+        depth = self.g(a)
+        integral, _ = quad(lambda x: depth - self.g(x), 0.0, a, epsabs=0.0, epsrel=1e-12,
+                           limit=200)
+        return 8.0 * self.eta * integral
+
+    def __call__(self, impulse):
+        """Depth (m) reached at ``impulse`` (N s)."""
+        from scipy.optimize import brentq
+
+        if impulse == 0.0:
+            return 0.0
+        if self.disc is not None:
+            filled = self.impulse(self.disc)
+            if impulse >= filled:
+                return self.g(self.disc) + (impulse - filled) / (8.0 * self.eta * self.disc)
+            upper = self.disc
+        else:
+            upper = self._bracket(impulse)
+        radius = brentq(lambda a: self.impulse(a) - impulse, 0.0, upper, xtol=1e-15 * upper,
+                        rtol=4.0 * np.finfo(float).eps, maxiter=200)
+        return self.g(radius)
+
+    def _bracket(self, impulse):
+        """A contact radius (m) whose impulse is at least ``impulse``."""
+        if self.edge is not None:
+            candidates = [0.5 * self.edge]
+        elif self.rim is not None:
+            candidates = [self.rim * (1.0 - 2.0**-k) for k in range(1, 53)]
+        else:
+            candidates = [2.0**k for k in range(21)]
+        for upper in candidates:
+            if self.impulse(upper) >= impulse:
+                return upper
+        if self.edge is not None:
+            raise _edge_error(self.indenter, impulse)
+        raise DomainError(
+            f"{type(self.indenter).__name__}.depth_from_impulse: no contact radius of "
+            f"{self.indenter!r} up to {candidates[-1]!r} m carries an impulse of {impulse!r} N s"
         )

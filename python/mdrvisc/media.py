@@ -8,11 +8,15 @@ viscoelastic ones are written as G(t) = G_inf + sum_k G_k exp(-t / tau_k) + eta 
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import ArrayLike
 
-from .analytic import _positive
+from ._validate import _positive
 from .errors import InvalidInputError
 
 __all__ = ["Viscous", "Elastic", "KelvinVoigt", "Maxwell", "StandardSolid", "Prony"]
+
+#: A medium as a Prony series with a dashpot, (G_inf, [(G_k, tau_k), ...], eta) (Pa, s, Pa s).
+Rheology = tuple[float, list[tuple[float, float]], float]
 
 
 def _times(t):
@@ -25,17 +29,17 @@ def _times(t):
 class _Medium:
     """Shared interface: relaxation modulus G(t) (Pa) and creep compliance J(t) (1/Pa)."""
 
-    def rheology(self):
+    def rheology(self) -> Rheology:
         """(G_inf, [(G_k, tau_k), ...], eta): the medium as a Prony series with a dashpot."""
         raise NotImplementedError
 
-    def relaxation_modulus(self, t):
+    def relaxation_modulus(self, t: ArrayLike) -> float | np.ndarray:
         """G(t) (Pa) for t > 0 (the dashpot's delta at t = 0 left out)."""
         g_inf, terms, _ = self.rheology()
         t = _times(t)
         return g_inf + sum(g * np.exp(-t / tau) for g, tau in terms)
 
-    def creep_compliance(self, t):
+    def creep_compliance(self, t: ArrayLike) -> float | np.ndarray:
         """J(t) (1/Pa): strain under a unit step of stress, by exact-exponential stepping of
         the hereditary law on a fine geometric time grid (closed forms in the subclasses)."""
         g_inf, terms, eta = self.rheology()
@@ -68,13 +72,13 @@ class Viscous(_Medium):
 
     eta: float
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         object.__setattr__(self, "eta", _positive("Viscous", "eta", self.eta))
 
-    def rheology(self):
+    def rheology(self) -> Rheology:
         return 0.0, [], self.eta
 
-    def creep_compliance(self, t):
+    def creep_compliance(self, t: ArrayLike) -> float | np.ndarray:
         """J(t) = t / eta (1/Pa)."""
         return _times(t) / self.eta
 
@@ -86,13 +90,13 @@ class Elastic(_Medium):
 
     G: float
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         object.__setattr__(self, "G", _positive("Elastic", "G", self.G))
 
-    def rheology(self):
+    def rheology(self) -> Rheology:
         return self.G, [], 0.0
 
-    def creep_compliance(self, t):
+    def creep_compliance(self, t: ArrayLike) -> float | np.ndarray:
         """J(t) = 1 / G (1/Pa)."""
         return np.full(np.shape(_times(t)), 1.0 / self.G)
 
@@ -104,14 +108,14 @@ class KelvinVoigt(_Medium):
     G: float
     eta: float
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         object.__setattr__(self, "G", _positive("KelvinVoigt", "G", self.G))
         object.__setattr__(self, "eta", _positive("KelvinVoigt", "eta", self.eta))
 
-    def rheology(self):
+    def rheology(self) -> Rheology:
         return self.G, [], self.eta
 
-    def creep_compliance(self, t):
+    def creep_compliance(self, t: ArrayLike) -> float | np.ndarray:
         """J(t) = (1 - exp(-G t / eta)) / G (1/Pa)."""
         return -np.expm1(-self.G * _times(t) / self.eta) / self.G
 
@@ -123,14 +127,14 @@ class Maxwell(_Medium):
     G: float
     eta: float
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         object.__setattr__(self, "G", _positive("Maxwell", "G", self.G))
         object.__setattr__(self, "eta", _positive("Maxwell", "eta", self.eta))
 
-    def rheology(self):
+    def rheology(self) -> Rheology:
         return 0.0, [(self.G, self.eta / self.G)], 0.0
 
-    def creep_compliance(self, t):
+    def creep_compliance(self, t: ArrayLike) -> float | np.ndarray:
         """J(t) = 1 / G + t / eta (1/Pa)."""
         return 1.0 / self.G + _times(t) / self.eta
 
@@ -143,17 +147,18 @@ class StandardSolid(_Medium):
     G1: float
     tau1: float
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         for name in ("G_inf", "G1", "tau1"):
             object.__setattr__(self, name, _positive("StandardSolid", name, getattr(self, name)))
 
-    def rheology(self):
+    def rheology(self) -> Rheology:
         return self.G_inf, [(self.G1, self.tau1)], 0.0
 
-    def creep_compliance(self, t):
+    def creep_compliance(self, t: ArrayLike) -> float | np.ndarray:
         """J(t) = 1/G_inf + (1/G0 - 1/G_inf) exp(-G_inf t / (G0 tau1)), G0 = G_inf + G1."""
         g0 = self.G_inf + self.G1
-        return 1.0 / self.G_inf + (1.0 / g0 - 1.0 / self.G_inf) * np.exp(-self.G_inf * _times(t) / (g0 * self.tau1))
+        decay = np.exp(-self.G_inf * _times(t) / (g0 * self.tau1))
+        return 1.0 / self.G_inf + (1.0 / g0 - 1.0 / self.G_inf) * decay
 
 
 @dataclass(frozen=True)
@@ -163,12 +168,13 @@ class Prony(_Medium):
     G_inf: float
     terms: tuple
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         g_inf = float(self.G_inf)
         if not (np.isfinite(g_inf) and g_inf >= 0):
             raise InvalidInputError(f"Prony: G_inf must be finite and >= 0, got {self.G_inf!r}")
         try:
-            terms = tuple((_positive("Prony", "G_k", g), _positive("Prony", "tau_k", tau)) for g, tau in self.terms)
+            terms = tuple((_positive("Prony", "G_k", g), _positive("Prony", "tau_k", tau))
+                          for g, tau in self.terms)
         except (TypeError, ValueError) as exc:
             if isinstance(exc, InvalidInputError):
                 raise
@@ -178,7 +184,7 @@ class Prony(_Medium):
         object.__setattr__(self, "G_inf", g_inf)
         object.__setattr__(self, "terms", terms)
 
-    def rheology(self):
+    def rheology(self) -> Rheology:
         return self.G_inf, list(self.terms), 0.0
 
 

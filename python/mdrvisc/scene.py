@@ -4,7 +4,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .analytic import _positive
+from ._validate import _positive
 from .errors import InvalidInputError
 from .geometry import Indenter
 from .media import VISCOELASTIC, Elastic, Viscous

@@ -7,7 +7,8 @@ import time
 import numpy as np
 
 from . import _core
-from .analytic import _positive, lee_radok_depth_from_impulse
+from ._validate import _positive
+from .analytic import lee_radok_depth_from_impulse
 from .errors import DomainError, InvalidInputError, MdrviscError
 from .media import VISCOELASTIC, Elastic, Viscous
 from .scene import Result, Scene

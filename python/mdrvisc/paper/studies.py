@@ -2,10 +2,10 @@
 one beyond it: viscoelastic loading and unloading against Ting's closed form.
 
 Every function runs its scenes and returns dicts of numbers, lists of row dicts and numpy
-arrays; nothing is printed (:mod:`mdrvisc.report` formats and plots). Units are SI: lengths and
-depths in m, times in s, forces in N, pressures in Pa, velocities in m/s, viscosities in Pa s,
-wall times in s. Relative differences are (a - b) / b, dimensionless. NaN marks a closed form
-that does not apply.
+arrays; nothing is printed (:mod:`mdrvisc.paper.report` formats and plots). Units are SI:
+lengths and depths in m, times in s, forces in N, pressures in Pa, velocities in m/s,
+viscosities in Pa s, wall times in s. Relative differences are (a - b) / b, dimensionless.
+NaN marks a closed form that does not apply.
 
 ``progress``, where accepted, is a callable ``progress(label)`` called before each solve with a
 short label naming it (e.g. ``"paraboloid c=1 BEM n=257"``).
@@ -14,14 +14,15 @@ short label naming it (e.g. ``"paraboloid c=1 BEM n=257"``).
 import dataclasses
 import math
 import time
+from collections.abc import Callable, Sequence
 
 import numpy as np
 
-from . import analytic
-from .geometry import Paraboloid, Rod
-from .media import KelvinVoigt, StandardSolid, Viscous
-from .scene import Scene
-from .solve import solve
+from .. import analytic
+from ..geometry import Paraboloid, Rod
+from ..media import KelvinVoigt, StandardSolid, Viscous
+from ..scene import Scene
+from ..solve import solve
 
 __all__ = ["paper", "paper_rod", "paper_paraboloids", "PAPER", "QUICK", "PAPER_ROD",
            "ROD_UNITS", "PARABOLOID_UNITS", "viscoelastic", "VISCOELASTIC", "VISCOELASTIC_QUICK",
@@ -94,7 +95,7 @@ def _rel(a, b):
     return (np.asarray(a, dtype=float) - b) / b
 
 
-def paper_rod(n_bem=200, n_mdr=66049, progress=None):
+def paper_rod(n_bem: int = 200, n_mdr: int = 66049, progress: Callable[[str], object] | None = None) -> dict:
     """Section 5: a flat rod (a = 1 m) pressed by F = 1 N into a viscous half-space (1 Pa s).
 
     Parameters
@@ -173,8 +174,9 @@ def _rod_profile(bem, mdr, a):
     }
 
 
-def paper_paraboloids(cs=(0.05, 0.2, 1.0, 5.0, 20.0), n_bem=257, n_mdr=66049,
-                      times=(1.0, 2.0, 3.0, 4.0, 5.0), progress=None, fine=200):
+def paper_paraboloids(cs: Sequence[float] = (0.05, 0.2, 1.0, 5.0, 20.0), n_bem: int = 257,
+                      n_mdr: int = 66049, times: Sequence[float] = (1.0, 2.0, 3.0, 4.0, 5.0),
+                      progress: Callable[[str], object] | None = None, fine: int = 200) -> dict:
     """Section 6: paraboloids h = c r^2 on a 2.56 m square, F = 1 N, eta = 1 Pa s, 5 s.
 
     Parameters
@@ -268,7 +270,7 @@ def _medium_label(medium):
     return f"{type(medium).__name__}({values})"
 
 
-def viscoelastic(quick=False, progress=None):
+def viscoelastic(quick: bool = False, progress: Callable[[str], object] | None = None) -> dict:
     """Beyond the paper: a paraboloid pushed into viscoelastic media and pulled out, against
     Ting's closed form (:func:`mdrvisc.analytic.ting_paraboloid_triangle`).
 
@@ -343,7 +345,7 @@ def viscoelastic(quick=False, progress=None):
             "rows": rows, "curves": curves}
 
 
-def paper(quick=False, progress=None):
+def paper(quick: bool = False, progress: Callable[[str], object] | None = None) -> dict:
     """Both comparisons of the paper, at its resolutions (:data:`PAPER`) or :data:`QUICK`, and
     the viscoelastic section beyond it (:data:`VISCOELASTIC` or :data:`VISCOELASTIC_QUICK`).
 
@@ -449,7 +451,8 @@ def _timed(run, label, *args, **kwargs):
     return result, best
 
 
-def error_vs_runtime(quick=False, progress=None, settings=None):
+def error_vs_runtime(quick: bool = False, progress: Callable[[str], object] | None = None,
+                     settings: dict | None = None) -> dict:
     """Error against run time of BEM and MDR, implicit and explicit (issue 4, item 2).
 
     Paraboloids c = 1 and 5 (1/m) on the 2.56 m square, F = 1 N, eta = 1 Pa s: relative errors
@@ -619,7 +622,7 @@ def _order_entry(group, variable, against, fixed):
             "note": "; ".join(note)}
 
 
-def convergence_orders(rows, cross_step=0.01):
+def convergence_orders(rows: list[dict], cross_step: float = 0.01) -> list[dict]:
     """Observed orders |error| ~ variable^order of the study's ``rows``: along dx for every
     implicit (and one-solve) series, along dx for the explicit runs at step ``cross_step``, and
     along the step for every explicit series of more than one step (against the closed form
@@ -634,7 +637,7 @@ def convergence_orders(rows, cross_step=0.01):
         else:
             groups.setdefault(("dx", r["series"], r["case"], r["quantity"]), []).append(r)
     orders = []
-    for (variable, series, _, _), group in groups.items():
+    for (variable, _, _, _), group in groups.items():
         if len(group) < 2:
             continue
         first = group[0]

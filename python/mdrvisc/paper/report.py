@@ -1,48 +1,37 @@
 """Tables, CSV/JSON files and figures of the paper's comparisons and the viscoelastic section
-beyond it (:mod:`mdrvisc.studies`).
+beyond it (:mod:`mdrvisc.paper.studies`).
 
-Units as in :mod:`mdrvisc.studies`: SI throughout; relative differences are (a - b) / b.
+Units as in :mod:`mdrvisc.paper.studies`: SI throughout; relative differences are
+(a - b) / b.
 """
 
 import csv
 import json
 import math
+import os
+from collections.abc import Iterable, Mapping
 from pathlib import Path
 
-import numpy as np
+from ..formatting import text_table, to_jsonable
+from .studies import (
+    ERROR_UNITS,
+    ORDER_UNITS,
+    PARABOLOID_UNITS,
+    QUANTITIES,
+    ROD_UNITS,
+    ROUNDING,
+    VISCOELASTIC_UNITS,
+)
 
-from .studies import (ERROR_UNITS, ORDER_UNITS, PARABOLOID_UNITS, QUANTITIES, ROD_UNITS,
-                      ROUNDING, VISCOELASTIC_UNITS)
-
-__all__ = ["rod_table", "paraboloid_tables", "viscoelastic_table", "result_table", "to_jsonable",
-           "write_csv", "paper_document", "write_paper", "plot_rod", "plot_paraboloids",
-           "plot_viscoelastic", "error_table", "orders_table", "study_document",
-           "write_error_vs_runtime", "plot_error_vs_runtime"]
+__all__ = ["rod_table", "paraboloid_tables", "viscoelastic_table", "write_csv", "paper_document",
+           "write_paper", "plot_rod", "plot_paraboloids", "plot_viscoelastic", "error_table",
+           "orders_table", "study_document", "write_error_vs_runtime", "plot_error_vs_runtime"]
 
 
 # ----------------------------------------------------------------------------- text tables
-def _cell(value, fmt):
-    """``value`` formatted with ``fmt``; None as '-', NaN as 'n/a' (closed form not valid)."""
-    if value is None:
-        return "-"
-    if isinstance(value, float) and math.isnan(value):
-        return "n/a"
-    return format(value, fmt)
-
-
-def _table(columns, rows):
-    """Right-aligned text table; ``columns``: (header, key, format spec) triples."""
-    cells = [[_cell(row[key], fmt) for _, key, fmt in columns] for row in rows]
-    headers = [h for h, _, _ in columns]
-    widths = [max(len(h), *(len(c[i]) for c in cells)) for i, h in enumerate(headers)]
-    lines = ["  ".join(h.rjust(w) for h, w in zip(headers, widths))]
-    lines.append("  ".join("-" * w for w in widths))
-    lines += ["  ".join(c.rjust(w) for c, w in zip(cell, widths)) for cell in cells]
-    return "\n".join(lines)
-
-
-def rod_table(rod):
-    """The rod comparison (:func:`mdrvisc.studies.paper_rod`'s result) as aligned text."""
+def rod_table(rod: dict) -> str:
+    """The rod comparison (:func:`mdrvisc.paper.studies.paper_rod`'s result) as aligned
+    text."""
     p = rod["parameters"]
     title = (f"Rod (Section 5): a = {p['radius']:g} m, F = {p['force']:g} N, "
              f"eta = {p['eta']:g} Pa s; errors relative to the closed form")
@@ -50,12 +39,12 @@ def rod_table(rod):
                ("p0 [Pa]", "central_pressure", ".6f"), ("err p0", "central_pressure_error", "+.3%"),
                ("dd/dt [m/s]", "velocity", ".6f"), ("err dd/dt", "velocity_error", "+.3%"),
                ("wall [s]", "wall_time", ".3f")]
-    return title + "\n" + _table(columns, rod["rows"])
+    return title + "\n" + text_table(columns, rod["rows"])
 
 
-def paraboloid_tables(par):
-    """The paraboloid comparison (:func:`mdrvisc.studies.paper_paraboloids`'s result) as
-    aligned text: depths, contact lengths and run statistics."""
+def paraboloid_tables(par: dict) -> str:
+    """The paraboloid comparison (:func:`mdrvisc.paper.studies.paper_paraboloids`'s result)
+    as aligned text: depths, contact lengths and run statistics."""
     p = par["parameters"]
     head = [("c [1/m]", "c", "g"), ("t [s]", "t", "g")]
     depth = head + [("BEM [m]", "depth_bem", ".6f"), ("MDR [m]", "depth_mdr", ".6f"),
@@ -79,15 +68,16 @@ def paraboloid_tables(par):
              f"F = {p['force']:g} N, eta = {p['eta']:g} Pa s\n"
              f"BEM n = {p['n_bem']} x {p['n_bem']}, MDR n = {p['n_mdr']}; "
              "Lee-Radok (LR) n/a once 2a > edge")
-    return "\n\n".join([title, "Depth d(t)\n" + _table(depth, par["rows"]),
+    return "\n\n".join([title, "Depth d(t)\n" + text_table(depth, par["rows"]),
                         "Contact length l(t) (BEM: Eq. 23 l = F/(4 eta dd/dt), and 2 sqrt(A/pi))\n"
-                        + _table(length, par["rows"]),
-                        "Runs\n" + _table(runs, par["runs"])])
+                        + text_table(length, par["rows"]),
+                        "Runs\n" + text_table(runs, par["runs"])])
 
 
-def viscoelastic_table(ve):
-    """The viscoelastic section (:func:`mdrvisc.studies.viscoelastic`'s result) as aligned
-    text: errors against Ting's closed form and the outputs bracketing the separation."""
+def viscoelastic_table(ve: dict) -> str:
+    """The viscoelastic section (:func:`mdrvisc.paper.studies.viscoelastic`'s result) as
+    aligned text: errors against Ting's closed form and the outputs bracketing the
+    separation."""
     p = ve["parameters"]
     title = (f"Beyond the paper: viscoelastic loading and unloading against Ting (1966): "
              f"h = c r^2, c = {p['c']:g} 1/m (R = {p['radius_of_curvature']:g} m), pushed in "
@@ -103,46 +93,12 @@ def viscoelastic_table(ve):
                ("a err [dx]", "radius_error", ".3f"), ("t_s Ting [s]", "t_separation", ".4f"),
                ("F > 0 until [s]", "t_last_contact", "g"), ("F = 0 from [s]", "t_first_free", "g"),
                ("wall [s]", "wall_time", ".3f")]
-    return title + "\n" + _table(columns, ve["rows"])
-
-
-def result_table(name, result):
-    """One :class:`mdrvisc.Result` as aligned text: its summary and its time series."""
-    lines = [f"{name}: {result.summary()}"]
-    if result.central_pressure is not None:
-        lines.append(f"central pressure p0 = {result.central_pressure:.6f} Pa")
-    series = {"t": result.t, "depth": result.depth, "force": result.force,
-              "contact_length": result.contact_length, "velocity": result.velocity,
-              "stiffness_length": result.stiffness_length}
-    series = {k: np.broadcast_to(v, result.t.shape) for k, v in series.items() if v is not None}
-    headers = {"t": "t [s]", "depth": "d [m]", "force": "F [N]", "contact_length": "l [m]",
-               "velocity": "dd/dt [m/s]", "stiffness_length": "l Eq.23 [m]"}
-    columns = [(headers[k], k, ".8g") for k in series]
-    rows = [{k: float(v[i]) for k, v in series.items()} for i in range(result.t.size)]
-    lines.append(_table(columns, rows))
-    for when, fields in (result.fields or {}).items():
-        shapes = ", ".join(f"{k} {np.shape(v)}" for k, v in fields.items())
-        lines.append(f"fields at t = {when} s: {shapes}")
-    return "\n".join(lines)
+    return title + "\n" + text_table(columns, ve["rows"])
 
 
 # ----------------------------------------------------------------------------- files
-def to_jsonable(value):
-    """``value`` with numpy arrays and scalars as lists and numbers, NaN and inf as None."""
-    if isinstance(value, dict):
-        return {str(k): to_jsonable(v) for k, v in value.items()}
-    if isinstance(value, (list, tuple, np.ndarray)):
-        return [to_jsonable(v) for v in value]
-    if isinstance(value, (np.bool_, bool)):
-        return bool(value)
-    if isinstance(value, (np.integer, int)):
-        return int(value)
-    if isinstance(value, (np.floating, float)):
-        return float(value) if math.isfinite(value) else None
-    return value
-
-
-def write_csv(path, rows, units):
+def write_csv(path: str | os.PathLike, rows: Iterable[Mapping[str, object]],
+              units: Mapping[str, str]) -> None:
     """Writes ``rows`` (dicts with the keys of ``units``) to ``path``; headers carry units as
     ``name [unit]``; None is written empty, NaN as ``nan``."""
     headers = [f"{k} [{u}]" if u else k for k, u in units.items()]
@@ -154,9 +110,9 @@ def write_csv(path, rows, units):
                              else row[k] for k in units])
 
 
-def paper_document(results, study=None):
-    """The JSON document of :func:`mdrvisc.studies.paper`'s result: tables, units, runs; with
-    ``study`` (:func:`mdrvisc.studies.error_vs_runtime`'s result) also its
+def paper_document(results: dict, study: dict | None = None) -> dict:
+    """The JSON document of :func:`mdrvisc.paper.studies.paper`'s result: tables, units,
+    runs; with ``study`` (:func:`mdrvisc.paper.studies.error_vs_runtime`'s result) also its
     :func:`study_document` under ``error_vs_runtime``."""
     rod, par, ve = results["rod"], results["paraboloids"], results["viscoelastic"]
     doc = {
@@ -172,7 +128,7 @@ def paper_document(results, study=None):
     return to_jsonable(doc)
 
 
-def write_paper(results, out, study=None):
+def write_paper(results: dict, out: str | os.PathLike, study: dict | None = None) -> list[Path]:
     """Writes rod.csv, paraboloids.csv, viscoelastic.csv, paper.json, fig3_rod.png,
     fig4_paraboloids.png and fig_viscoelastic.png into the folder ``out`` (created if
     missing); returns their paths. paper.json holds :func:`paper_document` (with ``study``
@@ -204,7 +160,7 @@ def _pyplot():
     return plt
 
 
-def plot_rod(rod, path):
+def plot_rod(rod: dict, path: str | os.PathLike) -> None:
     """Fig. 3: surface velocity (m/s) and pressure (Pa) along x through the rod's centre, vs
     x/a: BEM line, closed form dots, MDR inverse transforms dashed. Saves a PNG at ``path``."""
     plt = _pyplot()
@@ -234,7 +190,7 @@ def plot_rod(rod, path):
     plt.close(fig)
 
 
-def plot_paraboloids(par, path):
+def plot_paraboloids(par: dict, path: str | os.PathLike) -> None:
     """Fig. 4: depth d(t) (m) and contact length l(t) (m) of every paraboloid: MDR lines, BEM
     symbols (filled: Eq. 23, open: from the contact area). Saves a PNG at ``path``."""
     plt = _pyplot()
@@ -276,7 +232,7 @@ def plot_paraboloids(par, path):
     plt.close(fig)
 
 
-def plot_viscoelastic(ve, path):
+def plot_viscoelastic(ve: dict, path: str | os.PathLike) -> None:
     """Force F(t) (N) and contact radius a(t) (m) of the viscoelastic section, one colour per
     medium: Ting's closed form as lines, MDR and BEM as symbols (every 10th output, offset),
     Ting's separation times dotted. Saves a PNG at ``path``."""
@@ -347,9 +303,9 @@ def _row_order(row):
             row["n"], -(row["step"] or 0.0))
 
 
-def error_table(study):
-    """The error-vs-run-time rows (:func:`mdrvisc.studies.error_vs_runtime`) as aligned text:
-    one table per case and quantity; ``*`` marks the paper's settings."""
+def error_table(study: dict) -> str:
+    """The error-vs-run-time rows (:func:`mdrvisc.paper.studies.error_vs_runtime`) as aligned
+    text: one table per case and quantity; ``*`` marks the paper's settings."""
     p = study["parameters"]
     lines = [f"Error against run time ({'quick' if study['quick'] else 'full'}; "
              f"{study['total_wall_time']:.1f} s): paraboloids h = c r^2 on a {p['edge']:g} m "
@@ -369,11 +325,11 @@ def error_table(study):
                        if r["case"] == case and r["quantity"] == quantity), key=_row_order)
         label, unit = QUANTITIES[quantity]
         lines += ["", f"{case}: {label} [{unit}], closed form {rows[0]['exact']:.8g} {unit}",
-                  _table(columns, rows)]
+                  text_table(columns, rows)]
     return "\n".join(lines)
 
 
-def orders_table(study):
+def orders_table(study: dict) -> str:
     """The observed convergence orders of the study as aligned text."""
     columns = [("case", "case", ""), ("quantity", "quantity", ""), ("method", "method", ""),
                ("integrator", "integrator", ""), ("fixed", "fixed", ""),
@@ -382,11 +338,11 @@ def orders_table(study):
                ("order (fit)", "order", "+.2f"), ("order (last)", "order_last", "+.2f"),
                ("note", "note", "")]
     return ("Observed convergence orders: |error| ~ dx^order or step^order (least squares over "
-            "the points; 'last': the two finest)\n" + _table(columns, study["orders"]))
+            "the points; 'last': the two finest)\n" + text_table(columns, study["orders"]))
 
 
-def study_document(study):
-    """The JSON document of :func:`mdrvisc.studies.error_vs_runtime`'s result."""
+def study_document(study: dict) -> dict:
+    """The JSON document of :func:`mdrvisc.paper.studies.error_vs_runtime`'s result."""
     return to_jsonable({"quick": study["quick"], "parameters": study["parameters"],
                         "settings": study["settings"], "paper_settings": study["paper_settings"],
                         "total_wall_time": study["total_wall_time"],
@@ -394,7 +350,7 @@ def study_document(study):
                         "order_units": ORDER_UNITS, "orders": study["orders"]})
 
 
-def write_error_vs_runtime(study, out):
+def write_error_vs_runtime(study: dict, out: str | os.PathLike) -> list[Path]:
     """Writes error_vs_runtime.csv (rows), error_vs_runtime_orders.csv, error_vs_runtime.json
     and error_vs_runtime.png into the folder ``out`` (created if missing); returns the paths."""
     out = Path(out)
@@ -410,8 +366,8 @@ def write_error_vs_runtime(study, out):
     return list(paths.values())
 
 
-#: Errors at or below this (:data:`mdrvisc.studies.ROUNDING`) count as exact and are drawn
-#: on the bottom axis (log axes); the MDR rod is exact to rounding.
+#: Errors at or below this (:data:`mdrvisc.paper.studies.ROUNDING`) count as exact and are
+#: drawn on the bottom axis (log axes); the MDR rod is exact to rounding.
 ERROR_FLOOR = ROUNDING
 
 
@@ -434,7 +390,7 @@ def _style(row, bem_explicit_n):
     return (f"MDR explicit, area {row['area_change']:g} (step varies)", "C3", "D", "--")
 
 
-def plot_error_vs_runtime(study, path):
+def plot_error_vs_runtime(study: dict, path: str | os.PathLike) -> None:
     """|relative error| against wall time (s), log-log: one panel per case and quantity, one
     curve per method x integrator (explicit: per n or area rule, the step varying; dotted:
     explicit at the fixed step with n varying); stars mark the paper's settings. Saves a PNG."""
