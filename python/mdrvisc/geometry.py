@@ -11,17 +11,19 @@ L maps to a 1D indenter of half-length L / sqrt(pi) (equal area).
 """
 
 import abc
+import json
 import math
 from collections.abc import Callable
 
 import numpy as np
 from numpy.typing import ArrayLike
 
+from . import _core
 from ._validate import _array, _optional_positive, _out, _positive
 from .analytic import cone_depth, paraboloid_depth, sphere_mdr_profile
 from .errors import DomainError, InvalidInputError
 
-__all__ = ["Indenter", "Rod", "Paraboloid", "Cone", "Sphere", "Axisymmetric"]
+__all__ = ["Indenter", "Rod", "Paraboloid", "Cone", "Sphere", "Axisymmetric", "Profile"]
 
 
 def _bisect(g, target, hi):
@@ -52,6 +54,15 @@ class Indenter(abc.ABC):
     _square = None
     #: Whether element centres exactly on the rim of a disc footprint belong to it.
     _rim_inside = True
+
+    @abc.abstractmethod
+    def _model(self, extent: float | None = None) -> dict:
+        """The indenter in the scene model's form (a scene file's ``[indenter]`` table);
+        ``extent`` (m) is how far an unbounded sampled profile must be tabulated."""
+
+    def _footprint_model(self) -> dict:
+        """``edge`` or nothing, for the scene model."""
+        return {} if self._square is None else {"edge": self._square}
 
     def height_map(self, x: ArrayLike, y: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
         """Heights of the indenter over a grid of element centres.
@@ -226,6 +237,9 @@ class Rod(Indenter):
         """8 eta a d = J: the rod's depth rate is F / (8 a eta)."""
         return _out(impulse / (8.0 * eta * self._disc))
 
+    def _model(self, extent=None):
+        return {"type": "rod", "radius": self._disc}
+
     def __repr__(self) -> str:
         """``Rod(radius=...)``."""
         return f"Rod(radius={self._disc!r})"
@@ -269,6 +283,9 @@ class Paraboloid(Indenter):
         depth = paraboloid_depth(impulse, 1.0, self._c, eta)
         self._check_square(depth, impulse)
         return depth
+
+    def _model(self, extent=None):
+        return {"type": "paraboloid", "c": self._c, **self._footprint_model()}
 
     def __repr__(self) -> str:
         """``Paraboloid(c=..., edge=...)``."""
@@ -315,6 +332,9 @@ class Cone(Indenter):
         self._check_square(depth, impulse)
         return depth
 
+    def _model(self, extent=None):
+        return {"type": "cone", "slope": self._slope, **self._footprint_model()}
+
     def __repr__(self) -> str:
         """``Cone(slope=..., edge=...)``."""
         return f"Cone(slope={self._slope!r}, edge={self._square!r})"
@@ -354,6 +374,9 @@ class Sphere(Indenter):
     def _depth_from_impulse(self, impulse: np.ndarray, eta: float) -> float | np.ndarray:
         """Numerical; the rim, where g diverges, bounds the contact radius."""
         return _LeeRadok(self, eta, disc=None, rim=self._disc, edge=None).depths(impulse)
+
+    def _model(self, extent=None):
+        return {"type": "sphere", "radius": self._disc}
 
     def __repr__(self) -> str:
         """``Sphere(radius=...)``."""
@@ -564,6 +587,31 @@ class Axisymmetric(Indenter):
                 rim = self._disc
         return _LeeRadok(self, eta, disc=disc, rim=rim, edge=self._square).depths(impulse)
 
+    def _model(self, extent=None):
+        """The profile sampled at PROFILE_SAMPLES equal steps of r from 0 to the footprint's
+        farthest point (a disc's radius, a square's corner) or, unbounded, to ``extent``,
+        with its slopes; where a slope is not finite (a cap's rim) without slopes."""
+        if self._disc is not None:
+            extent = self._disc
+        elif self._square is not None:
+            extent = self._square / math.sqrt(2.0)
+        elif extent is None:
+            raise InvalidInputError("Axisymmetric: an unbounded profile needs an extent to be tabulated")
+        r = np.linspace(0.0, extent, PROFILE_SAMPLES)
+        h = self._height(r)
+        inner = np.concatenate([[r[1] * 1e-6], r[1:]])
+        with np.errstate(divide="ignore", invalid="ignore"):
+            try:
+                slope = self._slope(inner)
+            except InvalidInputError:
+                slope = None
+        table = {"type": "profile", "r": r.tolist(), "h": h.tolist()}
+        if slope is not None and np.all(np.isfinite(slope)):
+            table["slope"] = slope.tolist()
+        if self._disc is not None:
+            table["radius"] = self._disc
+        return {**table, **self._footprint_model()}
+
     def __repr__(self) -> str:
         """``Axisymmetric(f=<name>, df=<name or None>, edge=..., radius=...)``."""
 
@@ -574,6 +622,90 @@ class Axisymmetric(Indenter):
             f"Axisymmetric(f={name(self._f)}, df={name(self._df)}, edge={self._square!r}, "
             f"radius={self._disc!r})"
         )
+
+
+#: Samples of an Axisymmetric profile in the scene model (cubic Hermite between them).
+PROFILE_SAMPLES = 4001
+
+
+class Profile(Indenter):
+    """A tabulated axisymmetric indenter: a measured tip or any profile known at samples.
+
+    Parameters
+    ----------
+    r : array_like
+        Radii (m), from 0, increasing.
+    h : array_like
+        Heights above the tip (m) at ``r``: h[0] = 0, h >= 0.
+    slope : array_like, optional
+        dh/dr at ``r``; with it h is the cubic Hermite interpolant between samples, without
+        it piecewise linear.
+    edge, radius : float, optional
+        Side of a centred square footprint, or radius of a disc footprint (m). Neither:
+        unbounded, up to the last sample (a solve that needs more is an error).
+
+    The MDR profile g(x) = x integral_0^x h'(r) / sqrt(x^2 - r^2) dr of the interpolant is
+    integrated exactly at the samples (and interpolated between them) by the compiled core,
+    which also validates the table.
+    """
+
+    def __init__(self, r: ArrayLike, h: ArrayLike, slope: ArrayLike | None = None,
+                 edge: float | None = None, radius: float | None = None) -> None:
+        self._r = _array("Profile", "r", r).ravel()
+        self._h = _array("Profile", "h", h).ravel()
+        self._slope_samples = None if slope is None else _array("Profile", "slope", slope).ravel()
+        self._square = _optional_positive("Profile", "edge", edge)
+        self._disc = _optional_positive("Profile", "radius", radius)
+        self._core = _core.Indenter.from_json(json.dumps(self._model()))
+
+    @property
+    def r(self) -> np.ndarray:
+        """Sample radii (m)."""
+        return self._r
+
+    @property
+    def h(self) -> np.ndarray:
+        """Heights at the samples (m)."""
+        return self._h
+
+    @property
+    def slope(self) -> np.ndarray | None:
+        """Slopes at the samples, or None (piecewise linear)."""
+        return self._slope_samples
+
+    def _model(self, extent=None):
+        table = {"type": "profile", "r": self._r.tolist(), "h": self._h.tolist()}
+        if self._slope_samples is not None:
+            table["slope"] = self._slope_samples.tolist()
+        if self._disc is not None:
+            table["radius"] = self._disc
+        return {**table, **self._footprint_model()}
+
+    def _height(self, r):
+        return self._core.height(np.ascontiguousarray(r, dtype=np.float64).ravel()).reshape(np.shape(r))
+
+    def profile_1d(self, x: ArrayLike) -> np.ndarray:
+        """MDR profile g(x) (m) at ``x`` (m)."""
+        x = _array("Profile", "x", x)
+        return self._core.profile_1d(np.ascontiguousarray(x, dtype=np.float64).ravel()).reshape(x.shape)
+
+    def contact_radius_at_depth(self, d: float) -> float:
+        """Contact radius a (m) with g(a) = ``d`` (m); a disc footprint caps it."""
+        return self._core.radius_at_depth(self._depth(d))
+
+    def __repr__(self) -> str:
+        """``Profile(<n> samples up to r=..., slope=..., edge=..., radius=...)``."""
+        return (f"Profile({self._r.size} samples up to r={float(self._r[-1])!r}, "
+                f"slope={'given' if self._slope_samples is not None else None}, "
+                f"edge={self._square!r}, radius={self._disc!r})")
+
+
+def indenter_from_model(model: dict) -> Indenter:
+    """The indenter of a scene model's ``[indenter]`` table."""
+    kind = model["type"]
+    args = {k: v for k, v in model.items() if k != "type"}
+    classes = {"rod": Rod, "paraboloid": Paraboloid, "cone": Cone, "sphere": Sphere, "profile": Profile}
+    return classes[kind](**args)
 
 
 # ----------------------------------------------------------------------------- Lee-Radok

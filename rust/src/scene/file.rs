@@ -25,6 +25,10 @@ use super::run::{Method, RunSettings};
 use super::Scene;
 use crate::error::{Error, Result};
 use serde::Deserialize;
+use std::io::Read;
+
+/// Largest scene file read (bytes): tabulated profiles and histories fit many times over.
+pub const MAX_FILE_BYTES: u64 = 64 << 20;
 
 /// A scene file: the scene and the method and resolution it is solved with.
 #[derive(Debug, Clone, PartialEq)]
@@ -39,9 +43,21 @@ impl SceneFile {
     /// Parses and validates scene-file text; `source` names it in errors. Unknown, missing
     /// and mistyped keys are errors naming the key; a leading byte-order mark is skipped.
     pub fn parse(text: &str, source: &str) -> Result<Self> {
-        let bad = |e: String| Error::InvalidInput(format!("{source}: {e}"));
         let text = text.strip_prefix('\u{feff}').unwrap_or(text);
-        let mut table: toml::Table = toml::from_str(text).map_err(|e| bad(e.to_string()))?;
+        let table: toml::Table = toml::from_str(text)
+            .map_err(|e| Error::InvalidInput(format!("{source}: {e}")))?;
+        Self::from_table(table, source)
+    }
+
+    /// Parses and validates a scene file's table given as JSON text.
+    pub fn parse_json(text: &str, source: &str) -> Result<Self> {
+        let table: toml::Table = serde_json::from_str(text)
+            .map_err(|e| Error::InvalidInput(format!("{source}: {e}")))?;
+        Self::from_table(table, source)
+    }
+
+    fn from_table(mut table: toml::Table, source: &str) -> Result<Self> {
+        let bad = |e: String| Error::InvalidInput(format!("{source}: {e}"));
         let method = table
             .remove("method")
             .ok_or_else(|| bad("missing key 'method'".into()))?;
@@ -64,10 +80,20 @@ impl SceneFile {
         Ok(SceneFile { scene, settings })
     }
 
-    /// Reads and parses the scene file at `path`.
+    /// Reads and parses the scene file at `path` (at most `MAX_FILE_BYTES`).
     pub fn load(path: &str) -> Result<Self> {
-        let bytes = std::fs::read(path)
-            .map_err(|e| Error::InvalidInput(format!("cannot read scene file {path}: {e}")))?;
+        let cannot = |e: std::io::Error| {
+            Error::InvalidInput(format!("cannot read scene file {path}: {e}"))
+        };
+        let mut bytes = vec![];
+        std::fs::File::open(path)
+            .and_then(|f| f.take(MAX_FILE_BYTES + 1).read_to_end(&mut bytes))
+            .map_err(cannot)?;
+        if bytes.len() as u64 > MAX_FILE_BYTES {
+            return Err(Error::InvalidInput(format!(
+                "{path}: a scene file is at most {MAX_FILE_BYTES} bytes"
+            )));
+        }
         let text = String::from_utf8(bytes)
             .map_err(|_| Error::InvalidInput(format!("{path}: not UTF-8 text")))?;
         Self::parse(&text, path)

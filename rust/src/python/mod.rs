@@ -1,0 +1,26 @@
+//! pyo3 bindings (cargo feature "python"): numpy in, typed objects out (`Scene`, `Report`,
+//! `FieldSet`, `SurfaceOperator`). Computations run on a rayon worker with the GIL released
+//! (`monitor`); inputs are converted in `convert`; scenes in `scene`, arrays in `arrays`.
+
+mod arrays;
+mod convert;
+mod monitor;
+mod report;
+mod scene;
+
+/// The compiled core of mdrvisc.
+#[pyo3::pymodule(name = "_core")]
+mod core_module {
+    #[pymodule_export]
+    use super::arrays::{
+        bem_punch, bem_viscous, contact_solve, mdr_deflection, mdr_pressure, surface_deflection,
+        PySurfaceOperator,
+    };
+    #[pymodule_export]
+    use super::report::{PyFieldSet, PyReport};
+    #[pymodule_export]
+    use super::scene::{
+        load_scene_file, paper_scenes, parse_scene_file, parse_scene_table, run_scene, PyIndenter,
+        PyScene,
+    };
+}

@@ -1,0 +1,224 @@
+//! Scenes across the boundary: the scene model built from JSON (what the Python `Scene`
+//! sends), scene files, the paper's scenes, and `run_scene`, which solves one.
+
+use super::monitor::{to_pyerr, PyMonitor};
+use super::report::PyReport;
+use crate::contact::DENSE_LIMIT;
+use crate::error::Error;
+use crate::integrator::ExplicitControl;
+use crate::paper;
+use crate::scene::{self, file, Indenter, Integrator, Method, RunSettings, Scene, SceneFile};
+use numpy::{IntoPyArray, PyArray1, PyReadonlyArray1};
+use pyo3::prelude::*;
+
+/// A validated scene of the crate's scene model.
+#[pyclass(name = "Scene", module = "mdrvisc._core", frozen)]
+pub(crate) struct PyScene {
+    pub(crate) inner: Scene,
+}
+
+fn method(py: Python<'_>, name: &str) -> PyResult<Method> {
+    match name {
+        "bem" => Ok(Method::Bem),
+        "mdr" => Ok(Method::Mdr),
+        other => Err(to_pyerr(
+            py,
+            Error::InvalidInput(format!("method must be 'bem' or 'mdr', got {other:?}")),
+        )),
+    }
+}
+
+/// (scene, method, n) of a parsed scene file.
+fn unpack(f: SceneFile) -> (PyScene, &'static str, usize) {
+    (
+        PyScene { inner: f.scene },
+        f.settings.method.name(),
+        f.settings.n,
+    )
+}
+
+#[pymethods]
+impl PyScene {
+    /// Parses and validates a scene from JSON text (the scene-file keys, without method
+    /// and n).
+    #[staticmethod]
+    fn from_json(py: Python<'_>, text: &str) -> PyResult<Self> {
+        Scene::from_json(text)
+            .map(|inner| PyScene { inner })
+            .map_err(|e| to_pyerr(py, e))
+    }
+
+    /// The scene as JSON text.
+    fn to_json(&self) -> String {
+        self.inner.to_json()
+    }
+
+    /// The scene as scene-file TOML, with `method` and `n` when given.
+    #[pyo3(signature = (method_name=None, n=None))]
+    fn to_toml(&self, py: Python<'_>, method_name: Option<&str>, n: Option<usize>) -> PyResult<String> {
+        let run = match (method_name, n) {
+            (Some(m), Some(n)) => Some((method(py, m)?, n)),
+            (None, None) => None,
+            _ => {
+                return Err(to_pyerr(
+                    py,
+                    Error::InvalidInput("give both method and n, or neither".into()),
+                ))
+            }
+        };
+        Ok(file::to_toml(&self.inner, run))
+    }
+
+    /// Output times (s): the requested ones and the field times, sorted.
+    fn output_times<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        self.inner.output_times().into_pyarray(py)
+    }
+
+    /// Field times (s); empty when no field is asked for.
+    fn field_times<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        self.inner.field_times().into_pyarray(py)
+    }
+
+    /// The largest radius (m) at which a solve evaluates the indenter.
+    fn extent_needed(&self, py: Python<'_>) -> PyResult<f64> {
+        scene::run::extent_needed(&self.inner).map_err(|e| to_pyerr(py, e))
+    }
+}
+
+/// Scene files: `load(path)`, `parse(text, source)` (TOML) and `parse_json(text, source)`,
+/// each giving (scene, method, n).
+#[pyfunction]
+pub(crate) fn load_scene_file(py: Python<'_>, path: &str) -> PyResult<(PyScene, &'static str, usize)> {
+    SceneFile::load(path).map(unpack).map_err(|e| to_pyerr(py, e))
+}
+
+/// A scene file's TOML text parsed and validated; `source` names it in errors.
+#[pyfunction]
+pub(crate) fn parse_scene_file(
+    py: Python<'_>,
+    text: &str,
+    source: &str,
+) -> PyResult<(PyScene, &'static str, usize)> {
+    SceneFile::parse(text, source)
+        .map(unpack)
+        .map_err(|e| to_pyerr(py, e))
+}
+
+/// A scene file's table given as JSON text, parsed and validated like TOML.
+#[pyfunction]
+pub(crate) fn parse_scene_table(
+    py: Python<'_>,
+    text: &str,
+    source: &str,
+) -> PyResult<(PyScene, &'static str, usize)> {
+    SceneFile::parse_json(text, source)
+        .map(unpack)
+        .map_err(|e| to_pyerr(py, e))
+}
+
+/// The paper's runs: (name, scene, method, n) each, at the paper's or quick resolutions.
+#[pyfunction]
+pub(crate) fn paper_scenes(quick: bool) -> Vec<(String, PyScene, &'static str, usize)> {
+    paper::scenes(quick)
+        .into_iter()
+        .map(|(name, scene, s)| (name, PyScene { inner: scene }, s.method.name(), s.n))
+        .collect()
+}
+
+/// Solves `scene` by `method` ("bem" or "mdr") at resolution `n`; see `mdrvisc.solve`.
+#[pyfunction]
+#[pyo3(signature = (scene, method_name, n, tol=1e-10, max_iter=5000, integrator="implicit", step=0.01, area_change=0.01, dt=None, progress=None, precondition=true, dense_limit=DENSE_LIMIT, active_limit=None))]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn run_scene(
+    py: Python<'_>,
+    scene: &PyScene,
+    method_name: &str,
+    n: usize,
+    tol: f64,
+    max_iter: usize,
+    integrator: &str,
+    step: f64,
+    area_change: f64,
+    dt: Option<f64>,
+    progress: Option<Py<PyAny>>,
+    precondition: bool,
+    dense_limit: usize,
+    active_limit: Option<usize>,
+) -> PyResult<PyReport> {
+    let integrator = match integrator {
+        "implicit" => Integrator::Implicit,
+        "explicit" => Integrator::Explicit(ExplicitControl {
+            step,
+            area_change,
+            ..ExplicitControl::default()
+        }),
+        other => {
+            return Err(to_pyerr(
+                py,
+                Error::InvalidInput(format!(
+                    "integrator must be 'implicit' or 'explicit', got {other:?}"
+                )),
+            ))
+        }
+    };
+    let settings = RunSettings {
+        method: method(py, method_name)?,
+        n,
+        solver: super::convert::options(tol, max_iter, dense_limit, active_limit, precondition),
+        integrator,
+        dt,
+    };
+    let scene = scene.inner.clone();
+    let report = PyMonitor::new(progress).run(py, |monitor| scene::run(&scene, &settings, monitor))?;
+    Ok(PyReport { inner: report })
+}
+
+/// A validated indenter of the scene model, evaluated where the Python layer needs the
+/// crate's own numbers (a tabulated profile's interpolant).
+#[pyclass(name = "Indenter", module = "mdrvisc._core", frozen)]
+pub(crate) struct PyIndenter {
+    inner: Indenter,
+}
+
+impl PyIndenter {
+    fn map<'py>(
+        &self,
+        py: Python<'py>,
+        values: PyReadonlyArray1<'py, f64>,
+        f: impl Fn(&Indenter, f64) -> crate::Result<f64>,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let out: crate::Result<Vec<f64>> = values
+            .as_array()
+            .iter()
+            .map(|&v| f(&self.inner, v))
+            .collect();
+        Ok(out.map_err(|e| to_pyerr(py, e))?.into_pyarray(py))
+    }
+}
+
+#[pymethods]
+impl PyIndenter {
+    /// Parses and validates an indenter from JSON text (a scene file's `[indenter]` table).
+    #[staticmethod]
+    fn from_json(py: Python<'_>, text: &str) -> PyResult<Self> {
+        let inner: Indenter = serde_json::from_str(text)
+            .map_err(|e| to_pyerr(py, Error::InvalidInput(format!("indenter: {e}"))))?;
+        inner.validate().map_err(|e| to_pyerr(py, e))?;
+        Ok(PyIndenter { inner })
+    }
+
+    /// Heights above the tip (m) at radii `r` (m).
+    fn height<'py>(&self, py: Python<'py>, r: PyReadonlyArray1<'py, f64>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        self.map(py, r, Indenter::height)
+    }
+
+    /// MDR profile g (m) at 1D coordinates `x` (m).
+    fn profile_1d<'py>(&self, py: Python<'py>, x: PyReadonlyArray1<'py, f64>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        self.map(py, x, Indenter::profile_1d)
+    }
+
+    /// Contact radius (m) at tip depth `d` (m).
+    fn radius_at_depth(&self, py: Python<'_>, d: f64) -> PyResult<f64> {
+        self.inner.radius_at_depth(d).map_err(|e| to_pyerr(py, e))
+    }
+}
