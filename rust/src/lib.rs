@@ -13,6 +13,7 @@ pub mod rheology;
 
 pub use error::{Error, Result};
 pub mod contact;
+pub mod grid;
 pub mod integrator;
 pub mod loading;
 pub mod mdr;

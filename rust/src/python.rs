@@ -6,6 +6,7 @@
 use crate::contact::{SolverOptions, Target, DENSE_LIMIT};
 use crate::error::check_finite;
 use crate::error::Error;
+use crate::grid::Grid;
 use crate::integrator::ExplicitControl;
 use crate::loading::{DepthHistory, ForceHistory, Loading};
 use crate::mdr::{self, Foundation, Medium};
@@ -15,7 +16,7 @@ use crate::rheology::Rheology;
 use crate::static_contact;
 use crate::transforms;
 use crate::viscoelastic;
-use crate::viscous::{self, Grid, ViscousRequest};
+use crate::viscous::{self, ViscousRequest};
 use numpy::{
     IntoPyArray, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods,
 };

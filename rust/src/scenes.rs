@@ -4,12 +4,13 @@
 
 use crate::contact::SolverOptions;
 use crate::error::{check_positive, Error, Result};
+use crate::grid::Grid;
 use crate::loading::{DepthHistory, ForceHistory, Loading};
 use crate::mdr::{self, Foundation, Medium};
 use crate::monitor::Monitor;
 use crate::rheology::Rheology;
 use crate::viscoelastic;
-use crate::viscous::{self, Grid, ViscousRequest};
+use crate::viscous::{self, ViscousRequest};
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
 use std::time::Instant;
