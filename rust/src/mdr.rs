@@ -88,13 +88,8 @@ impl Foundation {
     }
 
     /// Number of elements.
-    pub fn len(&self) -> usize {
+    pub fn element_count(&self) -> usize {
         self.profile.len()
-    }
-
-    /// Always false: a foundation has at least one element.
-    pub fn is_empty(&self) -> bool {
-        false
     }
 
     /// Element spacing (m).
@@ -202,7 +197,7 @@ pub fn run(
         )));
     }
     let c = 4.0 * medium.modulus() * foundation.dx;
-    let n = foundation.len();
+    let n = foundation.element_count();
     let mut out = MdrSeries::default();
     for (k, &t) in times.iter().enumerate() {
         let (d, count) = foundation.depth_for(medium.load(history, t) / c);
@@ -259,7 +254,7 @@ pub fn run_explicit(
     check_output_times(times)?;
     ctrl.validate()?;
     let c = 4.0 * eta * foundation.dx;
-    let n = foundation.len();
+    let n = foundation.element_count();
     let in_contact = |d: f64| foundation.sorted.partition_point(|&g| g <= d);
     let mut depth = foundation.sorted[0];
     let mut count = in_contact(depth);
