@@ -19,7 +19,9 @@ pub struct Grid {
 }
 
 impl Grid {
-    /// Validates sizes and values: heights finite and >= 0 where allowed.
+    /// An `nx` x `ny` grid of elements of side `dx` (m) with indenter heights `height` (m)
+    /// and the footprint `allowed`, validated: sizes match, heights finite and >= 0 where
+    /// allowed, and at least one element allowed.
     pub fn new(
         nx: usize,
         ny: usize,

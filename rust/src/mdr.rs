@@ -178,8 +178,9 @@ pub struct MdrSeries {
     pub fields: Vec<Fields1D>,
 }
 
-/// Runs the MDR foundation under `history`, with output at `times` and 1D fields at the
-/// output indices `fields_at`.
+/// Runs the MDR foundation under the force `history` (N over s), with output at `times`
+/// (s) and 1D fields at the output indices `fields_at`: depths (m), contact lengths (m) and
+/// penetration rates (m/s).
 pub fn run(
     foundation: &Foundation,
     medium: Medium,
@@ -239,9 +240,10 @@ pub fn run(
     Ok(out)
 }
 
-/// The paper's explicit loop on the viscous foundation: penetration rate of the current
-/// contact, an explicit Euler step, contact growth; the rate uses the element count of the
-/// last update, refreshed when the count grew by more than `ctrl.area_change`.
+/// The paper's explicit loop on the viscous foundation (`eta` in Pa s, `history` in N over
+/// s, output at `times` in s), also returning the steps taken: penetration rate of the
+/// current contact, an explicit Euler step, contact growth; the rate uses the element count
+/// of the last update, refreshed when the count grew by more than `ctrl.area_change`.
 pub fn run_explicit(
     foundation: &Foundation,
     eta: f64,

@@ -179,7 +179,8 @@ impl ViscousSeries {
     }
 }
 
-/// Runs the implicit impulse stepping of a viscous half-space under `history`.
+/// Runs the implicit impulse stepping of a viscous half-space (viscosity `eta`, Pa s) under
+/// the force `history` (N over s); depths (m), areas (m^2) and rates (m/s) per output time.
 ///
 /// Each step solves on a window that holds every element that can touch: the contact lies
 /// where the separation h + u_n plus the step's own deflection is at most the new depth, so
@@ -311,10 +312,11 @@ pub fn run_implicit(
     Ok(out)
 }
 
-/// Runs the paper's explicit loop: the surface velocity of the current contact set (a
-/// flat-punch solve), an explicit Euler step of depth and deflection, contact growth where
-/// the gap closed; the flat punch is re-solved only when the contact area grew by more than
-/// `ctrl.area_change`. Its error is first order in the step and carries the singular start.
+/// Runs the paper's explicit loop on a viscous half-space (`eta` in Pa s, `history` in N
+/// over s): the surface velocity of the current contact set (a flat-punch solve), an
+/// explicit Euler step of depth and deflection, contact growth where the gap closed; the
+/// flat punch is re-solved only when the contact area grew by more than `ctrl.area_change`.
+/// Its error is first order in the step and carries the singular start.
 pub fn run_explicit(
     grid: &Grid,
     eta: f64,
