@@ -5,7 +5,7 @@ automatic choice picks.
 ``_core.contact_solve(h, mask, dx, 1/G, force=F, active_limit=L)``: L = huge forces the dense
 active-set solve (it still falls back to Polonsky–Keer if the set cycles), L = 0 forces
 Polonsky–Keer, L = None (default) picks by the crossover model
-``contact::active_crossover`` (m* = (230 n log2(4 n))^(1/3) for n grid elements). Paraboloid
+``contact::Tuning::active_crossover`` (m* = (230 n log2(4 n))^(1/3) for n grid elements). Paraboloid
 R = 10 m, G = 1 Pa, edge 2.56 m, force chosen for a Hertz contact radius a; tol 1e-10. Times are
 wall clock, best of N, the three modes interleaved. The table also prints both solvers'
 iterations, the contact-set size, the largest pressure difference between the two solutions
@@ -39,7 +39,7 @@ def hertz_problem(n: int, a: float):
 
 
 def model_crossover(n_elements: int) -> int:
-    """``contact::active_crossover`` of the Rust core, for the table."""
+    """``contact::Tuning::active_crossover`` of the Rust core, for the table."""
     return int((230.0 * n_elements * np.log2(4.0 * n_elements)) ** (1 / 3))
 
 

@@ -4,24 +4,33 @@
 //! Units are SI throughout (m, s, N, Pa, Pa s). Depths and deflections are positive into
 //! the body.
 
-pub mod error;
-pub mod influence;
-pub mod monitor;
-pub mod operator;
-pub mod precondition;
-pub mod rheology;
+//!
+//! Layers, from the bottom: the half-space's influence coefficients (`influence`) and
+//! surface operator (`operator`, `precondition`); contact solvers (`contact`,
+//! `static_contact`, `window`, `grid`); time stepping (`viscous`, `viscoelastic`, `mdr`,
+//! `rheology`, `integrator`, `loading`, `transforms`); the scene model (`scene`), which
+//! sizes grids, dispatches to the solvers and reports; and its applications (`paper`, the
+//! binary, the Python bindings in `python`).
 
-pub use error::{Error, Result};
 pub mod contact;
+pub mod error;
+pub mod grid;
+pub mod influence;
 pub mod integrator;
 pub mod loading;
 pub mod mdr;
+pub mod monitor;
+pub mod operator;
+pub mod paper;
+pub mod precondition;
 #[cfg(feature = "python")]
 mod python;
-pub mod paper;
+pub mod rheology;
 pub mod scene;
 pub mod static_contact;
 pub mod transforms;
 pub mod viscoelastic;
 pub mod viscous;
 pub mod window;
+
+pub use error::{Error, Result};

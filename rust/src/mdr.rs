@@ -88,13 +88,8 @@ impl Foundation {
     }
 
     /// Number of elements.
-    pub fn len(&self) -> usize {
+    pub fn element_count(&self) -> usize {
         self.profile.len()
-    }
-
-    /// Always false: a foundation has at least one element.
-    pub fn is_empty(&self) -> bool {
-        false
     }
 
     /// Element spacing (m).
@@ -183,8 +178,9 @@ pub struct MdrSeries {
     pub fields: Vec<Fields1D>,
 }
 
-/// Runs the MDR foundation under `history`, with output at `times` and 1D fields at the
-/// output indices `fields_at`.
+/// Runs the MDR foundation under the force `history` (N over s), with output at `times`
+/// (s) and 1D fields at the output indices `fields_at`: depths (m), contact lengths (m) and
+/// penetration rates (m/s).
 pub fn run(
     foundation: &Foundation,
     medium: Medium,
@@ -202,7 +198,7 @@ pub fn run(
         )));
     }
     let c = 4.0 * medium.modulus() * foundation.dx;
-    let n = foundation.len();
+    let n = foundation.element_count();
     let mut out = MdrSeries::default();
     for (k, &t) in times.iter().enumerate() {
         let (d, count) = foundation.depth_for(medium.load(history, t) / c);
@@ -244,9 +240,10 @@ pub fn run(
     Ok(out)
 }
 
-/// The paper's explicit loop on the viscous foundation: penetration rate of the current
-/// contact, an explicit Euler step, contact growth; the rate uses the element count of the
-/// last update, refreshed when the count grew by more than `ctrl.area_change`.
+/// The paper's explicit loop on the viscous foundation (`eta` in Pa s, `history` in N over
+/// s, output at `times` in s), also returning the steps taken: penetration rate of the
+/// current contact, an explicit Euler step, contact growth; the rate uses the element count
+/// of the last update, refreshed when the count grew by more than `ctrl.area_change`.
 pub fn run_explicit(
     foundation: &Foundation,
     eta: f64,
@@ -259,7 +256,7 @@ pub fn run_explicit(
     check_output_times(times)?;
     ctrl.validate()?;
     let c = 4.0 * eta * foundation.dx;
-    let n = foundation.len();
+    let n = foundation.element_count();
     let in_contact = |d: f64| foundation.sorted.partition_point(|&g| g <= d);
     let mut depth = foundation.sorted[0];
     let mut count = in_contact(depth);

@@ -2,6 +2,9 @@
 //! element pressures, by zero-padded FFT convolution (DC-FFT) or by a dense matrix (faer).
 //!
 //! Grids are row-major: element (ix, iy) at index iy * nx + ix, centres dx apart.
+//!
+//! Kept in one file past 500 lines: both operators apply the same kernel, and the tests
+//! check one against the other.
 
 use crate::error::{check_positive, Error, Result};
 use crate::influence::{self, KernelTable};

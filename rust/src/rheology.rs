@@ -60,16 +60,6 @@ impl Rheology {
         Ok(Rheology { g_inf, terms, eta })
     }
 
-    /// Relaxation modulus G(t) (Pa) for t > 0, without the dashpot's delta at t = 0.
-    pub fn relaxation(&self, t: f64) -> f64 {
-        self.g_inf
-            + self
-                .terms
-                .iter()
-                .map(|&(g, tau)| g * (-t / tau).exp())
-                .sum::<f64>()
-    }
-
     /// Coefficients of a step of length `dt` (s).
     pub fn step(&self, dt: f64) -> StepRule {
         let decay: Vec<f64> = self

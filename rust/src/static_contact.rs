@@ -9,10 +9,10 @@
 
 use crate::contact::{ContactSolver, ContactSummary, SolverOptions, Target};
 use crate::error::{check_len, Error, Result};
+use crate::grid::Grid;
 use crate::influence::KernelTable;
 use crate::monitor::Monitor;
 use crate::operator::{FftOperator, FftPlans, SurfaceOperator};
-use crate::viscous::Grid;
 use crate::window::Window;
 
 /// The result of [`solve`] on the whole grid.

@@ -12,12 +12,12 @@
 
 use crate::contact::{ContactSolver, SolverOptions, Target};
 use crate::error::{check_positive, Error, Result};
+use crate::grid::Grid;
 use crate::loading::{check_output_times, Loading};
 use crate::mdr::{depth_on_sorted, prefix_sums};
 use crate::monitor::Monitor;
 use crate::operator::{FftOperator, SurfaceOperator};
 use crate::rheology::Rheology;
-use crate::viscous::Grid;
 
 /// Time series of a viscoelastic run, one entry per output time.
 #[derive(Debug, Clone, PartialEq, Default)]

@@ -7,77 +7,13 @@
 //! time-discretisation error (Lee–Radok), so a run costs one contact solve per output time.
 
 use crate::contact::{ContactSolver, SolverOptions, Target};
-use crate::error::{check_finite, check_len, check_positive, Error, Result};
+use crate::error::{check_len, check_positive, Error, Result};
+use crate::grid::Grid;
 use crate::integrator::ExplicitControl;
 use crate::loading::{check_output_times, ForceHistory};
 use crate::monitor::Monitor;
 use crate::operator::{FftOperator, SurfaceOperator};
 use crate::window::{SolverPool, Window};
-
-/// A square-element grid over the indenter's footprint.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Grid {
-    /// Elements along x.
-    pub nx: usize,
-    /// Elements along y.
-    pub ny: usize,
-    /// Element side (m).
-    pub dx: f64,
-    /// Indenter height above its tip at element centres (m), row-major (iy * nx + ix).
-    pub height: Vec<f64>,
-    /// Elements the indenter covers (where contact is possible).
-    pub allowed: Vec<bool>,
-}
-
-impl Grid {
-    /// Validates sizes and values: heights finite and >= 0 where allowed.
-    pub fn new(
-        nx: usize,
-        ny: usize,
-        dx: f64,
-        height: Vec<f64>,
-        allowed: Vec<bool>,
-    ) -> Result<Self> {
-        if nx == 0 || ny == 0 {
-            return Err(Error::InvalidInput(format!(
-                "grid size must be at least 1 x 1, got {nx} x {ny}"
-            )));
-        }
-        check_positive("element size dx", dx)?;
-        check_len("height map", height.len(), nx * ny)?;
-        check_len("footprint mask", allowed.len(), nx * ny)?;
-        check_finite("height map", &height)?;
-        if let Some(i) = (0..nx * ny).find(|&i| allowed[i] && height[i] < 0.0) {
-            return Err(Error::InvalidInput(format!(
-                "heights must be >= 0 (measured from the indenter's tip), got {} at element ({}, {})",
-                height[i],
-                i % nx,
-                i / nx
-            )));
-        }
-        if !allowed.iter().any(|&a| a) {
-            return Err(Error::InvalidInput(
-                "the indenter's footprint holds no element of the grid".into(),
-            ));
-        }
-        Ok(Grid {
-            nx,
-            ny,
-            dx,
-            height,
-            allowed,
-        })
-    }
-
-    /// Whether any element of `set` lies on the outermost ring of the grid.
-    pub fn touches_border(&self, set: &[bool]) -> bool {
-        let (nx, ny) = (self.nx, self.ny);
-        (0..nx * ny).any(|i| {
-            let (ix, iy) = (i % nx, i / nx);
-            set[i] && (ix == 0 || iy == 0 || ix + 1 == nx || iy + 1 == ny)
-        })
-    }
-}
 
 /// Surface fields at one output time.
 #[derive(Debug, Clone, PartialEq)]
@@ -243,7 +179,8 @@ impl ViscousSeries {
     }
 }
 
-/// Runs the implicit impulse stepping of a viscous half-space under `history`.
+/// Runs the implicit impulse stepping of a viscous half-space (viscosity `eta`, Pa s) under
+/// the force `history` (N over s); depths (m), areas (m^2) and rates (m/s) per output time.
 ///
 /// Each step solves on a window that holds every element that can touch: the contact lies
 /// where the separation h + u_n plus the step's own deflection is at most the new depth, so
@@ -375,10 +312,11 @@ pub fn run_implicit(
     Ok(out)
 }
 
-/// Runs the paper's explicit loop: the surface velocity of the current contact set (a
-/// flat-punch solve), an explicit Euler step of depth and deflection, contact growth where
-/// the gap closed; the flat punch is re-solved only when the contact area grew by more than
-/// `ctrl.area_change`. Its error is first order in the step and carries the singular start.
+/// Runs the paper's explicit loop on a viscous half-space (`eta` in Pa s, `history` in N
+/// over s): the surface velocity of the current contact set (a flat-punch solve), an
+/// explicit Euler step of depth and deflection, contact growth where the gap closed; the
+/// flat punch is re-solved only when the contact area grew by more than `ctrl.area_change`.
+/// Its error is first order in the step and carries the singular start.
 pub fn run_explicit(
     grid: &Grid,
     eta: f64,

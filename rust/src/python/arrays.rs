@@ -14,7 +14,8 @@ use crate::scene::run::{bem_static_report, bem_viscous_report, report, Wanted};
 use crate::scene::{Method, RunSettings};
 use crate::static_contact;
 use crate::transforms;
-use crate::viscous::{self, Grid, ViscousRequest};
+use crate::grid::Grid;
+use crate::viscous::{self, ViscousRequest};
 use numpy::{
     IntoPyArray, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods,
 };

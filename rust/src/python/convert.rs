@@ -5,7 +5,7 @@ use super::monitor::to_pyerr;
 use crate::contact::SolverOptions;
 use crate::error::Error;
 use crate::loading::ForceHistory;
-use crate::viscous::Grid;
+use crate::grid::Grid;
 use numpy::{PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 

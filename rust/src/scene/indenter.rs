@@ -7,7 +7,7 @@
 
 use super::profile::{Profile, ProfileTable};
 use crate::error::{check_positive, Error, Result};
-use crate::viscous::Grid;
+use crate::grid::Grid;
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
 
