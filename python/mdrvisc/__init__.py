@@ -12,14 +12,15 @@ Units are SI: m, s, N, Pa, Pa s. Depths and deflections are positive into the bo
 
 from . import analytic, arrays
 from .errors import ConvergenceError, DomainError, InvalidInputError, MdrviscError
-from .geometry import Axisymmetric, Cone, Indenter, Paraboloid, Rod, Sphere
+from .geometry import Axisymmetric, Cone, Indenter, Paraboloid, Profile, Rod, Sphere
 from .media import Elastic, KelvinVoigt, Maxwell, Prony, StandardSolid, Viscous
-from .scene import OUTPUTS, Result, Scene
+from .result import Fields, Result
+from .scene import OUTPUTS, Scene
 from .solve import solve
 
 __version__ = "0.1.0"
 
-__all__ = ["Scene", "Result", "OUTPUTS", "solve", "Rod", "Paraboloid", "Cone", "Sphere",
-           "Axisymmetric", "Indenter", "Viscous", "Elastic", "KelvinVoigt", "Maxwell",
+__all__ = ["Scene", "Result", "Fields", "OUTPUTS", "solve", "Rod", "Paraboloid", "Cone", "Sphere",
+           "Axisymmetric", "Profile", "Indenter", "Viscous", "Elastic", "KelvinVoigt", "Maxwell",
            "StandardSolid", "Prony", "analytic", "arrays", "MdrviscError", "InvalidInputError",
            "ConvergenceError", "DomainError", "__version__"]

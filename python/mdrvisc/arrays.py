@@ -7,7 +7,6 @@ layout are accepted (copied to contiguous float64); complex, object or non-finit
 are errors.
 """
 
-import time
 from collections.abc import Callable
 
 import numpy as np
@@ -16,7 +15,7 @@ from numpy.typing import ArrayLike
 from . import _core
 from ._validate import _positive
 from .errors import DomainError, InvalidInputError
-from .scene import Result, _history
+from .result import Result
 
 __all__ = ["contact", "viscous", "SurfaceOperator"]
 
@@ -105,7 +104,7 @@ def _mask(mask, shape):
 def contact(height: ArrayLike, dx: float, G: float, force: float | None = None,
             depth: float | None = None, mask: ArrayLike | None = None, tol: float = 1e-10,
             max_iter: int = 5000, active_limit: int | None = None, precondition: bool = True,
-            depth_bound: float | None = None, deflection: bool = True) -> dict:
+            depth_bound: float | None = None, deflection: bool = True) -> Result:
     """Static elastic contact of a rigid indenter on an incompressible half-space of shear
     modulus ``G`` (Pa) under ``force`` (N) or at ``depth`` (m).
 
@@ -122,12 +121,13 @@ def contact(height: ArrayLike, dx: float, G: float, force: float | None = None,
     (m), an upper bound on the depth such as MDR's (without one, the whole grid). The result
     is the whole grid's, exactly, since deflections are positive; a bound the depth exceeds
     is widened and the solve repeated (``solves``). ``deflection=False`` skips the
-    whole-grid deflection (None), which costs an operator on the whole grid when the window
-    is smaller.
+    whole-grid deflection, which costs an operator on the whole grid when the window is
+    smaller.
 
-    Returns a dict: depth (m), force (N), pressure (Pa, (ny, nx)), deflection (m, or None),
-    iterations (over all solves), residual, contact_count, method ("polonsky-keer" or
-    "active-set"), solves, window ((y0, x0, rows, columns) of the last solve), wall_time (s).
+    Returns a :class:`Result` with t = [0]: depth (m), force (N), area (m^2), the fields at
+    t = 0 (``result.fields[0.0].pressure`` in Pa and ``.deflection`` in m, (ny, nx)),
+    ``solver`` ("polonsky-keer" or "active-set"), ``solves``, ``iterations`` (over all
+    solves), ``residual``, ``window`` ((y0, x0, rows, columns) of the last solve).
     """
     h = _grid("height", height)
     dx = _positive("contact", "dx", dx)
@@ -138,13 +138,11 @@ def contact(height: ArrayLike, dx: float, G: float, force: float | None = None,
         force = _positive("contact", "force", force)
     if depth_bound is not None:
         depth_bound = _positive("contact", "depth_bound", depth_bound)
-    start = time.perf_counter()
     r = _core.contact_solve(h, _mask(mask, h.shape), dx, 1.0 / G, force=force,
                             depth=None if depth is None else float(depth), tol=tol, max_iter=max_iter,
                             active_limit=active_limit, precondition=precondition,
                             depth_bound=depth_bound, deflection=bool(deflection))
-    r["wall_time"] = time.perf_counter() - start
-    return r
+    return Result._from_report(r)
 
 
 def viscous(height: ArrayLike, dx: float, eta: float,
@@ -167,19 +165,15 @@ def viscous(height: ArrayLike, dx: float, eta: float,
     m = _mask(mask, h.shape)
     dx = _positive("viscous", "dx", dx)
     eta = _positive("viscous", "eta", eta)
-    ft, fv = _history(force)
-    t = np.asarray(times, dtype=np.float64).ravel()
-    start = time.perf_counter()
-    r = _core.bem_viscous(h, m, dx, eta, np.ascontiguousarray(t), ft, fv, rates=rates,
-                          tol=tol, max_iter=max_iter, progress=progress,
-                          precondition=precondition)
-    if unbounded and np.any(r["at_border"]):
-        first = r["t"][np.argmax(r["at_border"])]
+    if np.ndim(force) == 0:
+        ft, fv = np.array([0.0]), np.array([_positive("viscous", "force", force)])
+    else:
+        ft, fv = (np.ascontiguousarray(a, dtype=np.float64) for a in force)
+    t = np.ascontiguousarray(np.asarray(times, dtype=np.float64).ravel())
+    r = _core.bem_viscous(h, m, dx, eta, t, ft, fv, rates=rates, tol=tol, max_iter=max_iter,
+                          progress=progress, precondition=precondition)
+    result = Result._from_report(r)
+    if unbounded and np.any(result.at_edge):
+        first = result.t[np.argmax(result.at_edge)]
         raise DomainError(f"BEM: the contact reached the edge of the grid at t = {first} s")
-    return Result("bem", max(h.shape), dx, r["t"], r["depth"], r["contact_length"], area=r["area"],
-                  velocity=r["velocity"] if rates else None,
-                  stiffness_length=r["stiffness_length"] if rates else None,
-                  saturated=r["area"] >= m.sum() * dx * dx * (1 - 1e-12), at_edge=r["at_border"],
-                  steps=r["steps"], solves=r["solves"], iterations=int(np.sum(r["iterations"])),
-                  residual=float(np.max(r["residual"])), wall_time=time.perf_counter() - start,
-                  grid_shape=h.shape)
+    return result

@@ -10,10 +10,9 @@ import json
 import sys
 import time
 
-from . import formatting, scenefile
+from . import __version__, _core
 from .errors import MdrviscError
 from .paper import report, studies
-from .solve import solve
 
 __all__ = ["main"]
 
@@ -49,6 +48,7 @@ def _parser():
         prog="mdrvisc",
         description="Rigid indenters on a viscous half-space by BEM and MDR "
                     "(Kürschner & Filippov 2012).")
+    parser.add_argument("--version", action="version", version=f"mdrvisc {__version__}")
     commands = parser.add_subparsers(dest="command", required=True)
     paper = commands.add_parser(
         "paper", help="the paper's comparisons and viscoelastic unloading against Ting: tables "
@@ -96,25 +96,21 @@ def _paper(args):
 
 
 def _run(args):
-    data = scenefile.read_scene(args.scene)
-    scene, method, n = scenefile.parse_scene(data, args.scene)
+    """Runs a scene file as the Rust binary does: same parsing, report, table and JSON."""
+    scene, method, n = _core.load_scene_file(args.scene)
     _Progress()(f"{args.scene}: {method.upper()} n={n}")
     progress = _SolverProgress()
     try:
-        result = solve(scene, method, n, progress=progress)
+        report = _core.run_scene(scene, method, n, progress=progress)
+    except MdrviscError as exc:
+        exc.args = (f"{args.scene}: {exc}",) + exc.args[1:]
+        raise
     finally:
         progress.close()
     if args.json:
-        fields = {"method", "n", "dx", "t", "depth", "force", "contact_length", "velocity",
-                  "stiffness_length", "central_pressure", "area", "steps", "solves",
-                  "iterations", "residual", "wall_time", "units"}
-        out = {k: v for k, v in vars(result).items() if k in fields and v is not None}
-        if result.fields:
-            out["fields"] = [{"t": t, **f} for t, f in result.fields.items()]
-        doc = [{"scene": args.scene, "input": data, "result": out}]
-        print(json.dumps(formatting.to_jsonable(doc)))
+        print(f"[{report.document(args.scene, scene)}]")
     else:
-        print(formatting.result_table(args.scene, result))
+        print(report.table(args.scene), end="")
 
 
 def main(argv=None):
@@ -126,7 +122,7 @@ def main(argv=None):
             _paper(args)
         else:
             _run(args)
-    except (MdrviscError, ValueError, OSError) as exc:
+    except (MdrviscError, ValueError, OSError, MemoryError) as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:

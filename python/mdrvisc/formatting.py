@@ -1,7 +1,5 @@
-"""Plain-text tables and JSON-ready values: what ``mdrvisc run`` prints for a
-:class:`mdrvisc.Result`, and the table and JSON helpers the paper's reports
-(:mod:`mdrvisc.paper.report`) build on.
-"""
+"""Plain-text tables and JSON-ready values, which the paper's reports
+(:mod:`mdrvisc.paper.report`) build on."""
 
 import math
 from collections.abc import Iterable, Mapping, Sequence
@@ -9,9 +7,7 @@ from typing import Any
 
 import numpy as np
 
-from .scene import Result
-
-__all__ = ["text_table", "result_table", "to_jsonable"]
+__all__ = ["text_table", "to_jsonable"]
 
 
 def _cell(value, fmt):
@@ -31,26 +27,6 @@ def text_table(columns: Sequence[tuple[str, str, str]], rows: Iterable[Mapping[s
     lines = ["  ".join(h.rjust(w) for h, w in zip(headers, widths))]
     lines.append("  ".join("-" * w for w in widths))
     lines += ["  ".join(c.rjust(w) for c, w in zip(cell, widths)) for cell in cells]
-    return "\n".join(lines)
-
-
-def result_table(name: str, result: Result) -> str:
-    """One :class:`mdrvisc.Result` as aligned text: its summary and its time series."""
-    lines = [f"{name}: {result.summary()}"]
-    if result.central_pressure is not None:
-        lines.append(f"central pressure p0 = {result.central_pressure:.6f} Pa")
-    series = {"t": result.t, "depth": result.depth, "force": result.force,
-              "contact_length": result.contact_length, "velocity": result.velocity,
-              "stiffness_length": result.stiffness_length}
-    series = {k: np.broadcast_to(v, result.t.shape) for k, v in series.items() if v is not None}
-    headers = {"t": "t [s]", "depth": "d [m]", "force": "F [N]", "contact_length": "l [m]",
-               "velocity": "dd/dt [m/s]", "stiffness_length": "l Eq.23 [m]"}
-    columns = [(headers[k], k, ".8g") for k in series]
-    rows = [{k: float(v[i]) for k, v in series.items()} for i in range(result.t.size)]
-    lines.append(text_table(columns, rows))
-    for when, fields in (result.fields or {}).items():
-        shapes = ", ".join(f"{k} {np.shape(v)}" for k, v in fields.items())
-        lines.append(f"fields at t = {when} s: {shapes}")
     return "\n".join(lines)
 
 

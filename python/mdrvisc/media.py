@@ -5,6 +5,7 @@ viscoelastic ones are written as G(t) = G_inf + sum_k G_k exp(-t / tau_k) + eta 
 (:meth:`rheology`), which is what the solvers step.
 """
 
+import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
@@ -32,6 +33,13 @@ class _Medium:
     def rheology(self) -> Rheology:
         """(G_inf, [(G_k, tau_k), ...], eta): the medium as a Prony series with a dashpot."""
         raise NotImplementedError
+
+    def _model(self) -> dict:
+        """The medium in the scene model's form (a scene file's ``[medium]`` table)."""
+        values = {f.name: getattr(self, f.name) for f in dataclasses.fields(self)}
+        if "terms" in values:
+            values["terms"] = [list(term) for term in values["terms"]]
+        return {"type": type(self).__name__.lower(), **values}
 
     def relaxation_modulus(self, t: ArrayLike) -> float | np.ndarray:
         """G(t) (Pa) for t > 0 (the dashpot's delta at t = 0 left out)."""
@@ -190,3 +198,9 @@ class Prony(_Medium):
 
 #: Media solved by the general viscoelastic stepping (not the exact viscous impulse step).
 VISCOELASTIC = (KelvinVoigt, Maxwell, StandardSolid, Prony)
+
+
+def medium_from_model(model: dict) -> _Medium:
+    """The medium of a scene model's ``[medium]`` table."""
+    classes = {cls.__name__.lower(): cls for cls in (Elastic, Viscous) + VISCOELASTIC}
+    return classes[model["type"]](**{k: v for k, v in model.items() if k != "type"})

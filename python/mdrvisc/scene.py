@@ -1,208 +1,216 @@
-"""Scenes (what to compute) and results (what was computed, and how)."""
+"""Scenes: what to compute. A :class:`Scene` builds the compiled core's scene model, which
+validates it, fills in its defaults and later solves it; this module only converts Python
+inputs (numbers, arrays, callables) into that model's form."""
 
-from dataclasses import dataclass, field
+from __future__ import annotations
+
+import dataclasses
+import json
+import math
 
 import numpy as np
 
-from ._validate import _positive
-from .errors import InvalidInputError
-from .geometry import Indenter
-from .media import VISCOELASTIC, Elastic, Viscous
+from . import _core
+from .errors import DomainError, InvalidInputError
+from .geometry import Axisymmetric, Indenter, indenter_from_model
+from .media import Elastic, _Medium, medium_from_model
 
-__all__ = ["Scene", "Result", "OUTPUTS"]
+__all__ = ["Scene", "OUTPUTS"]
 
-#: Outputs a scene may ask for. ``depth`` and ``contact_length`` (from the contact area) are
-#: always computed; ``velocity`` (penetration rate dd/dt, m/s) and ``stiffness_length``
-#: (F / (4 eta dd/dt), m, the paper's contact length) need an extra flat-punch solve per
-#: output time in BEM; ``pressure`` (Pa), ``surface_velocity`` (m/s) and ``deflection`` (m)
-#: are fields at ``field_times``.
+#: Outputs a scene may ask for. ``depth`` and ``contact_length`` are always computed;
+#: ``velocity`` (dd/dt, m/s) and ``stiffness_length`` (F / (4 eta dd/dt), m) are series of a
+#: viscous medium; ``pressure`` (Pa), ``surface_velocity`` (m/s) and ``deflection`` (m) are
+#: fields at ``field_times``.
 OUTPUTS = ("depth", "contact_length", "velocity", "stiffness_length", "pressure",
            "surface_velocity", "deflection")
-FIELD_OUTPUTS = ("pressure", "surface_velocity", "deflection")
 #: Samples taken of a loading history given as a callable.
 CALLABLE_SAMPLES = 4001
 
 
-def _history(force, name="force"):
-    """(times, values) float arrays of a force (N, >= 0) or depth (m) history given as a
-    number or (t, value) samples."""
-    if isinstance(force, (int, float, np.floating, np.integer)) and not isinstance(force, bool):
-        f = _positive("Scene", name, force)
-        return np.array([0.0]), np.array([f])
+def _history(value, name, duration):
+    """A force or depth given as a number, (times, values) or a callable, in the model's form:
+    a number or a list of [t, value] pairs."""
+    if isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, bool):
+        return float(value)
+    if callable(value):
+        if duration is None:
+            raise InvalidInputError(f"Scene: a callable {name} history needs a duration")
+        span = np.linspace(0.0, float(duration), CALLABLE_SAMPLES)
+        value = (span, [value(float(t)) for t in span])
     try:
-        t, f = (np.ascontiguousarray(a, dtype=np.float64) for a in force)
+        t, v = (np.asarray(a, dtype=np.float64) for a in value)
     except (TypeError, ValueError) as exc:
         raise InvalidInputError(
-            f"Scene: {name} must be a positive number or a pair (times, values), got {force!r}"
-        ) from exc
-    if t.ndim != 1 or t.shape != f.shape or t.size == 0:
-        raise InvalidInputError(f"Scene: {name} history needs two 1-D arrays of equal, non-zero length")
-    if not (np.all(np.isfinite(t)) and np.all(np.isfinite(f))):
-        raise InvalidInputError(f"Scene: {name} history must be finite")
-    if t[0] != 0.0 or np.any(np.diff(t) <= 0):
-        raise InvalidInputError(f"Scene: {name} history times must start at 0 and increase, got {t}")
-    if name == "force" and np.any(f < 0):
-        raise InvalidInputError(f"Scene: forces must be >= 0 (no adhesion), got {f}")
-    return t, f
+            f"Scene: {name} must be a number, a pair (times, values) or a callable, got {value!r}") from exc
+    if t.ndim != 1 or t.shape != v.shape or t.size == 0:
+        raise InvalidInputError(f"Scene: the {name} history needs two 1-D arrays of equal, non-zero length")
+    return np.column_stack([t, v]).tolist()
 
 
-@dataclass(frozen=True)
+def _array_or_none(value):
+    return None if value is None else np.asarray(value, dtype=np.float64).ravel().tolist()
+
+
+def _json(model):
+    """``model`` as JSON text; a non-finite number is an error naming its key."""
+    def walk(value, path):
+        if isinstance(value, float) and not math.isfinite(value):
+            raise InvalidInputError(f"Scene: {path} must be finite, got {value!r}")
+        if isinstance(value, dict):
+            for k, v in value.items():
+                walk(v, f"{path}.{k}" if path else k)
+        elif isinstance(value, list):
+            for v in value:
+                walk(v, path)
+    walk(model, "")
+    return json.dumps(model)
+
+
+@dataclasses.dataclass(frozen=True, eq=False)
 class Scene:
     """A rigid indenter pressed into a half-space.
 
     Parameters
     ----------
     indenter : Indenter
-        Rod, Paraboloid, Cone, Sphere or Axisymmetric (see :mod:`mdrvisc.geometry`).
-    medium : Viscous or Elastic
+        Rod, Paraboloid, Cone, Sphere, Profile or Axisymmetric (see :mod:`mdrvisc.geometry`);
+        an Axisymmetric profile is sampled into a tabulated profile.
+    medium : Elastic, Viscous, KelvinVoigt, Maxwell, StandardSolid or Prony
     force : float, (array, array) or callable
-        Constant force (N) from first touch at t = 0, or a piecewise-linear history
-        (times in s from 0, forces in N, >= 0), held constant after its last sample, or a
-        callable F(t) (sampled at 4001 points over the duration).
-    depth : float or (array, array)
-        Instead of ``force``: a prescribed depth history (m; piecewise linear, negative =
-        above the surface), for the viscoelastic media. Give exactly one of the two.
+        Constant force (N) from t = 0, or a piecewise-linear history (times in s from 0,
+        forces in N, >= 0), held after its last sample, or a callable F(t) (sampled at 4001
+        points over the duration). An elastic scene solves for its final force, statically.
+    depth : float, (array, array) or callable
+        Instead of ``force``: a prescribed depth history (m; negative = above the surface) of
+        a time-dependent medium. Give exactly one of the two.
     duration : float, optional
-        Simulated time (s); required for a viscous medium, absent for a static elastic solve.
+        Simulated time (s); required unless the medium is elastic.
     times : array_like, optional
-        Output times (s), > 0 and increasing, ending at or before ``duration``; default five
-        equal steps up to ``duration``.
+        Output times (s) in (0, duration], increasing; default five equal steps up to the
+        duration. After construction: the output times, field times included.
     outputs : iterable of str
         What to compute, from :data:`OUTPUTS`; fields only when named.
     field_times : array_like, optional
-        Times (s) of field outputs; default the final time. They are added to ``times``.
+        Times (s) of the field outputs; default the duration. They are added to ``times``.
     dt : float, optional
-        Longest time step (s) of the viscoelastic stepping (default ``duration / 500``);
-        ``solve(..., dt=...)`` overrides it. The viscous engine needs none.
+        Longest time step (s) of the viscoelastic stepping (default duration / 500);
+        ``solve(..., dt=...)`` overrides it.
+
+    Validation, defaults and everything a solve decides (grids, steps) live in the compiled
+    scene model; errors name the bad value. ``to_toml``/``from_toml`` round-trip the scene.
     """
 
     indenter: Indenter
-    medium: object
+    medium: _Medium
     force: object = None
-    duration: float = None
+    duration: float | None = None
     times: object = None
     outputs: tuple = ("depth", "contact_length")
     field_times: object = None
     depth: object = None
-    dt: float = None
-    history: tuple = field(init=False, repr=False, compare=False)
+    dt: float | None = None
+    _model: object = dataclasses.field(init=False, repr=False)
 
     def __post_init__(self):
         if not isinstance(self.indenter, Indenter):
             raise InvalidInputError(f"Scene: indenter must be an mdrvisc indenter, got {self.indenter!r}")
-        if not isinstance(self.medium, (Viscous, Elastic) + VISCOELASTIC):
+        if not isinstance(self.medium, _Medium):
             raise InvalidInputError(f"Scene: medium must be an mdrvisc medium, got {self.medium!r}")
-        if (self.force is None) == (self.depth is None):
-            raise InvalidInputError("Scene: give exactly one of force and depth")
-        if self.depth is not None and not isinstance(self.medium, VISCOELASTIC + (Viscous,)):
-            raise InvalidInputError(f"Scene: depth control needs a time-dependent medium, got {self.medium!r}")
-        load, name = (self.force, "force") if self.depth is None else (self.depth, "depth")
-        if callable(load):
-            # a callable history is sampled finely and then followed piecewise linearly
-            if self.duration is None:
-                raise InvalidInputError(f"Scene: a callable {name} history needs a duration")
-            span = np.linspace(0.0, _positive("Scene", "duration", self.duration), CALLABLE_SAMPLES)
-            values = np.asarray([load(float(t)) for t in span], dtype=np.float64)
-            load = (span, values)
-        object.__setattr__(self, "history", _history(load, name))
         outputs = (self.outputs,) if isinstance(self.outputs, str) else tuple(self.outputs)
-        bad = [o for o in outputs if o not in OUTPUTS]
-        if bad:
-            raise InvalidInputError(f"Scene: unknown outputs {bad}; choose from {OUTPUTS}")
-        object.__setattr__(self, "outputs", outputs)
-        if self.dt is not None:
-            object.__setattr__(self, "dt", _positive("Scene", "dt", self.dt))
-        if isinstance(self.medium, Elastic):
-            if self.duration is not None or self.times is not None:
-                raise InvalidInputError("Scene: an elastic scene is static: give no duration or times")
-            return
-        if self.duration is None:
-            raise InvalidInputError("Scene: a time-dependent scene needs a duration (s)")
-        duration = _positive("Scene", "duration", self.duration)
-        object.__setattr__(self, "duration", duration)
-        times = (np.linspace(duration / 5.0, duration, 5) if self.times is None
-                 else np.asarray(self.times, dtype=np.float64).ravel())
-        fields = (np.array([duration]) if self.field_times is None
-                  else np.asarray(self.field_times, dtype=np.float64).ravel())
-        for name, arr in (("times", times), ("field_times", fields)):
-            if arr.size == 0 or not np.all(np.isfinite(arr)) or np.any(arr <= 0) or np.any(arr > duration * (1 + 1e-12)):
-                raise InvalidInputError(f"Scene: {name} must be finite, in (0, duration], got {arr}")
-        if np.any(np.diff(times) <= 0):
-            raise InvalidInputError(f"Scene: times must increase, got {times}")
-        if any(o in FIELD_OUTPUTS for o in outputs):
-            # a field time within round-off of an output time is served by that output time
-            near = (np.abs(times[None, :] - fields[:, None]) <= 1e-12 * duration).any(axis=1)
-            times = np.union1d(times, fields[~near])
-        object.__setattr__(self, "times", np.ascontiguousarray(times))
-        object.__setattr__(self, "field_times", fields)
+        model = {"medium": self.medium._model(), "outputs": list(outputs)}
+        for name in ("force", "depth"):
+            if getattr(self, name) is not None:
+                model[name] = _history(getattr(self, name), name, self.duration)
+        for name in ("duration", "dt"):
+            if getattr(self, name) is not None:
+                model[name] = getattr(self, name)
+        for name in ("times", "field_times"):
+            if getattr(self, name) is not None:
+                model[name] = _array_or_none(getattr(self, name))
+        core = self._build(model)
+        set_ = object.__setattr__.__get__(self)
+        set_("_model", core)
+        set_("outputs", outputs)
+        if not isinstance(self.medium, Elastic):
+            set_("duration", float(self.duration))
+            set_("times", core.output_times())
+            set_("field_times", np.asarray(model.get("field_times", [self.duration]), dtype=np.float64))
+
+    def _build(self, model):
+        """The core scene of ``model`` with its indenter; an unbounded sampled profile is
+        tabulated as far as the solve needs it (from 1 m, doubling)."""
+        if not (isinstance(self.indenter, Axisymmetric) and self.indenter.footprint_half_width is None):
+            return _core.Scene.from_json(_json({**model, "indenter": self.indenter._model()}))
+        extent = 1.0
+        for _ in range(60):
+            core = _core.Scene.from_json(_json({**model, "indenter": self.indenter._model(extent)}))
+            try:
+                needed = core.extent_needed()
+            except DomainError:
+                extent *= 2.0
+                continue
+            if needed <= extent:
+                return core
+            extent = 1.01 * needed
+        raise DomainError(f"Scene: {self.indenter!r} does not reach the scene's load within {extent} m")
 
     @property
-    def controlled_by(self):
+    def controlled_by(self) -> str:
         """"force" or "depth"."""
         return "force" if self.depth is None else "depth"
 
-    def wants(self, output):
+    @property
+    def history(self) -> tuple[np.ndarray, np.ndarray]:
+        """(times (s), values) of the force (N) or depth (m) history as the model holds it."""
+        value = json.loads(self._model.to_json())[self.controlled_by]
+        if isinstance(value, float):
+            return np.array([0.0]), np.array([value])
+        samples = np.asarray(value, dtype=np.float64)
+        return samples[:, 0].copy(), samples[:, 1].copy()
+
+    def wants(self, output: str) -> bool:
         """Whether the scene asks for ``output``."""
         return output in self.outputs
 
-    @property
-    def wants_fields(self):
-        """Whether any field output is asked for."""
-        return any(o in FIELD_OUTPUTS for o in self.outputs)
+    def to_json(self) -> str:
+        """The scene model as JSON text."""
+        return self._model.to_json()
 
-    @property
-    def final_load(self):
-        """Impulse (N s) up to the last output time (viscous), or the force (N) (elastic)."""
-        if isinstance(self.medium, Elastic):
-            return float(self.history[1][-1])
-        return self.impulse(float(self.times[-1]))
+    def to_toml(self, method: str | None = None, n: int | None = None) -> str:
+        """The scene as a scene file (TOML), with ``method`` and ``n`` when given."""
+        return self._model.to_toml(method, n)
 
-    def impulse(self, end):
-        """Integral of the force history from 0 to ``end`` (N s)."""
-        t, f = self.history
-        grid = np.append(t[t < end], end)
-        vals = np.interp(grid, t, f)
-        return float(np.sum(0.5 * (vals[1:] + vals[:-1]) * np.diff(grid)))
+    @classmethod
+    def from_toml(cls, path) -> Scene:
+        """The scene of the scene file at ``path`` (its ``method`` and ``n`` are
+        :func:`mdrvisc.scenefile.load_scene`'s)."""
+        return cls._from_core(_core.load_scene_file(str(path))[0])
 
+    @classmethod
+    def _from_core(cls, core) -> Scene:
+        """The Scene of a core scene model."""
+        model = json.loads(core.to_json())
+        args = {k: model[k] for k in ("duration", "dt", "times", "field_times") if k in model}
+        for name in ("force", "depth"):
+            if name in model:
+                value = model[name]
+                args[name] = value if isinstance(value, float) else tuple(np.asarray(value).T)
+        return cls(indenter=indenter_from_model(model["indenter"]), medium=medium_from_model(model["medium"]),
+                   outputs=tuple(model.get("outputs", ("depth", "contact_length"))), **args)
 
-@dataclass
-class Result:
-    """What a solve computed, and how.
+    def __eq__(self, other) -> bool:
+        """Scenes are equal when their models are."""
+        return isinstance(other, Scene) and self.to_json() == other.to_json()
 
-    Units: t in s, depth and lengths in m, velocity in m/s, pressure in Pa, area in m^2.
-    Fields not asked for are None. ``saturated``: the contact covers the whole indenter
-    (BEM: every footprint element; MDR: every element); ``at_edge`` (BEM): the contact
-    reached the outermost ring of the grid.
-    """
+    __hash__ = None
 
-    method: str
-    n: int
-    dx: float
-    t: np.ndarray
-    depth: np.ndarray
-    contact_length: np.ndarray
-    area: np.ndarray = None
-    force: np.ndarray = None
-    velocity: object = None
-    stiffness_length: np.ndarray = None
-    central_pressure: float = None
-    fields: dict = None
-    saturated: np.ndarray = None
-    at_edge: np.ndarray = None
-    steps: int = 0
-    solves: int = 0
-    iterations: int = 0
-    residual: float = 0.0
-    wall_time: float = 0.0
-    grid_shape: tuple = None
-    integrator: str = "implicit"
-    warnings: list = field(default_factory=list)
-    units: dict = field(default_factory=lambda: {
-        "t": "s", "depth": "m", "contact_length": "m", "area": "m^2", "velocity": "m/s",
-        "stiffness_length": "m", "central_pressure": "Pa", "dx": "m", "wall_time": "s", "force": "N"})
+    def bem_grid(self, n: int):
+        """(x, dx, height, mask) of the BEM grid with ``n`` elements across: element centres
+        (m), element size (m), heights above the tip (m, (ny, nx)) and footprint mask."""
+        return self._model.bem_grid(n)
 
-    def summary(self):
-        """One line: method, resolution, steps, solves, iterations, residual, wall time."""
-        return (f"{self.method.upper()} n={self.n} dx={self.dx:.4g} m steps={self.steps} "
-                f"solves={self.solves} iterations={self.iterations} residual={self.residual:.2e} "
-                f"wall={self.wall_time:.3f} s")
+    def mdr_grid(self, n: int):
+        """(x, dx, g) of the MDR foundation with ``n`` elements: centres (m), spacing (m),
+        1D profile (m)."""
+        return self._model.mdr_grid(n)
+

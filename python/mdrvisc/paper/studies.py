@@ -18,8 +18,8 @@ from collections.abc import Callable, Sequence
 
 import numpy as np
 
-from .. import analytic
-from ..geometry import Paraboloid, Rod
+from .. import _core, analytic
+from ..geometry import Paraboloid
 from ..media import KelvinVoigt, StandardSolid, Viscous
 from ..scene import Scene
 from ..solve import solve
@@ -29,11 +29,28 @@ __all__ = ["paper", "paper_rod", "paper_paraboloids", "PAPER", "QUICK", "PAPER_R
            "VISCOELASTIC_MEDIA", "VISCOELASTIC_UNITS", "error_vs_runtime", "ERROR_STUDY",
            "ERROR_STUDY_QUICK", "ERROR_UNITS", "ORDER_UNITS"]
 
+
+
+def _resolutions(quick):
+    """{"rod": {"n_bem", "n_mdr"}, "paraboloids": {...}} of the crate's paper runs."""
+    runs = _core.paper_scenes(quick)
+    return {"rod": {"n_bem": runs[0][3], "n_mdr": runs[1][3]},
+            "paraboloids": {"n_bem": runs[2][3], "n_mdr": runs[3][3]}}
+
+
+#: The paper's scenes, defined once in the crate (``mdrvisc paper`` of the Rust binary runs
+#: them too): the rod of Section 5 and the paraboloid of Section 6 (c = 0.05 1/m; the others
+#: differ in c only), and the curvatures c (1/m) of Section 6.
+_RUNS = _core.paper_scenes(False)
+ROD_SCENE = Scene._from_core(_RUNS[0][1])
+PARABOLOID_SCENE = Scene._from_core(_RUNS[2][1])
+CURVATURES = tuple(Scene._from_core(core).indenter.c
+                   for _, core, method, _ in _RUNS[2:] if method == "bem")
 #: Resolutions of the paper: rod BEM n = 200 (31417 elements in the disc), paraboloid BEM
 #: 257 x 257, MDR 66049 elements.
-PAPER = {"rod": {"n_bem": 200, "n_mdr": 66049}, "paraboloids": {"n_bem": 257, "n_mdr": 66049}}
+PAPER = _resolutions(False)
 #: Coarse resolutions that run the whole comparison in seconds.
-QUICK = {"rod": {"n_bem": 50, "n_mdr": 4097}, "paraboloids": {"n_bem": 65, "n_mdr": 4097}}
+QUICK = _resolutions(True)
 
 #: The paper's own rod results (Eqs. 24-26): BEM on 31417 elements, and MDR.
 PAPER_ROD = {"bem": {"elements": 31417, "central_pressure": 0.1608, "velocity": 0.1252},
@@ -72,11 +89,11 @@ VISCOELASTIC_QUICK = {"n_mdr": 2001, "n_bem": 33, "dt": 0.01}
 #: The media of :func:`viscoelastic` (moduli in Pa, times in s, viscosities in Pa s).
 VISCOELASTIC_MEDIA = (StandardSolid(G_inf=1.0, G1=3.0, tau1=0.5), KelvinVoigt(G=1.5, eta=0.4))
 
-ROD_RADIUS = 1.0  # m
-FORCE = 1.0  # N
-ETA = 1.0  # Pa s
-EDGE = 2.56  # m, side of the square paraboloid indenters
-DURATION = 5.0  # s
+ROD_RADIUS = ROD_SCENE.indenter.radius  # m
+FORCE = ROD_SCENE.force  # N
+ETA = ROD_SCENE.medium.eta  # Pa s
+EDGE = PARABOLOID_SCENE.indenter.edge  # m, side of the square paraboloid indenters
+DURATION = PARABOLOID_SCENE.duration  # s
 
 
 def _announced(progress):
@@ -120,8 +137,7 @@ def paper_rod(n_bem: int = 200, n_mdr: int = 66049, progress: Callable[[str], ob
         n_bem, n_mdr.
     """
     a = ROD_RADIUS
-    scene = Scene(indenter=Rod(radius=a), medium=Viscous(eta=ETA), force=FORCE, duration=1.0,
-                  times=[1.0], outputs=("depth", "pressure", "surface_velocity"))
+    scene = ROD_SCENE
     run = _announced(progress)
     bem = run(f"rod BEM n={n_bem}", scene, "bem", n_bem)
     mdr = run(f"rod MDR n={n_mdr}", scene, "mdr", n_mdr)
@@ -140,10 +156,11 @@ def paper_rod(n_bem: int = 200, n_mdr: int = 66049, progress: Callable[[str], ob
         row("closed form", None, p0, v0),
         row("paper BEM", paper_bem["elements"], paper_bem["central_pressure"],
             paper_bem["velocity"]),
-        row(f"BEM n={n_bem}", int(round(bem.area[0] / bem.dx**2)), bem.central_pressure,
-            float(bem.velocity), bem.wall_time),
+        row(f"BEM n={n_bem}", int(round(bem.area[0] / bem.dx**2)), float(bem.central_pressure[0]),
+            float(bem.velocity[0]), bem.wall_time),
         row("paper MDR", None, None, PAPER_ROD["mdr"]["velocity"]),
-        row(f"MDR n={n_mdr}", n_mdr, mdr.central_pressure, float(mdr.velocity), mdr.wall_time),
+        row(f"MDR n={n_mdr}", n_mdr, float(mdr.central_pressure[0]), float(mdr.velocity[0]),
+            mdr.wall_time),
     ]
     return {"parameters": {"radius": a, "force": FORCE, "eta": ETA, "n_bem": n_bem,
                            "n_mdr": n_mdr},
@@ -154,27 +171,27 @@ def _rod_profile(bem, mdr, a):
     """Fig. 3 data (x in units of a) from the BEM grid row through the centre, the closed
     forms and the MDR radial fields mirrored to negative x."""
     fb = next(iter(bem.fields.values()))
-    centre = fb["x"].size // 2
-    centre_ext = fb["x_extended"].size // 2
+    centre = fb.x.size // 2
+    centre_ext = fb.x_extended.size // 2
     x = (np.arange(40) + 0.5) * 0.1 - 2.0  # dots between the edges at |x| = a
     fm = next(iter(mdr.fields.values()))
-    r = fm["r"]
+    r = fm.r
     inside = r < a
     return {
-        "bem": {"x_velocity": fb["x_extended"] / a,
-                "velocity": fb["surface_velocity"][centre_ext, :],
-                "x_pressure": fb["x"] / a, "pressure": fb["pressure"][centre, :]},
+        "bem": {"x_velocity": fb.x_extended / a,
+                "velocity": fb.surface_velocity[centre_ext, :],
+                "x_pressure": fb.x / a, "pressure": fb.pressure[centre, :]},
         "closed": {"x": x,
                    "velocity": analytic.rod_surface_velocity(np.abs(x) * a, FORCE, a, ETA),
                    "pressure": analytic.rod_pressure(np.abs(x) * a, FORCE, a)},
         "mdr": {"x": np.concatenate([-r[::-1], r]) / a,
-                "velocity": np.concatenate([fm["surface_velocity"][::-1], fm["surface_velocity"]]),
-                "pressure": np.concatenate([fm["pressure"][inside][::-1], fm["pressure"][inside]]),
+                "velocity": np.concatenate([fm.surface_velocity[::-1], fm.surface_velocity]),
+                "pressure": np.concatenate([fm.pressure[inside][::-1], fm.pressure[inside]]),
                 "x_pressure": np.concatenate([-r[inside][::-1], r[inside]]) / a},
     }
 
 
-def paper_paraboloids(cs: Sequence[float] = (0.05, 0.2, 1.0, 5.0, 20.0), n_bem: int = 257,
+def paper_paraboloids(cs: Sequence[float] = CURVATURES, n_bem: int = 257,
                       n_mdr: int = 66049, times: Sequence[float] = (1.0, 2.0, 3.0, 4.0, 5.0),
                       progress: Callable[[str], object] | None = None, fine: int = 200) -> dict:
     """Section 6: paraboloids h = c r^2 on a 2.56 m square, F = 1 N, eta = 1 Pa s, 5 s.
@@ -212,14 +229,10 @@ def paper_paraboloids(cs: Sequence[float] = (0.05, 0.2, 1.0, 5.0, 20.0), n_bem: 
     run = _announced(progress)
     rows, curves, runs = [], [], []
     for c in cs:
-        indenter = Paraboloid(c=c, edge=EDGE)
-        medium = Viscous(eta=ETA)
-        bem = run(f"paraboloid c={c:g} BEM n={n_bem}", Scene(
-            indenter=indenter, medium=medium, force=FORCE, duration=DURATION, times=times,
-            outputs=("depth", "contact_length", "stiffness_length")), "bem", n_bem)
-        mdr = run(f"paraboloid c={c:g} MDR n={n_mdr}", Scene(
-            indenter=indenter, medium=medium, force=FORCE, duration=DURATION, times=all_times),
-            "mdr", n_mdr)
+        scene = dataclasses.replace(PARABOLOID_SCENE, indenter=Paraboloid(c=c, edge=EDGE), times=times)
+        bem = run(f"paraboloid c={c:g} BEM n={n_bem}", scene, "bem", n_bem)
+        mdr = run(f"paraboloid c={c:g} MDR n={n_mdr}", dataclasses.replace(
+            scene, times=all_times, outputs=("depth", "contact_length")), "mdr", n_mdr)
         runs += [{"c": c, "method": r.method, "n": r.n, "integrator": r.integrator,
                   "wall_time": r.wall_time, "steps": r.steps, "solves": r.solves,
                   "iterations": r.iterations, "residual": r.residual} for r in (bem, mdr)]
@@ -562,8 +575,7 @@ def _paraboloid_sweep(c, sweep, run):
 
 def _rod_sweep(sweep, run):
     """Rows of the rod: one solve per resolution (its contact never changes)."""
-    scene = Scene(indenter=Rod(radius=ROD_RADIUS), medium=Viscous(eta=ETA), force=FORCE,
-                  duration=1.0, times=[1.0])
+    scene = dataclasses.replace(ROD_SCENE, outputs=("depth", "contact_length"))
     exact = {"velocity": analytic.rod_velocity(FORCE, ROD_RADIUS, ETA),
              "central_pressure": analytic.rod_central_pressure(FORCE, ROD_RADIUS)}
     paper = PAPER_SETTINGS["rod"]
@@ -573,7 +585,7 @@ def _rod_sweep(sweep, run):
         for n in ns:
             result, wall = _timed(run, f"study: rod {method.upper()} n={n}", scene, method, n)
             for q in ("velocity", "central_pressure"):
-                rows.append(_row("rod", q, result, wall, getattr(result, q), exact[q],
+                rows.append(_row("rod", q, result, wall, float(getattr(result, q)[-1]), exact[q],
                                  f"{method.upper()} one solve", paper=n == n_paper,
                                  integrator="one solve"))
     return rows

@@ -7,6 +7,7 @@ use super::monitor::{in_pool, to_pyerr, PyMonitor};
 use super::report::PyReport;
 use crate::contact::{Target, DENSE_LIMIT};
 use crate::error::{check_finite, Error};
+use crate::grid::Grid;
 use crate::integrator::ExplicitControl;
 use crate::operator::{DenseOperator, FftOperator, SurfaceOperator};
 use crate::scene::report::FieldSet;
@@ -14,12 +15,12 @@ use crate::scene::run::{bem_static_report, bem_viscous_report, report, Wanted};
 use crate::scene::{Method, RunSettings};
 use crate::static_contact;
 use crate::transforms;
-use crate::grid::Grid;
 use crate::viscous::{self, ViscousRequest};
 use numpy::{
     IntoPyArray, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods,
 };
 use pyo3::prelude::*;
+use std::time::Instant;
 
 /// Settings of a BEM run on a given grid (n: its longer side).
 fn grid_settings(grid: &Grid, solver: crate::contact::SolverOptions) -> RunSettings {
@@ -30,7 +31,9 @@ fn grid_settings(grid: &Grid, solver: crate::contact::SolverOptions) -> RunSetti
 
 /// Element-centre coordinates (m) of `m` elements of size dx, symmetric about 0.
 fn centres(m: usize, dx: f64) -> Vec<f64> {
-    (0..m).map(|i| (i as f64 - 0.5 * (m as f64 - 1.0)) * dx).collect()
+    (0..m)
+        .map(|i| (i as f64 - 0.5 * (m as f64 - 1.0)) * dx)
+        .collect()
 }
 
 /// Implicit (or, with `explicit` = (step, area_change, start), the paper's explicit) viscous
@@ -60,6 +63,7 @@ pub(crate) fn bem_viscous(
     active_limit: Option<usize>,
     precondition: bool,
 ) -> PyResult<PyReport> {
+    let start = Instant::now();
     let grid = grid_from(py, &height, &allowed, dx)?;
     let hist = history(
         py,
@@ -105,10 +109,14 @@ pub(crate) fn bem_viscous(
         deflection: all,
     };
     let fields: Vec<(f64, usize)> = fields_at.iter().map(|&k| (times[k], k)).collect();
-    let label = if ctrl.is_some() { "explicit" } else { "implicit" };
-    Ok(PyReport {
-        inner: bem_viscous_report(&settings, &grid, label, forces, s, wanted, &fields),
-    })
+    let label = if ctrl.is_some() {
+        "explicit"
+    } else {
+        "implicit"
+    };
+    let mut inner = bem_viscous_report(&settings, &grid, label, forces, s, wanted, &fields);
+    inner.wall_time = start.elapsed().as_secs_f64();
+    Ok(PyReport { inner })
 }
 
 /// Flat punch on the footprint mask pressed by `force` (N) into a viscous half-space of
@@ -130,11 +138,15 @@ pub(crate) fn bem_punch(
     dense_limit: usize,
     precondition: bool,
 ) -> PyResult<PyReport> {
+    let start = Instant::now();
     let shape = allowed.shape().to_vec();
     let zeros = vec![0.0; shape[0] * shape[1]];
     let mask = allowed.as_array().iter().copied().collect();
     let grid = Grid::new(shape[1], shape[0], dx, zeros, mask).map_err(|e| to_pyerr(py, e))?;
-    let settings = grid_settings(&grid, options(tol, max_iter, dense_limit, None, precondition));
+    let settings = grid_settings(
+        &grid,
+        options(tol, max_iter, dense_limit, None, precondition),
+    );
     let r = PyMonitor::new(progress).run(py, |monitor| {
         viscous::run_punch(&grid, eta, force, margin, &settings.solver, monitor)
     })?;
@@ -159,6 +171,7 @@ pub(crate) fn bem_punch(
         surface_velocity: r.surface_velocity,
         ..FieldSet::default()
     });
+    out.wall_time = start.elapsed().as_secs_f64();
     Ok(PyReport { inner: out })
 }
 
@@ -342,6 +355,7 @@ pub(crate) fn contact_solve(
     depth_bound: Option<f64>,
     deflection: bool,
 ) -> PyResult<PyReport> {
+    let start = Instant::now();
     let grid = grid_from(py, &height, &allowed, dx)?;
     let target = match (force, depth) {
         (Some(f), None) => Target::Force(f),
@@ -374,7 +388,7 @@ pub(crate) fn contact_solve(
         deflection,
         ..Wanted::default()
     };
-    Ok(PyReport {
-        inner: bem_static_report(&settings, &grid, force, r, wanted),
-    })
+    let mut inner = bem_static_report(&settings, &grid, force, r, wanted);
+    inner.wall_time = start.elapsed().as_secs_f64();
+    Ok(PyReport { inner })
 }

@@ -4,13 +4,17 @@
 use super::monitor::to_pyerr;
 use crate::contact::SolverOptions;
 use crate::error::Error;
-use crate::loading::ForceHistory;
 use crate::grid::Grid;
+use crate::loading::ForceHistory;
 use numpy::{PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 
 /// A contiguous float64 array as a Vec, or InvalidInputError naming it.
-pub(crate) fn slice1(py: Python<'_>, a: &PyReadonlyArray1<'_, f64>, name: &str) -> PyResult<Vec<f64>> {
+pub(crate) fn slice1(
+    py: Python<'_>,
+    a: &PyReadonlyArray1<'_, f64>,
+    name: &str,
+) -> PyResult<Vec<f64>> {
     a.as_slice().map(<[f64]>::to_vec).map_err(|_| {
         to_pyerr(
             py,

@@ -11,7 +11,6 @@ use std::sync::mpsc::{self, RecvTimeoutError};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-
 /// Raises the matching exception class of `mdrvisc.errors`.
 pub(crate) fn to_pyerr(py: Python<'_>, e: Error) -> PyErr {
     let errors = match py.import("mdrvisc.errors") {

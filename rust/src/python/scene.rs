@@ -8,7 +8,7 @@ use crate::error::Error;
 use crate::integrator::ExplicitControl;
 use crate::paper;
 use crate::scene::{self, file, Indenter, Integrator, Method, RunSettings, Scene, SceneFile};
-use numpy::{IntoPyArray, PyArray1, PyReadonlyArray1};
+use numpy::{IntoPyArray, PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1};
 use pyo3::prelude::*;
 
 /// A validated scene of the crate's scene model.
@@ -55,7 +55,12 @@ impl PyScene {
 
     /// The scene as scene-file TOML, with `method` and `n` when given.
     #[pyo3(signature = (method_name=None, n=None))]
-    fn to_toml(&self, py: Python<'_>, method_name: Option<&str>, n: Option<usize>) -> PyResult<String> {
+    fn to_toml(
+        &self,
+        py: Python<'_>,
+        method_name: Option<&str>,
+        n: Option<usize>,
+    ) -> PyResult<String> {
         let run = match (method_name, n) {
             (Some(m), Some(n)) => Some((method(py, m)?, n)),
             (None, None) => None,
@@ -79,6 +84,58 @@ impl PyScene {
         self.inner.field_times().into_pyarray(py)
     }
 
+    /// (x, dx, height, mask) of the BEM grid with n elements across: element centres (m),
+    /// element size (m), heights above the tip (m, (ny, nx)) and footprint mask.
+    #[allow(clippy::type_complexity)]
+    fn bem_grid<'py>(
+        &self,
+        py: Python<'py>,
+        n: usize,
+    ) -> PyResult<(
+        Bound<'py, PyArray1<f64>>,
+        f64,
+        Bound<'py, PyArray2<f64>>,
+        Bound<'py, PyArray2<bool>>,
+    )> {
+        let grid = scene::run::bem_grid(&self.inner, n).map_err(|e| to_pyerr(py, e))?;
+        let x: Vec<f64> = (0..grid.nx)
+            .map(|i| (i as f64 - 0.5 * (grid.nx as f64 - 1.0)) * grid.dx)
+            .collect();
+        let shape = [grid.ny, grid.nx];
+        Ok((
+            x.into_pyarray(py),
+            grid.dx,
+            grid.height.into_pyarray(py).reshape(shape)?,
+            grid.allowed.into_pyarray(py).reshape(shape)?,
+        ))
+    }
+
+    /// (x, dx, g) of the MDR foundation with n elements: centres (m), spacing (m), 1D
+    /// profile (m).
+    fn mdr_grid<'py>(
+        &self,
+        py: Python<'py>,
+        n: usize,
+    ) -> PyResult<(Bound<'py, PyArray1<f64>>, f64, Bound<'py, PyArray1<f64>>)> {
+        let half = scene::run::mdr_half_length(&self.inner).map_err(|e| to_pyerr(py, e))?;
+        let (g, dx) = self
+            .inner
+            .indenter
+            .mdr_profile(n, half)
+            .map_err(|e| to_pyerr(py, e))?;
+        let x: Vec<f64> = (0..n)
+            .map(|i| (i as f64 - 0.5 * (n as f64 - 1.0)) * dx)
+            .collect();
+        Ok((x.into_pyarray(py), dx, g.into_pyarray(py)))
+    }
+
+    /// Upper bounds of the depth (m) at the output times that size the BEM windows of a
+    /// viscous scene under a force (NaN where none applies).
+    fn depth_bounds<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let b = scene::run::depth_bounds(&self.inner).map_err(|e| to_pyerr(py, e))?;
+        Ok(b.into_pyarray(py))
+    }
+
     /// The largest radius (m) at which a solve evaluates the indenter.
     fn extent_needed(&self, py: Python<'_>) -> PyResult<f64> {
         scene::run::extent_needed(&self.inner).map_err(|e| to_pyerr(py, e))
@@ -88,8 +145,13 @@ impl PyScene {
 /// Scene files: `load(path)`, `parse(text, source)` (TOML) and `parse_json(text, source)`,
 /// each giving (scene, method, n).
 #[pyfunction]
-pub(crate) fn load_scene_file(py: Python<'_>, path: &str) -> PyResult<(PyScene, &'static str, usize)> {
-    SceneFile::load(path).map(unpack).map_err(|e| to_pyerr(py, e))
+pub(crate) fn load_scene_file(
+    py: Python<'_>,
+    path: &str,
+) -> PyResult<(PyScene, &'static str, usize)> {
+    SceneFile::load(path)
+        .map(unpack)
+        .map_err(|e| to_pyerr(py, e))
 }
 
 /// A scene file's TOML text parsed and validated; `source` names it in errors.
@@ -169,7 +231,8 @@ pub(crate) fn run_scene(
         dt,
     };
     let scene = scene.inner.clone();
-    let report = PyMonitor::new(progress).run(py, |monitor| scene::run(&scene, &settings, monitor))?;
+    let report =
+        PyMonitor::new(progress).run(py, |monitor| scene::run(&scene, &settings, monitor))?;
     Ok(PyReport { inner: report })
 }
 
@@ -208,12 +271,20 @@ impl PyIndenter {
     }
 
     /// Heights above the tip (m) at radii `r` (m).
-    fn height<'py>(&self, py: Python<'py>, r: PyReadonlyArray1<'py, f64>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+    fn height<'py>(
+        &self,
+        py: Python<'py>,
+        r: PyReadonlyArray1<'py, f64>,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
         self.map(py, r, Indenter::height)
     }
 
     /// MDR profile g (m) at 1D coordinates `x` (m).
-    fn profile_1d<'py>(&self, py: Python<'py>, x: PyReadonlyArray1<'py, f64>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+    fn profile_1d<'py>(
+        &self,
+        py: Python<'py>,
+        x: PyReadonlyArray1<'py, f64>,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
         self.map(py, x, Indenter::profile_1d)
     }
 

@@ -44,8 +44,8 @@ impl SceneFile {
     /// and mistyped keys are errors naming the key; a leading byte-order mark is skipped.
     pub fn parse(text: &str, source: &str) -> Result<Self> {
         let text = text.strip_prefix('\u{feff}').unwrap_or(text);
-        let table: toml::Table = toml::from_str(text)
-            .map_err(|e| Error::InvalidInput(format!("{source}: {e}")))?;
+        let table: toml::Table =
+            toml::from_str(text).map_err(|e| Error::InvalidInput(format!("{source}: {e}")))?;
         Self::from_table(table, source)
     }
 
@@ -66,9 +66,7 @@ impl SceneFile {
         let n = match table.remove("n") {
             Some(toml::Value::Integer(n)) if n >= 1 => n as usize,
             Some(other) => {
-                return Err(bad(format!(
-                    "key 'n' must be an integer >= 1, got {other}"
-                )))
+                return Err(bad(format!("key 'n' must be an integer >= 1, got {other}")))
             }
             None => return Err(bad("missing key 'n'".into())),
         };
@@ -82,9 +80,8 @@ impl SceneFile {
 
     /// Reads and parses the scene file at `path` (at most `MAX_FILE_BYTES`).
     pub fn load(path: &str) -> Result<Self> {
-        let cannot = |e: std::io::Error| {
-            Error::InvalidInput(format!("cannot read scene file {path}: {e}"))
-        };
+        let cannot =
+            |e: std::io::Error| Error::InvalidInput(format!("cannot read scene file {path}: {e}"));
         let mut bytes = vec![];
         std::fs::File::open(path)
             .and_then(|f| f.take(MAX_FILE_BYTES + 1).read_to_end(&mut bytes))

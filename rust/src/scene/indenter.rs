@@ -101,7 +101,9 @@ impl Indenter {
 
     /// The footprint.
     pub fn footprint(&self) -> Footprint {
-        let square = |edge: Option<f64>| edge.map_or(Footprint::Unbounded, |edge| Footprint::Square { edge });
+        let square = |edge: Option<f64>| {
+            edge.map_or(Footprint::Unbounded, |edge| Footprint::Square { edge })
+        };
         match self {
             Indenter::Rod { radius } => Footprint::Disc {
                 radius: *radius,
@@ -236,13 +238,16 @@ impl Indenter {
     /// The radius a (m) with `f(a)` = target for an increasing f: within a disc footprint
     /// (its radius when even the rim falls short), or up to 2^40 times the table's extent.
     fn bisect(&self, f: impl Fn(f64) -> Result<f64>, target: f64) -> Result<f64> {
-        let (mut lo, mut hi) = (0.0, match self.footprint() {
-            Footprint::Disc { radius, .. } => radius,
-            _ => match self {
-                Indenter::Profile(p) => p.extent(),
-                _ => 1.0,
+        let (mut lo, mut hi) = (
+            0.0,
+            match self.footprint() {
+                Footprint::Disc { radius, .. } => radius,
+                _ => match self {
+                    Indenter::Profile(p) => p.extent(),
+                    _ => 1.0,
+                },
             },
-        });
+        );
         let reaches = |a: f64| f(a).map(|v| v >= target);
         if let Footprint::Disc { radius, rim } = self.footprint() {
             if rim && !reaches(radius)? {

@@ -115,7 +115,11 @@ impl Medium {
     /// Relaxation modulus G(t) (Pa) for t > 0 (a dashpot's delta at t = 0 left out).
     pub fn relaxation_modulus(&self, t: f64) -> Result<f64> {
         let r = self.rheology()?;
-        Ok(r.g_inf + r.terms.iter().map(|(g, tau)| g * (-t / tau).exp()).sum::<f64>())
+        Ok(r.g_inf
+            + r.terms
+                .iter()
+                .map(|(g, tau)| g * (-t / tau).exp())
+                .sum::<f64>())
     }
 
     /// Creep compliance J(t) (1/Pa): the strain under a unit step of stress. Closed forms,
@@ -215,7 +219,10 @@ mod tests {
     fn bad_media_are_refused() {
         for m in [
             Medium::Viscous { eta: 0.0 },
-            Medium::Maxwell { g: 1.0, eta: f64::NAN },
+            Medium::Maxwell {
+                g: 1.0,
+                eta: f64::NAN,
+            },
             Medium::Prony {
                 g_inf: 0.0,
                 terms: vec![],

@@ -46,7 +46,10 @@ impl History {
 
     /// Largest value of the history.
     pub fn max(&self) -> f64 {
-        self.samples().1.into_iter().fold(f64::NEG_INFINITY, f64::max)
+        self.samples()
+            .1
+            .into_iter()
+            .fold(f64::NEG_INFINITY, f64::max)
     }
 
     /// Value after the last sample.
@@ -148,8 +151,8 @@ const DEFAULT_TIMES: usize = 5;
 impl Scene {
     /// Parses and validates a scene from JSON text.
     pub fn from_json(text: &str) -> Result<Self> {
-        let scene: Scene = serde_json::from_str(text)
-            .map_err(|e| Error::InvalidInput(format!("scene: {e}")))?;
+        let scene: Scene =
+            serde_json::from_str(text).map_err(|e| Error::InvalidInput(format!("scene: {e}")))?;
         scene.validate()?;
         Ok(scene)
     }
@@ -175,11 +178,7 @@ impl Scene {
                 }
                 d.depth()?;
             }
-            (None, None) => {
-                return Err(Error::InvalidInput(
-                    "scene: give force (or depth)".into(),
-                ))
-            }
+            (None, None) => return Err(Error::InvalidInput("scene: give force (or depth)".into())),
             (Some(_), Some(_)) => {
                 return Err(Error::InvalidInput(
                     "scene: give only one of force and depth".into(),

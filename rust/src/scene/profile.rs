@@ -218,7 +218,8 @@ impl Profile {
             t * (1.0 - t) * (1.0 - t),
         );
         let (h01, h11) = (t * t * (3.0 - 2.0 * t), t * t * (t - 1.0));
-        let g = h00 * self.g[k] + h10 * w * self.dg[k] + h01 * self.g[k + 1] + h11 * w * self.dg[k + 1];
+        let g =
+            h00 * self.g[k] + h10 * w * self.dg[k] + h01 * self.g[k + 1] + h11 * w * self.dg[k + 1];
         Ok(g.max(0.0))
     }
 
@@ -255,7 +256,10 @@ mod tests {
     fn paraboloid_table_is_exact() {
         let p = table(|r| 3.0 * r * r, Some(&|r| 6.0 * r), 11);
         for x in [0.0, 0.013, 0.25, 0.5, 0.77, 1.0] {
-            assert!((p.profile_1d(x).unwrap() - 6.0 * x * x).abs() < 1e-12, "x = {x}");
+            assert!(
+                (p.profile_1d(x).unwrap() - 6.0 * x * x).abs() < 1e-12,
+                "x = {x}"
+            );
             assert!((p.height(x).unwrap() - 3.0 * x * x).abs() < 1e-14);
         }
     }
@@ -266,7 +270,10 @@ mod tests {
         let p = table(|r| 0.4 * r, None, 5);
         for x in [0.1, 0.5, 0.99] {
             let exact = 0.5 * std::f64::consts::PI * 0.4 * x;
-            assert!((p.profile_1d(-x).unwrap() - exact).abs() < 1e-6 * exact, "x = {x}");
+            assert!(
+                (p.profile_1d(-x).unwrap() - exact).abs() < 1e-6 * exact,
+                "x = {x}"
+            );
         }
     }
 
@@ -299,9 +306,18 @@ mod tests {
             .unwrap_err()
         };
         assert!(matches!(bad(vec![0.0], vec![0.0]), Error::InvalidInput(_)));
-        assert!(matches!(bad(vec![0.0, 0.0], vec![0.0, 1.0]), Error::InvalidInput(_)));
-        assert!(matches!(bad(vec![0.0, 1.0], vec![0.5, 1.0]), Error::InvalidInput(_)));
-        assert!(matches!(bad(vec![0.0, 1.0], vec![0.0, -1.0]), Error::InvalidInput(_)));
+        assert!(matches!(
+            bad(vec![0.0, 0.0], vec![0.0, 1.0]),
+            Error::InvalidInput(_)
+        ));
+        assert!(matches!(
+            bad(vec![0.0, 1.0], vec![0.5, 1.0]),
+            Error::InvalidInput(_)
+        ));
+        assert!(matches!(
+            bad(vec![0.0, 1.0], vec![0.0, -1.0]),
+            Error::InvalidInput(_)
+        ));
         let p = table(|r| r, None, 3);
         assert!(matches!(p.profile_1d(1.5), Err(Error::Domain(_))));
     }

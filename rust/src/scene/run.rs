@@ -5,6 +5,7 @@ use super::report::{FieldSet, Report};
 use super::{Output, Scene, MAX_STEPS};
 use crate::contact::{SolverOptions, Target};
 use crate::error::{check_positive, Error, Result};
+use crate::grid::Grid;
 use crate::integrator::ExplicitControl;
 use crate::loading::{ForceHistory, Loading};
 use crate::mdr::{self, Foundation};
@@ -12,7 +13,6 @@ use crate::monitor::Monitor;
 use crate::static_contact;
 use crate::transforms;
 use crate::viscoelastic;
-use crate::grid::Grid;
 use crate::viscous::{self, ViscousRequest, ViscousSeries};
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
@@ -120,7 +120,8 @@ pub fn run(scene: &Scene, settings: &RunSettings, monitor: &mut dyn Monitor) -> 
     let start = Instant::now();
     scene.validate()?;
     settings.validate()?;
-    let viscous_force = matches!(scene.medium, super::Medium::Viscous { .. }) && scene.force.is_some();
+    let viscous_force =
+        matches!(scene.medium, super::Medium::Viscous { .. }) && scene.force.is_some();
     if matches!(settings.integrator, Integrator::Explicit(_))
         && !viscous_force
         && !scene.indenter.is_flat()
@@ -153,7 +154,10 @@ fn sizing_radius(scene: &Scene) -> Result<f64> {
     match scene.medium {
         super::Medium::Elastic { g } => ind.radius_at_load(force.last() / (4.0 * g)),
         super::Medium::Viscous { eta } => {
-            let t_end = *scene.output_times().last().expect("validated: output times");
+            let t_end = *scene
+                .output_times()
+                .last()
+                .expect("validated: output times");
             ind.radius_at_load(force.force()?.impulse(t_end) / (4.0 * eta))
         }
         _ => {
@@ -182,24 +186,64 @@ pub fn mdr_half_length(scene: &Scene) -> Result<f64> {
     }
 }
 
+/// Upper bounds of the depth (m) at each output time of a viscous scene under a force,
+/// which size the BEM steps' windows: `DEPTH_BOUND_FACTOR` times MDR's depth, NaN where the
+/// contact would leave the footprint (the solver then extrapolates; it checks every bound
+/// and widens a window that was too small).
+pub fn depth_bounds(scene: &Scene) -> Result<Vec<f64>> {
+    let eta = match scene.medium {
+        super::Medium::Viscous { eta } => eta,
+        _ => {
+            return Err(Error::InvalidInput(
+                "depth bounds need a viscous medium".into(),
+            ))
+        }
+    };
+    let history = match &scene.force {
+        Some(f) => f.force()?,
+        None => {
+            return Err(Error::InvalidInput(
+                "depth bounds need a force history".into(),
+            ))
+        }
+    };
+    Ok(scene
+        .output_times()
+        .iter()
+        .map(|&t| {
+            match scene
+                .indenter
+                .depth_at_load(history.impulse(t) / (4.0 * eta))
+            {
+                Ok(Some(d)) => DEPTH_BOUND_FACTOR * d,
+                _ => f64::NAN,
+            }
+        })
+        .collect())
+}
+
 /// The largest radius (m) at which a solve of the scene evaluates the indenter: the BEM
 /// grid's corner.
 pub fn extent_needed(scene: &Scene) -> Result<f64> {
     Ok(bem_half_width(scene)?.max(mdr_half_length(scene)?) * 2f64.sqrt())
 }
 
-fn bem_grid(scene: &Scene, n: usize) -> Result<Grid> {
+/// The BEM grid of `scene` with n elements across (see `Indenter::bem_grid`).
+pub fn bem_grid(scene: &Scene, n: usize) -> Result<Grid> {
     scene.indenter.bem_grid(n, bem_half_width(scene)?)
 }
 
-fn mdr_foundation(scene: &Scene, n: usize) -> Result<Foundation> {
+/// The MDR foundation of `scene` with n elements.
+pub fn mdr_foundation(scene: &Scene, n: usize) -> Result<Foundation> {
     let (g, dx) = scene.indenter.mdr_profile(n, mdr_half_length(scene)?)?;
     Foundation::new(g, dx)
 }
 
 /// Element-centre coordinates (m) of `m` elements of size dx, symmetric about 0.
 fn centres(m: usize, dx: f64) -> Vec<f64> {
-    (0..m).map(|i| (i as f64 - 0.5 * (m as f64 - 1.0)) * dx).collect()
+    (0..m)
+        .map(|i| (i as f64 - 0.5 * (m as f64 - 1.0)) * dx)
+        .collect()
 }
 
 /// A report with the run's identity and output times `t`, the rest empty.
@@ -279,7 +323,11 @@ fn refuse(scene: &Scene, outputs: &[Output], why: &str) -> Result<()> {
 fn run_static(scene: &Scene, settings: &RunSettings, monitor: &mut dyn Monitor) -> Result<Report> {
     refuse(
         scene,
-        &[Output::Velocity, Output::StiffnessLength, Output::SurfaceVelocity],
+        &[
+            Output::Velocity,
+            Output::StiffnessLength,
+            Output::SurfaceVelocity,
+        ],
         "for an elastic medium",
     )?;
     let g = match scene.medium {
@@ -306,11 +354,21 @@ fn run_static(scene: &Scene, settings: &RunSettings, monitor: &mut dyn Monitor) 
                 &settings.solver,
                 monitor,
             )?;
-            Ok(bem_static_report(settings, &grid, force, r, Wanted::of(scene)))
+            Ok(bem_static_report(
+                settings,
+                &grid,
+                force,
+                r,
+                Wanted::of(scene),
+            ))
         }
         Method::Mdr => {
             let f = mdr_foundation(scene, n)?;
-            let fields_at: Vec<usize> = if scene.wants_fields() { vec![0] } else { vec![] };
+            let fields_at: Vec<usize> = if scene.wants_fields() {
+                vec![0]
+            } else {
+                vec![]
+            };
             let s = mdr::run(
                 &f,
                 mdr::Medium::Elastic { g },
@@ -402,21 +460,15 @@ fn run_viscous(scene: &Scene, settings: &RunSettings, monitor: &mut dyn Monitor)
             Integrator::Implicit => "implicit",
             Integrator::Explicit(_) => "explicit",
         },
-        times.iter().map(|&t| history.force(t)).collect::<Vec<f64>>(),
+        times
+            .iter()
+            .map(|&t| history.force(t))
+            .collect::<Vec<f64>>(),
     );
     match settings.method {
         Method::Bem => {
             let grid = bem_grid(scene, settings.n)?;
-            let depth_bounds = times
-                .iter()
-                .map(|&t| {
-                    let s = history.impulse(t) / (4.0 * eta);
-                    match scene.indenter.depth_at_load(s) {
-                        Ok(Some(d)) => DEPTH_BOUND_FACTOR * d,
-                        _ => f64::NAN,
-                    }
-                })
-                .collect();
+            let depth_bounds = depth_bounds(scene)?;
             let request = ViscousRequest {
                 times: times.clone(),
                 rates: scene.wants(Output::Velocity) || scene.wants(Output::StiffnessLength),
@@ -424,9 +476,14 @@ fn run_viscous(scene: &Scene, settings: &RunSettings, monitor: &mut dyn Monitor)
                 depth_bounds,
             };
             let s = match &settings.integrator {
-                Integrator::Implicit => {
-                    viscous::run_implicit(&grid, eta, &history, &request, &settings.solver, monitor)?
-                }
+                Integrator::Implicit => viscous::run_implicit(
+                    &grid,
+                    eta,
+                    &history,
+                    &request,
+                    &settings.solver,
+                    monitor,
+                )?,
                 Integrator::Explicit(c) => viscous::run_explicit(
                     &grid,
                     eta,
@@ -446,13 +503,28 @@ fn run_viscous(scene: &Scene, settings: &RunSettings, monitor: &mut dyn Monitor)
                 }
             }
             let fields: Vec<(f64, usize)> = scene.field_times().into_iter().zip(steps).collect();
-            Ok(bem_viscous_report(settings, &grid, label, forces, s, Wanted::of(scene), &fields))
+            Ok(bem_viscous_report(
+                settings,
+                &grid,
+                label,
+                forces,
+                s,
+                Wanted::of(scene),
+                &fields,
+            ))
         }
         Method::Mdr => {
             let f = mdr_foundation(scene, settings.n)?;
             let (s, taken) = match &settings.integrator {
                 Integrator::Implicit => (
-                    mdr::run(&f, mdr::Medium::Viscous { eta }, &history, &times, &steps, monitor)?,
+                    mdr::run(
+                        &f,
+                        mdr::Medium::Viscous { eta },
+                        &history,
+                        &times,
+                        &steps,
+                        monitor,
+                    )?,
                     times.len(),
                 ),
                 Integrator::Explicit(c) => {
@@ -526,7 +598,13 @@ pub fn bem_viscous_report(
 /// Value at the grid centre: the centre element (odd sizes) or the mean of the 2 or 4
 /// elements around it (even sizes).
 fn central_value(field: &[f64], nx: usize, ny: usize) -> f64 {
-    let around = |n: usize| if n % 2 == 1 { vec![n / 2] } else { vec![n / 2 - 1, n / 2] };
+    let around = |n: usize| {
+        if n % 2 == 1 {
+            vec![n / 2]
+        } else {
+            vec![n / 2 - 1, n / 2]
+        }
+    };
     let (xs, ys) = (around(nx), around(ny));
     let vals: Vec<f64> = ys
         .iter()
@@ -554,11 +632,19 @@ fn bem_punch(
     let p0 = central_value(&r.pressure, grid.nx, grid.ny);
     let mut out = report(settings, grid.dx, "one solve", times.clone());
     out.grid_shape = Some([grid.ny, grid.nx]);
-    out.depth = times.iter().map(|&t| r.velocity * history.impulse(t)).collect();
+    out.depth = times
+        .iter()
+        .map(|&t| r.velocity * history.impulse(t))
+        .collect();
     out.contact_length = vec![2.0 * (area / PI).sqrt(); times.len()];
     out.area = Some(vec![area; times.len()]);
     out.force = times.iter().map(|&t| history.force(t)).collect();
-    out.velocity = Some(times.iter().map(|&t| r.velocity * history.force(t)).collect());
+    out.velocity = Some(
+        times
+            .iter()
+            .map(|&t| r.velocity * history.force(t))
+            .collect(),
+    );
     out.stiffness_length = Some(vec![r.damping / (4.0 * eta); times.len()]);
     out.central_pressure = Some(times.iter().map(|&t| p0 * history.force(t)).collect());
     out.saturated = Some(vec![true; times.len()]);
@@ -603,7 +689,14 @@ fn mdr_punch(
     let steps = scene.field_steps();
     let medium = mdr::Medium::Viscous { eta };
     let s = mdr::run(&f, medium, history, &times, &steps, monitor)?;
-    let unit = mdr::run(&f, medium, &ForceHistory::constant(1.0)?, &[1.0], &[0], monitor)?;
+    let unit = mdr::run(
+        &f,
+        medium,
+        &ForceHistory::constant(1.0)?,
+        &[1.0],
+        &[0],
+        monitor,
+    )?;
     let p0 = transforms::pressure_from_line_load(&unit.fields[0].line_load, f.dx(), &[0.0])?[0];
     let mut out = report(settings, f.dx(), "one solve", s.t.clone());
     out.depth = s.depth.clone();
@@ -698,10 +791,7 @@ fn run_viscoelastic(
     let loading: Loading = scene.loading()?;
     let times = scene.output_times();
     let duration = scene.duration.expect("validated: a duration");
-    let dt = settings
-        .dt
-        .or(scene.dt)
-        .unwrap_or(duration / DEFAULT_STEPS);
+    let dt = settings.dt.or(scene.dt).unwrap_or(duration / DEFAULT_STEPS);
     if duration / dt > MAX_STEPS {
         return Err(Error::InvalidInput(format!(
             "dt = {dt} s over {duration} s is {:.3e} steps, more than {MAX_STEPS:.0e}",

@@ -1,0 +1,165 @@
+"""Results: what a solve computed, and how. One type serves :func:`mdrvisc.solve`,
+:func:`mdrvisc.arrays.contact` and :func:`mdrvisc.arrays.viscous`; it saves to and loads
+from ``.npz`` without pickle, and gives a pandas table of its time series."""
+
+from __future__ import annotations
+
+import dataclasses
+from pathlib import Path
+
+import numpy as np
+
+__all__ = ["Result", "Fields", "UNITS"]
+
+#: Units of the quantities of a result (SI).
+UNITS = {"t": "s", "depth": "m", "contact_length": "m", "area": "m^2", "force": "N", "velocity": "m/s",
+         "stiffness_length": "m", "central_pressure": "Pa", "dx": "m", "wall_time": "s",
+         "pressure": "Pa", "surface_velocity": "m/s", "deflection": "m", "x": "m", "y": "m", "r": "m",
+         "x_extended": "m"}
+
+#: Series: one entry per output time (None where not computed).
+SERIES = ("t", "depth", "contact_length", "force", "area", "velocity", "stiffness_length",
+          "central_pressure", "saturated", "at_edge")
+#: The run's own numbers and labels.
+SCALARS = ("method", "n", "dx", "integrator", "steps", "solves", "iterations", "residual", "wall_time",
+           "solver")
+#: Tuples of integers.
+SHAPES = ("grid_shape", "window")
+
+
+@dataclasses.dataclass(frozen=True)
+class Fields:
+    """Fields at one time ``t`` (s). BEM: maps of shape (ny, nx) over element centres ``x``,
+    ``y`` (m); a flat punch's surface velocity and deflection over ``x_extended`` on both
+    axes. MDR: radial profiles over radii ``r`` (m), from the inverse transforms. Pressure in
+    Pa, surface velocity in m/s, deflection in m; None where not asked for."""
+
+    t: float
+    x: np.ndarray | None = None
+    y: np.ndarray | None = None
+    r: np.ndarray | None = None
+    x_extended: np.ndarray | None = None
+    pressure: np.ndarray | None = None
+    surface_velocity: np.ndarray | None = None
+    deflection: np.ndarray | None = None
+
+    def __repr__(self) -> str:
+        held = [f.name for f in dataclasses.fields(self)[1:] if getattr(self, f.name) is not None]
+        return f"Fields(t={self.t!r}, {', '.join(held)})"
+
+
+_FIELD_NAMES = tuple(f.name for f in dataclasses.fields(Fields))
+
+
+class Result:
+    """What a solve computed, and how.
+
+    Series (numpy arrays, one entry per output time ``t`` in s): ``depth`` (m),
+    ``contact_length`` (m), ``force`` (N), and where computed ``area`` (m^2), ``velocity``
+    (penetration rate, m/s), ``stiffness_length`` (F / (4 eta dd/dt), m),
+    ``central_pressure`` (Pa), ``saturated`` (the contact covers the whole indenter),
+    ``at_edge`` (it reached the outermost ring of the BEM grid); None elsewhere.
+    ``fields``: {t: :class:`Fields`} at the field times (t = 0 for a static solve).
+
+    The run: ``method`` ("bem"/"mdr"), ``n``, ``dx`` (m), ``grid_shape`` (BEM), ``integrator``,
+    ``steps``, ``solves``, ``iterations``, ``residual`` (largest final relative residual),
+    ``solver`` and ``window`` (static BEM solves), ``wall_time`` (s), ``warnings``.
+    """
+
+    units = UNITS
+
+    def __init__(self, *, method: str, n: int, dx: float, t, depth, contact_length, force,
+                 area=None, velocity=None, stiffness_length=None, central_pressure=None, saturated=None,
+                 at_edge=None, fields=None, grid_shape=None, integrator: str = "implicit",
+                 solver: str | None = None, window=None, steps: int = 0, solves: int = 0,
+                 iterations: int = 0, residual: float = 0.0, wall_time: float = 0.0, warnings=()):
+        self.method, self.n, self.dx = str(method), int(n), float(dx)
+        for name, value in (("t", t), ("depth", depth), ("contact_length", contact_length),
+                            ("force", force), ("area", area), ("velocity", velocity),
+                            ("stiffness_length", stiffness_length), ("central_pressure", central_pressure)):
+            setattr(self, name, None if value is None else np.asarray(value, dtype=np.float64))
+        for name, value in (("saturated", saturated), ("at_edge", at_edge)):
+            setattr(self, name, None if value is None else np.asarray(value, dtype=bool))
+        self.fields = None if not fields else dict(fields)
+        self.grid_shape = None if grid_shape is None else tuple(int(v) for v in grid_shape)
+        self.window = None if window is None else tuple(int(v) for v in window)
+        self.integrator, self.solver = str(integrator), None if solver is None else str(solver)
+        self.steps, self.solves, self.iterations = int(steps), int(solves), int(iterations)
+        self.residual, self.wall_time = float(residual), float(wall_time)
+        self.warnings = [str(w) for w in warnings]
+
+    @classmethod
+    def _from_report(cls, report) -> Result:
+        """Wraps a ``mdrvisc._core.Report``."""
+        fields = {f.t: Fields(**{k: getattr(f, k) for k in _FIELD_NAMES}) for f in report.fields}
+        values = {k: getattr(report, k) for k in SERIES + SCALARS + SHAPES}
+        return cls(fields=fields, warnings=report.warnings, **values)
+
+    def summary(self) -> str:
+        """One line: method, resolution, steps, solves, iterations, residual, wall time."""
+        return (f"{self.method.upper()} n={self.n} dx={self.dx:.4e} m steps={self.steps} "
+                f"solves={self.solves} iterations={self.iterations} residual={self.residual:.2e} "
+                f"wall={self.wall_time:.3f} s")
+
+    def __repr__(self) -> str:
+        last = (f"t={self.t[-1]:.4g} s: depth={self.depth[-1]:.6g} m, "
+                f"contact_length={self.contact_length[-1]:.6g} m")
+        fields = "" if not self.fields else f", fields at {len(self.fields)} times"
+        warn = "" if not self.warnings else f", {len(self.warnings)} warning(s)"
+        return f"<Result {self.summary()}; {len(self.t)} outputs, last {last}{fields}{warn}>"
+
+    def to_dict(self) -> dict:
+        """Every quantity as plain data: arrays, numbers, strings, lists; fields as a list of
+        dicts with their time under ``"t"``."""
+        out = {k: getattr(self, k) for k in SERIES + SCALARS + SHAPES}
+        out["warnings"] = list(self.warnings)
+        out["fields"] = [dataclasses.asdict(f) for f in (self.fields or {}).values()]
+        return out
+
+    def save(self, path) -> Path:
+        """Writes the result to ``path`` (``.npz``, numpy's format; no pickle), losslessly."""
+        flat = {}
+        for name, value in self.to_dict().items():
+            if name == "fields":
+                for i, entry in enumerate(value):
+                    for key, array in entry.items():
+                        if array is not None:
+                            flat[f"fields/{i}/{key}"] = np.asarray(array)
+            elif name == "warnings":
+                flat[name] = np.asarray(value, dtype=str)
+            elif value is not None:
+                flat[name] = np.asarray(value)
+        path = Path(path)
+        with open(path, "wb") as handle:
+            np.savez(handle, **flat)
+        return path
+
+    @classmethod
+    def load(cls, path) -> Result:
+        """Reads a result written by :meth:`save`."""
+        with np.load(path, allow_pickle=False) as data:
+            items = {k: data[k] for k in data.files}
+        fields: dict[int, dict] = {}
+        values = {}
+        for key, array in items.items():
+            if key.startswith("fields/"):
+                _, index, name = key.split("/")
+                fields.setdefault(int(index), {})[name] = float(array) if name == "t" else array
+            elif key == "warnings":
+                values[key] = [str(w) for w in array]
+            elif key in SERIES:
+                values[key] = array
+            elif key in SHAPES:
+                values[key] = tuple(int(v) for v in array)
+            else:
+                values[key] = array.item()
+        parsed = {entry["t"]: Fields(**entry) for _, entry in sorted(fields.items())}
+        return cls(fields=parsed, **values)
+
+    def to_dataframe(self):
+        """The time series as a pandas DataFrame, one row per output time (needs pandas)."""
+        try:
+            import pandas as pd
+        except ImportError as exc:
+            raise ImportError("Result.to_dataframe needs pandas: pip install pandas") from exc
+        return pd.DataFrame({k: getattr(self, k) for k in SERIES if getattr(self, k) is not None})
