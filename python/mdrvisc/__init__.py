@@ -10,7 +10,7 @@ elements (BEM) and by the method of dimensionality reduction (MDR), side by side
 Units are SI: m, s, N, Pa, Pa s. Depths and deflections are positive into the body.
 """
 
-from . import analytic, arrays
+from . import analytic, arrays, scenefile
 from .errors import ConvergenceError, DomainError, InvalidInputError, MdrviscError
 from .geometry import Axisymmetric, Cone, Indenter, Paraboloid, Profile, Rod, Sphere
 from .media import Elastic, KelvinVoigt, Maxwell, Prony, StandardSolid, Viscous
@@ -22,5 +22,5 @@ __version__ = "0.1.0"
 
 __all__ = ["Scene", "Result", "Fields", "OUTPUTS", "solve", "Rod", "Paraboloid", "Cone", "Sphere",
            "Axisymmetric", "Profile", "Indenter", "Viscous", "Elastic", "KelvinVoigt", "Maxwell",
-           "StandardSolid", "Prony", "analytic", "arrays", "MdrviscError", "InvalidInputError",
+           "StandardSolid", "Prony", "analytic", "arrays", "scenefile", "MdrviscError", "InvalidInputError",
            "ConvergenceError", "DomainError", "__version__"]

@@ -84,7 +84,7 @@ fn bad_scene_files_exit_non_zero_naming_the_problem() {
     assert!(err.contains("cannot read"));
     let (code, _, err) = mdrvisc(&["frobnicate"]);
     assert_eq!(code, 2);
-    assert!(err.contains("usage"));
+    assert!(err.contains("Usage"), "{err}");
 }
 
 #[test]
@@ -178,7 +178,7 @@ fn force_histories_in_scene_files_follow_the_impulse() {
     let bad = scene_file("badforce", &GOOD.replace("force = 1.0", "force = \"much\""));
     let (code, _, err) = mdrvisc(&["run", &bad]);
     assert_eq!(code, 2);
-    assert!(err.contains("[t, F] pairs"), "{err}");
+    assert!(err.contains("[t, value] pairs"), "{err}");
     let late = scene_file(
         "lateforce",
         &GOOD.replace("force = 1.0", "force = [[0.5, 1.0]]"),

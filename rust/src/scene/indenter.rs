@@ -336,7 +336,7 @@ mod tests {
     #[test]
     fn sphere_radius_at_depth_inverts_its_profile() {
         let s = Indenter::Sphere { radius: 1.5 };
-        let a = 0.9;
+        let a: f64 = 0.9;
         let d = 0.5 * a * ((1.5 + a) / (1.5 - a)).ln();
         assert!((s.radius_at_depth(d).unwrap() - a).abs() < 1e-12);
     }
