@@ -64,10 +64,12 @@ def main(argv=None) -> None:
             res = interleaved({"dense": lambda: run(HUGE), "pk": lambda: run(0),
                                "auto": lambda: run(None)}, args.repeats)
             (td, rd), (tp, rp), (ta, ra) = res["dense"], res["pk"], res["auto"]
-            diff = np.abs(rd["pressure"] - rp["pressure"]).max() / rp["pressure"].max()
-            sizes.append(rp["contact_count"]), dense_t.append(td), pk_t.append(tp)
-            rows.append([n, radius, rp["contact_count"], td * 1e3, rd["iterations"], rd["method"],
-                         tp * 1e3, rp["iterations"], ta * 1e3, ra["method"], tp / td, diff])
+            p_dense, p_pk = rd.fields[0].pressure, rp.fields[0].pressure
+            diff = np.abs(p_dense - p_pk).max() / p_pk.max()
+            count = int(round(rp.area[0] / dx**2))  # contact-set size (elements)
+            sizes.append(count), dense_t.append(td), pk_t.append(tp)
+            rows.append([n, radius, count, td * 1e3, rd.iterations, rd.solver,
+                         tp * 1e3, rp.iterations, ta * 1e3, ra.solver, tp / td, diff])
         table(["grid", "a/dx", "|S|", "dense ms", "its", "ran", "PK ms", "its", "auto ms",
                "auto picked", "PK/dense", "p diff"], rows,
               ["{}", "{}", "{}", "{:.2f}", "{}", "{}", "{:.2f}", "{}", "{:.2f}", "{}", "{:.2f}",

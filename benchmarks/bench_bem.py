@@ -4,7 +4,7 @@ Problem (DESIGN.md 1.3): paraboloid h = c r^2 on a 2.56 m x 2.56 m square footpr
 = 257 x 257 elements, F = 1 N from t = 0, eta = 1 Pa s, outputs t = 1, 2, 3, 4, 5 s; c = 1
 (the paper's figure case), 5 and 20; CG tolerance 1e-10 and 1e-8. Both codes use the same
 implicit impulse stepping (one Polonsky-Keer solve per output time, warm-started) on the same
-grid (``mdrvisc.solve.bem_grid``) and the same stopping rule (relative L1 change of p).
+grid (``scene.bem_grid``) and the same stopping rule (relative L1 change of p).
 
 mdrvisc preconditions Polonsky-Keer's search directions with a truncated (7 x 7) inverse-kernel
 stencil (``rust/src/precondition.rs``). The numpy reference runs the same algorithm
@@ -15,11 +15,12 @@ from the implementation's.
 
 What is timed (wall clock):
 
-* mdrvisc: ``mv.solve(scene, "bem", n, tol=tol)`` end to end (Python grid set-up included),
-  best of 3 (after one warm-up run). It windows each implicit step to the part of the grid the
+* mdrvisc: ``mv.solve(scene, "bem", n, tol=tol)`` end to end (grid set-up included), best
+  of 3 (after one warm-up run). It windows each implicit step to the part of the grid the
   step can touch (exact), and does one operator apply per CG iteration while the active set
-  holds (plus one when it changes). "mv plain": ``_core.bem_viscous`` with the same arguments
-  as ``mv.solve`` and ``precondition=False``.
+  holds (plus one when it changes). "mv plain": ``_core.bem_viscous`` on the scene's grid
+  with the depth bounds ``mv.solve`` uses (``scene._model.depth_bounds()``) and
+  ``precondition=False``.
 * numpy: ``numpy_reference.viscous_bem`` on the same h, mask, dx and tol (scipy.fft
   workers=-1), best of 2. It works on the full grid and does two applies per CG iteration
   (K[p] and K[t]) plus one per solve.
@@ -30,7 +31,9 @@ state; a shared VM's speed can drift by up to 2x over minutes.
 Columns: wall times, end-to-end ratios, solves, total CG iterations, per-CG-iteration times,
 d(5 s) relative error against Lee-Radok (``mv.analytic.paraboloid_depth``). A second table
 gives the operator-apply ratio on the full 257^2 grid and splits the same-algorithm ratio into
-that apply ratio and the work mdrvisc avoids (fewer / smaller applies).
+that apply ratio and the work mdrvisc avoids (fewer / smaller applies). A third gives the
+first implicit step alone and mdrvisc's CG iterations per step of the full run (from runs
+over the first 1, 2, ... output times: differences of their total iterations).
 
 Run: ``python benchmarks/bench_bem.py [--c 1 5 20] [--tol 1e-10 1e-8] [--quick]``;
 ``--mv-only --json`` prints mdrvisc's numbers as JSON (used by bench_threads.py).
@@ -67,11 +70,17 @@ def summarise_mv(c, n, tol, wall, res) -> dict:
                 err=float(res.depth[-1] - exact) / exact)
 
 
+def _get(res, key):
+    """``key`` of a ``numpy_reference.viscous_bem`` dict or of a ``_core.Report``."""
+    return res[key] if isinstance(res, dict) else getattr(res, key)
+
+
 def summarise_raw(c, wall, res) -> dict:
-    """Summary of a ``_core.bem_viscous`` or ``numpy_reference.viscous_bem`` result."""
+    """Summary of a ``_core.bem_viscous`` report or a ``numpy_reference.viscous_bem`` result."""
     exact = mv.analytic.paraboloid_depth(DURATION, FORCE, c, ETA)
-    return dict(wall=wall, solves=int(res["solves"]), iterations=int(np.sum(res["iterations"])),
-                d5=float(res["depth"][-1]), err=float(res["depth"][-1] - exact) / exact)
+    d5 = float(_get(res, "depth")[-1])
+    return dict(wall=wall, solves=int(_get(res, "solves")),
+                iterations=int(np.sum(_get(res, "iterations"))), d5=d5, err=(d5 - exact) / exact)
 
 
 def run_all(c: float, n: int, tol: float, repeats: int, np_repeats: int):
@@ -79,13 +88,12 @@ def run_all(c: float, n: int, tol: float, repeats: int, np_repeats: int):
     (best of ``np_repeats``), interleaved run by run so that all see the same machine state."""
     import numpy_reference as ref
     from mdrvisc import _core
-    from mdrvisc.solve import _depth_bounds
 
     ref.FFT_WORKERS = -1
     sc = scene(c)
-    _, dx, h, mask = _grid(sc, n)
+    _, dx, h, mask = sc.bem_grid(n)
     ft, fv = sc.history
-    bounds = _depth_bounds(sc)
+    bounds = depth_bounds(sc)
     mv_run = lambda: mv.solve(sc, "bem", n, tol=tol)  # noqa: E731
     runs = {
         "mv": mv_run,
@@ -104,10 +112,10 @@ def run_all(c: float, n: int, tol: float, repeats: int, np_repeats: int):
             {k: summarise_raw(c, *out[k]) for k in ("mv plain", "np-pc", "np")})
 
 
-def _grid(sc, n):
-    from mdrvisc.solve import bem_grid
-
-    return bem_grid(sc, n)
+def depth_bounds(sc) -> list[float]:
+    """The depth bounds (m) at the output times that ``mv.solve`` gives the BEM run (NaN: no
+    bound)."""
+    return sc._model.depth_bounds().tolist()
 
 
 def main(argv=None) -> None:
@@ -186,18 +194,23 @@ def main(argv=None) -> None:
 
 def first_step_table(cs, tol, n, repeats, np_repeats):
     """The first implicit step (t = 0 -> 1 s) alone: mdrvisc solves it on the whole grid from a
-    uniform start (no window yet), like numpy; the later steps are windowed and warm-started."""
+    uniform start (no window yet), like numpy; the later steps are windowed and warm-started.
+    The report gives the run's total of CG iterations; the per-step counts are the differences
+    of the totals of runs over the first 1, 2, ... output times (the steps are the same)."""
     import numpy_reference as ref
     from mdrvisc import _core
-    from mdrvisc.solve import _depth_bounds
 
     rows = []
     for c in cs:
         sc = scene(c)
-        _, dx, h, mask = _grid(sc, n)
+        _, dx, h, mask = sc.bem_grid(n)
         ft, fv = sc.history
-        full = _core.bem_viscous(h, mask, dx, ETA, sc.times, ft, fv, tol=tol,
-                                 depth_bounds=_depth_bounds(sc))
+        bounds = depth_bounds(sc)
+        full = _core.bem_viscous(h, mask, dx, ETA, sc.times, ft, fv, tol=tol, depth_bounds=bounds)
+        totals = [_core.bem_viscous(h, mask, dx, ETA, sc.times[:k], ft, fv, tol=tol,
+                                    depth_bounds=bounds[:k]).iterations
+                  for k in range(1, len(sc.times))] + [full.iterations]
+        per_step = np.diff([0, *totals])
         one = np.array([1.0])
         # the closures run within this iteration, so the loop variables they use are current
         res = interleaved(
@@ -206,8 +219,8 @@ def first_step_table(cs, tol, n, repeats, np_repeats):
                                            precondition=True)},
             max(repeats, np_repeats))
         (t1, r1), (tn1, rn1) = res["mv"], res["np"]
-        rows.append([c, f"{tol:.0e}", " ".join(str(int(i)) for i in full["iterations"]),
-                     int(full["solves"]), t1, int(r1["iterations"][0]), tn1,
+        rows.append([c, f"{tol:.0e}", " ".join(str(int(i)) for i in per_step),
+                     int(full.solves), t1, int(r1.iterations), tn1,
                      int(rn1["iterations"]), tn1 / t1])
     print("\nFirst step alone (t = 0 -> 1 s, whole grid, cold start; numpy preconditioned too) "
           "and mdrvisc's per-step CG iterations of the full run:")

@@ -37,8 +37,8 @@ def punch_times(mask, dx, repeats):
 
     res = interleaved({"dense": (lambda: run(HUGE), 0), "cg": (lambda: run(0), 0)}, repeats)
     (t_dense, r_dense), (t_cg, r_cg) = res["dense"], res["cg"]
-    diff = abs(r_cg["velocity"] - r_dense["velocity"]) / r_dense["velocity"]
-    return t_dense, t_cg, int(r_cg["iterations"]), diff
+    v_cg, v_dense = r_cg.velocity[0], r_dense.velocity[0]
+    return t_dense, t_cg, r_cg.iterations, abs(v_cg - v_dense) / v_dense
 
 
 def crossover(ks, dense, cg):

@@ -4,10 +4,13 @@ and at 10^6 elements. Target: <= 10 ms at 66049.
 
 What is timed (wall clock, best of N):
 
-* ``solve``: ``mv.solve(scene, "mdr", n)`` end to end: Python set-up (1D grid and profile,
-  ``mdr_grid``), the Rust run (``_core.mdr_run``), the Result.
-* ``core``: ``_core.mdr_run`` alone on a profile built once outside the timing.
-* ``grid``: ``mdrvisc.solve.mdr_grid`` alone (the Python/numpy profile set-up).
+* ``solve``: ``mv.solve(scene, "mdr", n)`` end to end: argument checks, the compiled scene
+  model's run (``_core.run_scene``), and wrapping its report in a ``Result``.
+* ``core``: ``_core.run_scene(scene._model, "mdr", n)`` alone: the run in Rust, from the 1D
+  grid and profile to the typed report (``solve`` minus the Python layer).
+* ``grid``: ``scene.mdr_grid(n)`` alone: the 1D grid and profile. They are built in Rust and
+  are part of ``core``; this column times that part (plus copying x and g out into numpy
+  arrays), so it bounds the set-up's share of ``core``.
 
 Also prints d(5 s) and its relative error against Lee-Radok.
 
@@ -21,7 +24,6 @@ import argparse
 import mdrvisc as mv
 from _bench import best_of, header, table
 from mdrvisc import _core
-from mdrvisc.solve import mdr_grid
 
 
 def main(argv=None) -> None:
@@ -40,9 +42,8 @@ def main(argv=None) -> None:
     for n in args.sizes:
         # the closures run within this iteration, so the loop variables they use are current
         t_solve, res = best_of(lambda: mv.solve(sc, "mdr", n), args.repeats, warmup=1)  # noqa: B023
-        t_grid, (x, dx, g) = best_of(lambda: mdr_grid(sc, n), args.repeats)  # noqa: B023
-        ft, fv = sc.history
-        t_core, _ = best_of(lambda: _core.mdr_run(g, dx, "viscous", 1.0, sc.times, ft, fv),  # noqa: B023
+        t_grid, _ = best_of(lambda: sc.mdr_grid(n), args.repeats)  # noqa: B023
+        t_core, _ = best_of(lambda: _core.run_scene(sc._model, "mdr", n),  # noqa: B023
                             args.repeats, warmup=1)
         d5 = float(res.depth[-1])
         rows.append([n, t_solve * 1e3, t_core * 1e3, t_grid * 1e3, res.steps, d5,

@@ -93,7 +93,7 @@ def measure(n: int, rounds: int, with_numpy: bool = True) -> dict:
                      np_build=(lambda: np_build(False), 0), np_ba=(lambda: np_build(True), 0))
     res = interleaved(funcs, rounds)
     (t_lo, r_lo), (t_hi, r_hi) = res["cg_lo"], res["cg_hi"]
-    cg_iter = (t_hi - t_lo) / max(int(r_hi["iterations"]) - int(r_lo["iterations"]), 1)
+    cg_iter = (t_hi - t_lo) / max(r_hi.iterations - r_lo.iterations, 1)
     out = dict(n=n, per_apply=res["mv_apply"][0], build_apply=res["mv_ba"][0], cg_iter=cg_iter,
                mv_pad=op.padded[0])
     if with_numpy:

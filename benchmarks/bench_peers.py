@@ -82,29 +82,28 @@ def run_mdrvisc(n: int, tol: float, repeats: int) -> dict:
     sc = scene()
     wall, r = best_of(lambda: mv.solve(sc, "bem", n, tol=tol, max_iter=100000), repeats)
     return dict(code="mdrvisc", n=n, wall=wall, solve=None, iterations=int(r.iterations),
-                depth=float(r.depth[0]), pressure=np.asarray(r.fields[None]["pressure"]),
+                depth=float(r.depth[0]), pressure=np.asarray(r.fields[0.0].pressure),
                 residual=float(r.residual), runs=repeats)
 
 
 def run_mdrvisc_whole_grid(n: int, tol: float, repeats: int) -> dict:
     """mdrvisc on the whole n x n grid: grid set-up + ``mv.arrays.contact`` without a depth
     bound (the peers' work)."""
-    from mdrvisc.solve import bem_grid
-
     def run():
-        _, dx, h, mask = bem_grid(scene(), n)
+        _, dx, h, mask = scene().bem_grid(n)
         return mv.arrays.contact(h, dx, G, force=FORCE, mask=mask, tol=tol, max_iter=100000,
                                  deflection=False)
 
     wall, r = best_of(run, repeats)
     return dict(code="mdrvisc whole grid", n=n, wall=wall, solve=None,
-                iterations=int(r["iterations"]), depth=float(r["depth"]),
-                pressure=np.asarray(r["pressure"]), residual=float(r["residual"]), runs=repeats)
+                iterations=int(r.iterations), depth=float(r.depth[0]),
+                pressure=np.asarray(r.fields[0.0].pressure), residual=float(r.residual),
+                runs=repeats)
 
 
 def reference(n: int, tol: float = 1e-12) -> np.ndarray:
     r = mv.solve(scene(), "bem", n, tol=tol, max_iter=100000)
-    return np.asarray(r.fields[None]["pressure"]), float(r.depth[0]), int(r.iterations)
+    return np.asarray(r.fields[0.0].pressure), float(r.depth[0]), int(r.iterations)
 
 
 def run_peer(code: str, n: int, tol: float, repeats: int, python: str, folder: str,

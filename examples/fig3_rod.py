@@ -22,11 +22,12 @@ mdr = mv.solve(scene, method="mdr", n=n_mdr)
 print(f"closed form: p0 = {analytic.rod_central_pressure(1.0, 1.0):.4f} Pa, "
       f"dd/dt = {analytic.rod_velocity(1.0, 1.0, 1.0):.4f} m/s")
 for r in (bem, mdr):
-    print(f"{r.method.upper()} n={r.n}: p0 = {r.central_pressure:.4f} Pa, "
-          f"dd/dt = {float(r.velocity):.4f} m/s, {r.wall_time:.3f} s")
+    # series are arrays, one entry per output time (here t = 1 s only)
+    print(f"{r.method.upper()} n={r.n}: p0 = {r.central_pressure[0]:.4f} Pa, "
+          f"dd/dt = {r.velocity[0]:.4f} m/s, {r.wall_time:.3f} s")
 field = bem.fields[1.0]  # x (m), pressure (Pa) on the face; x_extended, surface_velocity (m/s)
-print(f"BEM fields: pressure {field['pressure'].shape}, surface velocity "
-      f"{field['surface_velocity'].shape} out to x = {field['x_extended'][-1]:.2f} m")
+print(f"BEM fields: pressure {field.pressure.shape}, surface velocity "
+      f"{field.surface_velocity.shape} out to x = {field.x_extended[-1]:.2f} m")
 
 # The figure: the same comparison as data (studies) and as a PNG (report).
 report.plot_rod(studies.paper_rod(n_bem=n_bem, n_mdr=n_mdr), out)

@@ -97,7 +97,7 @@ impl PyScene {
         Bound<'py, PyArray2<f64>>,
         Bound<'py, PyArray2<bool>>,
     )> {
-        let grid = scene::run::bem_grid(&self.inner, n).map_err(|e| to_pyerr(py, e))?;
+        let grid = scene::sizing::bem_grid(&self.inner, n).map_err(|e| to_pyerr(py, e))?;
         let x: Vec<f64> = (0..grid.nx)
             .map(|i| (i as f64 - 0.5 * (grid.nx as f64 - 1.0)) * grid.dx)
             .collect();
@@ -112,12 +112,13 @@ impl PyScene {
 
     /// (x, dx, g) of the MDR foundation with n elements: centres (m), spacing (m), 1D
     /// profile (m).
+    #[allow(clippy::type_complexity)]
     fn mdr_grid<'py>(
         &self,
         py: Python<'py>,
         n: usize,
     ) -> PyResult<(Bound<'py, PyArray1<f64>>, f64, Bound<'py, PyArray1<f64>>)> {
-        let half = scene::run::mdr_half_length(&self.inner).map_err(|e| to_pyerr(py, e))?;
+        let half = scene::sizing::mdr_half_length(&self.inner).map_err(|e| to_pyerr(py, e))?;
         let (g, dx) = self
             .inner
             .indenter
@@ -132,13 +133,13 @@ impl PyScene {
     /// Upper bounds of the depth (m) at the output times that size the BEM windows of a
     /// viscous scene under a force (NaN where none applies).
     fn depth_bounds<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        let b = scene::run::depth_bounds(&self.inner).map_err(|e| to_pyerr(py, e))?;
+        let b = scene::sizing::depth_bounds(&self.inner).map_err(|e| to_pyerr(py, e))?;
         Ok(b.into_pyarray(py))
     }
 
     /// The largest radius (m) at which a solve evaluates the indenter.
     fn extent_needed(&self, py: Python<'_>) -> PyResult<f64> {
-        scene::run::extent_needed(&self.inner).map_err(|e| to_pyerr(py, e))
+        scene::sizing::extent_needed(&self.inner).map_err(|e| to_pyerr(py, e))
     }
 }
 

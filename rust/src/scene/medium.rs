@@ -169,7 +169,7 @@ fn prony_creep(r: &Rheology, t: f64) -> f64 {
         let now = if k == steps - 1 {
             t
         } else {
-            start * ratio.powi(k as i32)
+            start * ratio.powi(k)
         };
         let dt = now - prev;
         prev = now;

@@ -3,12 +3,14 @@
 //! `Report`. The binary reads scenes from files; the Python package builds them and wraps
 //! their reports. Units are SI: m, s, N, Pa, Pa s.
 
+pub mod assemble;
 pub mod file;
 pub mod indenter;
 pub mod medium;
 pub mod profile;
 pub mod report;
 pub mod run;
+pub mod sizing;
 
 pub use file::SceneFile;
 pub use indenter::{Footprint, Indenter};
