@@ -126,15 +126,16 @@ def _scenes():
     yield mv.Scene(indenter=square, medium=mv.Viscous(eta=1.0), force=1.0, duration=5.0)
     yield mv.Scene(indenter=mv.Rod(radius=1.0), medium=mv.Viscous(eta=2.0), force=([0, 1, 2], [0, 1, 0.5]),
                    duration=2.0, times=[0.5, 1.0, 2.0], outputs=("depth", "pressure"), field_times=[1.0])
-    yield mv.Scene(indenter=mv.Cone(slope=0.3), medium=mv.Elastic(G=5.0), force=2.0, outputs=("depth", "deflection"))
+    yield mv.Scene(indenter=mv.Cone(slope=0.3), medium=mv.Elastic(G=5.0), force=2.0,
+                   outputs=("depth", "deflection"))
     yield mv.Scene(indenter=mv.Sphere(radius=2.0), medium=mv.Maxwell(G=1.0, eta=2.0), force=lambda t: 0.1 * t,
                    duration=1.0, dt=0.01)
     yield mv.Scene(indenter=mv.Paraboloid(c=0.5), medium=mv.Prony(G_inf=1.0, terms=[(2.0, 0.1), (1.0, 3.0)]),
                    depth=([0.0, 1.0, 2.0], [0.0, 0.2, 0.0]), duration=2.0)
     yield mv.Scene(indenter=mv.Axisymmetric(lambda r: 0.5 * r**2 + 0.1 * r**4, radius=1.5),
                    medium=mv.KelvinVoigt(G=1.0, eta=0.3), force=0.5, duration=1.0)
-    yield mv.Scene(indenter=mv.Profile([0.0, 0.5, 1.0], [0.0, 0.1, 0.4]), medium=mv.StandardSolid(1.0, 3.0, 0.5),
-                   depth=0.05, duration=1.0)
+    yield mv.Scene(indenter=mv.Profile([0.0, 0.5, 1.0], [0.0, 0.1, 0.4]),
+                   medium=mv.StandardSolid(1.0, 3.0, 0.5), depth=0.05, duration=1.0)
 
 
 @pytest.mark.parametrize("scene", list(_scenes()), ids=lambda s: type(s.indenter).__name__)

@@ -17,7 +17,7 @@ pub(crate) struct PyScene {
     pub(crate) inner: Scene,
 }
 
-fn method(py: Python<'_>, name: &str) -> PyResult<Method> {
+fn parse_method(py: Python<'_>, name: &str) -> PyResult<Method> {
     match name {
         "bem" => Ok(Method::Bem),
         "mdr" => Ok(Method::Mdr),
@@ -54,15 +54,15 @@ impl PyScene {
     }
 
     /// The scene as scene-file TOML, with `method` and `n` when given.
-    #[pyo3(signature = (method_name=None, n=None))]
+    #[pyo3(signature = (method=None, n=None))]
     fn to_toml(
         &self,
         py: Python<'_>,
-        method_name: Option<&str>,
+        method: Option<&str>,
         n: Option<usize>,
     ) -> PyResult<String> {
-        let run = match (method_name, n) {
-            (Some(m), Some(n)) => Some((method(py, m)?, n)),
+        let run = match (method, n) {
+            (Some(m), Some(n)) => Some((parse_method(py, m)?, n)),
             (None, None) => None,
             _ => {
                 return Err(to_pyerr(
@@ -190,12 +190,12 @@ pub(crate) fn paper_scenes(quick: bool) -> Vec<(String, PyScene, &'static str, u
 
 /// Solves `scene` by `method` ("bem" or "mdr") at resolution `n`; see `mdrvisc.solve`.
 #[pyfunction]
-#[pyo3(signature = (scene, method_name, n, tol=1e-10, max_iter=5000, integrator="implicit", step=0.01, area_change=0.01, dt=None, progress=None, precondition=true, dense_limit=DENSE_LIMIT, active_limit=None))]
+#[pyo3(signature = (scene, method, n, tol=1e-10, max_iter=5000, integrator="implicit", step=0.01, area_change=0.01, dt=None, progress=None, precondition=true, dense_limit=DENSE_LIMIT, active_limit=None))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn run_scene(
     py: Python<'_>,
     scene: &PyScene,
-    method_name: &str,
+    method: &str,
     n: usize,
     tol: f64,
     max_iter: usize,
@@ -225,7 +225,7 @@ pub(crate) fn run_scene(
         }
     };
     let settings = RunSettings {
-        method: method(py, method_name)?,
+        method: parse_method(py, method)?,
         n,
         solver: super::convert::options(tol, max_iter, dense_limit, active_limit, precondition),
         integrator,
