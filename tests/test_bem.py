@@ -21,8 +21,8 @@ def test_rod_paper_grid_matches_closed_form_and_refines():
     errors = []
     for n in (200, 300, 400):
         r = rod(n)
-        ev = abs(r.velocity / analytic.rod_velocity(1.0, 1.0, 1.0) - 1)
-        ep = abs(r.central_pressure / analytic.rod_central_pressure(1.0, 1.0) - 1)
+        ev = abs(r.velocity[0] / analytic.rod_velocity(1.0, 1.0, 1.0) - 1)
+        ep = abs(r.central_pressure[0] / analytic.rod_central_pressure(1.0, 1.0) - 1)
         errors.append((ev, ep))
         if n == 200:
             assert r.grid_shape == (201, 201)
@@ -73,11 +73,11 @@ def test_fields_are_physical():
                      field_times=[5.0])
     r = mv.solve(scene, "bem", 129)
     f = r.fields[5.0]
-    p, v, u = f["pressure"], f["surface_velocity"], f["deflection"]
+    p, v, u = f.pressure, f.surface_velocity, f.deflection
     dx = r.dx
     assert np.all(p >= 0)
     assert p.sum() * dx * dx == pytest.approx(1.0, rel=1e-10)
-    x = f["x"]
+    x = f.x
     h = 1.0 * (x[None, :] ** 2 + x[:, None] ** 2)
     gap = u - r.depth[-1] + h
     assert gap.min() > -1e-6 * r.depth[-1]
@@ -137,6 +137,11 @@ def paraboloid_heights(n, dx, R):
     return (xx**2 + yy**2) / (2 * R)
 
 
+def count(result):
+    """Elements in contact of a static BEM result."""
+    return int(round(result.area[0] / result.dx**2))
+
+
 def test_small_contacts_are_solved_by_the_dense_active_set():
     n, dx, R, G = 128, 0.02, 10.0, 1.0
     h = paraboloid_heights(n, dx, R)
@@ -144,18 +149,19 @@ def test_small_contacts_are_solved_by_the_dense_active_set():
     force = 16 * G * a**3 / (3 * R)  # Hertz with E* = 4 G
     auto = mv.arrays.contact(h, dx, G, force=force)
     pk = mv.arrays.contact(h, dx, G, force=force, active_limit=0)
-    assert auto["method"] == "active-set" and pk["method"] == "polonsky-keer"
-    assert auto["contact_count"] == pk["contact_count"] and auto["residual"] < 1e-12
-    assert np.max(np.abs(auto["pressure"] - pk["pressure"])) < 1e-8 * pk["pressure"].max()
-    assert auto["force"] == pytest.approx(force, rel=1e-12)
+    assert auto.solver == "active-set" and pk.solver == "polonsky-keer"
+    assert count(auto) == count(pk) and auto.residual < 1e-12
+    p_auto, p_pk = auto.fields[0.0].pressure, pk.fields[0.0].pressure
+    assert np.max(np.abs(p_auto - p_pk)) < 1e-8 * p_pk.max()
+    assert auto.force[0] == pytest.approx(force, rel=1e-12)
     # Hertz depth a^2 / R; p >= 0 everywhere, no overlap outside the contact
-    assert auto["depth"] == pytest.approx(a * a / R, rel=2e-3)
-    gap = auto["deflection"] + h - auto["depth"]
-    assert np.all(auto["pressure"] >= 0) and gap.min() > -1e-12 * h.max()
-    assert np.all(np.abs(gap[auto["pressure"] > 0]) < 1e-12 * h.max())
+    assert auto.depth[0] == pytest.approx(a * a / R, rel=2e-3)
+    gap = auto.fields[0.0].deflection + h - auto.depth[0]
+    assert np.all(auto.fields[0.0].pressure >= 0) and gap.min() > -1e-12 * h.max()
+    assert np.all(np.abs(gap[auto.fields[0.0].pressure > 0]) < 1e-12 * h.max())
     # a contact beyond the crossover goes to Polonsky-Keer by itself
     big = mv.arrays.contact(h, dx, G, force=force * 27)
-    assert big["method"] == "polonsky-keer" and big["contact_count"] > 1000
+    assert big.solver == "polonsky-keer" and count(big) > 1000
 
 
 def test_preconditioned_polonsky_keer_matches_the_plain_method_and_hertz():
@@ -168,22 +174,21 @@ def test_preconditioned_polonsky_keer_matches_the_plain_method_and_hertz():
     force = 16 * G * a**3 / (3 * R)
     pre = mv.arrays.contact(h, dx, G, force=force)
     plain = mv.arrays.contact(h, dx, G, force=force, precondition=False)
-    assert pre["method"] == plain["method"] == "polonsky-keer"
-    assert pre["contact_count"] == plain["contact_count"] > 2500
-    assert np.max(np.abs(pre["pressure"] - plain["pressure"])) < 1e-8 * plain["pressure"].max()
-    assert pre["depth"] == pytest.approx(a * a / R, rel=2e-3)
-    assert 2 * pre["iterations"] <= plain["iterations"]
-    gap = pre["deflection"] + h - pre["depth"]
-    assert np.all(pre["pressure"] >= 0) and gap.min() > -1e-9 * h.max()
+    assert pre.solver == plain.solver == "polonsky-keer"
+    assert count(pre) == count(plain) > 2500
+    p_pre, p_plain = pre.fields[0.0].pressure, plain.fields[0.0].pressure
+    assert np.max(np.abs(p_pre - p_plain)) < 1e-8 * p_plain.max()
+    assert pre.depth[0] == pytest.approx(a * a / R, rel=2e-3)
+    assert 2 * pre.iterations <= plain.iterations
+    gap = pre.fields[0.0].deflection + h - pre.depth[0]
+    assert np.all(pre.fields[0.0].pressure >= 0) and gap.min() > -1e-9 * h.max()
 
 
 def test_preconditioning_leaves_the_viscous_run_unchanged():
     """The paper's c = 1 run at 65^2: depths agree to 1e-9 with and without the
     preconditioner, which takes at most 2/3 of the iterations."""
     scene = mv.Scene(indenter=mv.Paraboloid(c=1.0, edge=2.56), medium=VISCOUS, force=1.0, duration=5.0)
-    from mdrvisc.solve import bem_grid
-
-    _, dx, h, mask = bem_grid(scene, 65)
+    _, dx, h, mask = scene.bem_grid(65)
     runs = [mv.arrays.viscous(h, dx, 1.0, 1.0, scene.times, mask=mask, precondition=p)
             for p in (True, False)]
     np.testing.assert_allclose(runs[0].depth, runs[1].depth, rtol=1e-9)
@@ -198,7 +203,7 @@ def test_elastic_hertz_contact():
     a, d, p0 = analytic.hertz(force, R, 4 * G)
     assert r.depth[0] == pytest.approx(d, rel=2e-3)
     assert r.contact_length[0] == pytest.approx(2 * a, rel=2e-2)
-    p = r.fields[None]["pressure"]
+    p = r.fields[0.0].pressure
     assert p.max() == pytest.approx(p0, rel=1e-2)
     assert np.all(p >= 0)
 
@@ -287,17 +292,17 @@ def test_depth_bounds_size_the_windows_but_not_the_result():
     """Steps solved on windows from MDR's depths, on windows from far too small bounds (each
     solved again on a larger window) and on the linear extrapolation alone agree to the
     solver's tolerance."""
-    from mdrvisc.solve import _depth_bounds, bem_grid
-
     scene = mv.Scene(indenter=mv.Paraboloid(c=1.0, edge=2.56), medium=VISCOUS, force=1.0, duration=5.0)
-    _, dx, h, mask = bem_grid(scene, 97)
+    _, dx, h, mask = scene.bem_grid(97)
     ft, fv = scene.history
+    bounds = scene._model.depth_bounds()
+    assert np.all(np.isfinite(bounds))
     runs = [_core.bem_viscous(h, mask, dx, 1.0, scene.times, ft, fv, depth_bounds=b)
-            for b in (_depth_bounds(scene), [1e-3] * 5, None)]
-    assert runs[1]["solves"] > runs[0]["solves"] == 5
+            for b in (bounds.tolist(), [1e-3] * 5, None)]
+    assert runs[1].solves > runs[0].solves == 5
     for r in runs[1:]:
-        np.testing.assert_allclose(r["depth"], runs[0]["depth"], rtol=1e-9)
-        np.testing.assert_allclose(r["area"], runs[0]["area"], rtol=0)
+        np.testing.assert_allclose(r.depth, runs[0].depth, rtol=1e-9)
+        np.testing.assert_allclose(r.area, runs[0].area, rtol=0)
 
 
 def test_static_windows_hold_the_contact_and_give_the_whole_grids_solution():
@@ -312,22 +317,23 @@ def test_static_windows_hold_the_contact_and_give_the_whole_grids_solution():
     force = 16 * G * a**3 / (3 * R)
     opts = dict(tol=1e-12, active_limit=0)
     full = mv.arrays.contact(h, dx, G, force=force, **opts)
-    assert full["window"] == (0, 0, n, n) and full["solves"] == 1
+    assert full.window == (0, 0, n, n) and full.solves == 1
     d_mdr = analytic.hertz(force, R, 4 * G)[1]
     runs = [mv.arrays.contact(h, dx, G, force=force, depth_bound=1.05 * d_mdr, **opts),
             mv.arrays.contact(h, dx, G, force=force, depth_bound=0.7 * d_mdr, **opts),
-            mv.arrays.contact(h, dx, G, depth=full["depth"], **opts)]
-    assert [r["solves"] for r in runs] == [1, 2, 1]
+            mv.arrays.contact(h, dx, G, depth=full.depth[0], **opts)]
+    assert [r.solves for r in runs] == [1, 2, 1]
     for r in runs:
-        y0, x0, wy, wx = r["window"]
+        y0, x0, wy, wx = r.window
         assert 2 * a / dx < wx <= 0.75 * n and 2 * a / dx < wy <= 0.75 * n
-        assert r["contact_count"] == full["contact_count"]
-        assert r["depth"] == pytest.approx(full["depth"], rel=1e-10)
-        np.testing.assert_allclose(r["pressure"], full["pressure"], rtol=0,
-                                   atol=1e-9 * full["pressure"].max())
-        np.testing.assert_allclose(r["deflection"], full["deflection"], rtol=0,
-                                   atol=1e-10 * full["deflection"].max())
-    assert mv.arrays.contact(h, dx, G, force=force, depth_bound=d_mdr, deflection=False)["deflection"] is None
+        assert count(r) == count(full)
+        assert r.depth[0] == pytest.approx(full.depth[0], rel=1e-10)
+        np.testing.assert_allclose(r.fields[0.0].pressure, full.fields[0.0].pressure, rtol=0,
+                                   atol=1e-9 * full.fields[0.0].pressure.max())
+        np.testing.assert_allclose(r.fields[0.0].deflection, full.fields[0.0].deflection, rtol=0,
+                                   atol=1e-10 * full.fields[0.0].deflection.max())
+    no_u = mv.arrays.contact(h, dx, G, force=force, depth_bound=d_mdr, deflection=False)
+    assert no_u.fields[0.0].deflection is None
     with pytest.raises(mv.InvalidInputError):
         mv.arrays.contact(h, dx, G, force=force, depth_bound=float("nan"))
 
@@ -340,18 +346,17 @@ def test_static_scene_solves_on_the_mdr_window_and_computes_only_what_it_asks_fo
     scene = mv.Scene(indenter=ind, medium=mv.Elastic(G=G), force=force,
                      outputs=("depth", "pressure"))
     r = mv.solve(scene, "bem", n)
-    assert r.solves == 1 and set(r.fields[None]) == {"x", "y", "pressure"}
-    from mdrvisc.solve import bem_grid
-
-    _, dx, h, mask = bem_grid(scene, n)
+    held = {k for k, v in vars(r.fields[0.0]).items() if v is not None}
+    assert r.solves == 1 and held == {"t", "x", "y", "pressure"}
+    _, dx, h, mask = scene.bem_grid(n)
     full = mv.arrays.contact(h, dx, G, force=force, mask=mask)
-    assert r.depth[0] == pytest.approx(full["depth"], rel=1e-9)
-    np.testing.assert_allclose(r.fields[None]["pressure"], full["pressure"], rtol=0,
-                               atol=1e-8 * full["pressure"].max())
+    assert r.depth[0] == pytest.approx(full.depth[0], rel=1e-9)
+    np.testing.assert_allclose(r.fields[0.0].pressure, full.fields[0.0].pressure, rtol=0,
+                               atol=1e-8 * full.fields[0.0].pressure.max())
     both = mv.solve(mv.Scene(indenter=ind, medium=mv.Elastic(G=G), force=force,
                              outputs=("depth", "pressure", "deflection")), "bem", n)
-    np.testing.assert_allclose(both.fields[None]["deflection"], full["deflection"], rtol=0,
-                               atol=1e-8 * full["deflection"].max())
+    np.testing.assert_allclose(both.fields[0.0].deflection, full.fields[0.0].deflection, rtol=0,
+                               atol=1e-8 * full.fields[0.0].deflection.max())
 
 
 def test_a_solve_inside_a_progress_callback_runs_on_one_thread_too(tmp_path):

@@ -31,15 +31,15 @@ def test_rod_rate_and_inverse_pressure():
     scene = mv.Scene(indenter=mv.Rod(radius=1.0), medium=VISCOUS, force=1.0, duration=1.0,
                      outputs=("depth", "contact_length", "pressure", "surface_velocity"))
     r = mv.solve(scene, "mdr", 66049)
-    assert r.velocity == pytest.approx(analytic.rod_velocity(1.0, 1.0, 1.0), rel=1e-6)
-    assert r.central_pressure == pytest.approx(analytic.rod_central_pressure(1.0, 1.0), rel=1e-3)
+    assert r.velocity[0] == pytest.approx(analytic.rod_velocity(1.0, 1.0, 1.0), rel=1e-6)
+    assert r.central_pressure[0] == pytest.approx(analytic.rod_central_pressure(1.0, 1.0), rel=1e-3)
     f = r.fields[1.0]
-    inside = f["r"] <= 0.9
-    exact = analytic.rod_pressure(f["r"][inside], 1.0, 1.0)
-    assert np.max(np.abs(f["pressure"][inside] / exact - 1)) < 0.01
-    outside = f["r"] >= 1.0
-    v_exact = analytic.rod_surface_velocity(f["r"][outside], 1.0, 1.0, 1.0)
-    assert np.max(np.abs(f["surface_velocity"][outside] / v_exact - 1)) < 1e-3
+    inside = f.r <= 0.9
+    exact = analytic.rod_pressure(f.r[inside], 1.0, 1.0)
+    assert np.max(np.abs(f.pressure[inside] / exact - 1)) < 0.01
+    outside = f.r >= 1.0
+    v_exact = analytic.rod_surface_velocity(f.r[outside], 1.0, 1.0, 1.0)
+    assert np.max(np.abs(f.surface_velocity[outside] / v_exact - 1)) < 1e-3
 
 
 def test_saturation_of_the_flat_paraboloid():
@@ -64,9 +64,9 @@ def test_mdr_pressure_matches_bem_for_a_paraboloid():
     mdr = mv.solve(scene, "mdr", 66049).fields[2.0]
     bem_r = mv.solve(scene, "bem", 257)
     bem = bem_r.fields[2.0]
-    c = bem["x"].size // 2
-    x, p = bem["x"][c:], bem["pressure"][c, c:]
+    c = bem.x.size // 2
+    x, p = bem.x[c:], bem.pressure[c, c:]
     a = 0.5 * bem_r.contact_length[-1]
     sel = x <= 0.8 * a
-    p_mdr = np.interp(x[sel], mdr["r"], mdr["pressure"])
+    p_mdr = np.interp(x[sel], mdr.r, mdr.pressure)
     assert np.max(np.abs(p[sel] / p_mdr - 1)) < 0.02

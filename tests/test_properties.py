@@ -28,7 +28,7 @@ def test_bem_fields_satisfy_the_contact_conditions(p):
     s = scene(p, ("depth", "contact_length", "pressure", "deflection"))
     r = mv.solve(s, "bem", p["n"])
     f = r.fields[s.duration]
-    pres, u, x = f["pressure"], f["deflection"], f["x"]
+    pres, u, x = f.pressure, f.deflection, f.x
     assert np.all(pres >= 0)
     assert abs(pres.sum() * r.dx**2 / p["force"] - 1) < 1e-9          # force balance
     h = p["c"] * (x[None, :] ** 2 + x[:, None] ** 2)

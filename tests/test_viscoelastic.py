@@ -123,7 +123,7 @@ def test_relaxation_times_far_from_the_step_are_stable(tau):
 def test_depth_control_needs_a_time_dependent_medium():
     with pytest.raises(mv.InvalidInputError, match="depth"):
         mv.Scene(indenter=mv.Paraboloid(c=C), medium=mv.Elastic(G=1.0), depth=0.1)
-    with pytest.raises(mv.InvalidInputError, match="exactly one"):
+    with pytest.raises(mv.InvalidInputError, match="only one of the keys 'force' and 'depth'"):
         mv.Scene(indenter=mv.Paraboloid(c=C), medium=mv.Maxwell(1.0, 1.0), force=1.0, depth=0.1, duration=1.0)
     with pytest.raises(mv.InvalidInputError, match="tau_k"):
         mv.Prony(G_inf=1.0, terms=[(1.0, -2.0)])

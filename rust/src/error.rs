@@ -45,6 +45,16 @@ impl fmt::Display for Error {
 
 impl std::error::Error for Error {}
 
+impl Error {
+    /// The message without the kind's prefix ("invalid input: ").
+    pub fn message(&self) -> String {
+        match self {
+            Error::InvalidInput(m) | Error::Domain(m) => m.clone(),
+            other => other.to_string(),
+        }
+    }
+}
+
 /// Fails with `InvalidInput` unless `value` is finite and > 0.
 pub fn check_positive(name: &str, value: f64) -> Result<()> {
     if value.is_finite() && value > 0.0 {

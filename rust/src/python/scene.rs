@@ -55,12 +55,7 @@ impl PyScene {
 
     /// The scene as scene-file TOML, with `method` and `n` when given.
     #[pyo3(signature = (method=None, n=None))]
-    fn to_toml(
-        &self,
-        py: Python<'_>,
-        method: Option<&str>,
-        n: Option<usize>,
-    ) -> PyResult<String> {
+    fn to_toml(&self, py: Python<'_>, method: Option<&str>, n: Option<usize>) -> PyResult<String> {
         let run = match (method, n) {
             (Some(m), Some(n)) => Some((parse_method(py, m)?, n)),
             (None, None) => None,

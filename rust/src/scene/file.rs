@@ -70,11 +70,11 @@ impl SceneFile {
             }
             None => return Err(bad("missing key 'n'".into())),
         };
-        let scene = Scene::deserialize(toml::Value::Table(table))
-            .map_err(|e| bad(e.to_string().trim_end().to_string()))?;
-        scene.validate().map_err(|e| bad(e.to_string()))?;
+        let scene: Scene = serde_path_to_error::deserialize(toml::Value::Table(table))
+            .map_err(|e| bad(super::keyed(e)))?;
+        scene.validate().map_err(|e| bad(e.message()))?;
         let settings = RunSettings::new(method, n);
-        settings.validate().map_err(|e| bad(e.to_string()))?;
+        settings.validate().map_err(|e| bad(e.message()))?;
         Ok(SceneFile { scene, settings })
     }
 

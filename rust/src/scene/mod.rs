@@ -153,8 +153,9 @@ const DEFAULT_TIMES: usize = 5;
 impl Scene {
     /// Parses and validates a scene from JSON text.
     pub fn from_json(text: &str) -> Result<Self> {
-        let scene: Scene =
-            serde_json::from_str(text).map_err(|e| Error::InvalidInput(format!("scene: {e}")))?;
+        let mut de = serde_json::Deserializer::from_str(text);
+        let scene: Scene = serde_path_to_error::deserialize(&mut de)
+            .map_err(|e| Error::InvalidInput(format!("scene: {}", keyed(e))))?;
         scene.validate()?;
         Ok(scene)
     }
@@ -180,10 +181,14 @@ impl Scene {
                 }
                 d.depth()?;
             }
-            (None, None) => return Err(Error::InvalidInput("scene: give force (or depth)".into())),
+            (None, None) => {
+                return Err(Error::InvalidInput(
+                    "missing key 'force' (or 'depth')".into(),
+                ))
+            }
             (Some(_), Some(_)) => {
                 return Err(Error::InvalidInput(
-                    "scene: give only one of force and depth".into(),
+                    "give only one of the keys 'force' and 'depth'".into(),
                 ))
             }
         }
@@ -199,7 +204,7 @@ impl Scene {
             return Ok(());
         }
         let duration = self.duration.ok_or_else(|| {
-            Error::InvalidInput("a time-dependent scene needs a duration (s)".into())
+            Error::InvalidInput("missing key 'duration' (s): the medium is time-dependent".into())
         })?;
         check_positive("duration", duration)?;
         if let Some(dt) = self.dt {
@@ -243,7 +248,9 @@ impl Scene {
         match (&self.force, &self.depth) {
             (Some(f), _) => f.force().map(Loading::Force),
             (None, Some(d)) => d.depth().map(Loading::Depth),
-            (None, None) => Err(Error::InvalidInput("scene: give force (or depth)".into())),
+            (None, None) => Err(Error::InvalidInput(
+                "missing key 'force' (or 'depth')".into(),
+            )),
         }
     }
 
@@ -316,6 +323,19 @@ impl Scene {
                     .unwrap_or(0)
             })
             .collect()
+    }
+}
+
+/// A deserialisation error with the dotted key it happened at: "key 'indenter.c': ...".
+fn keyed<E: std::fmt::Display>(e: serde_path_to_error::Error<E>) -> String {
+    let path = e.path().to_string();
+    let inner = e.inner().to_string();
+    // toml repeats the key on a second line ("in `indenter`"): the path says it already
+    let inner = inner.lines().next().unwrap_or("").trim_end();
+    if path == "." || path.is_empty() {
+        inner.to_string()
+    } else {
+        format!("key '{path}': {inner}")
     }
 }
 
