@@ -12,8 +12,9 @@ from scipy.special import gamma
 
 from mdrvisc import analytic as A
 from mdrvisc.errors import DomainError, InvalidInputError
-from mdrvisc.geometry import Axisymmetric, Cone, Paraboloid, Rod, Sphere
+from mdrvisc.geometry import Cone, Paraboloid, Rod, Sphere
 from mdrvisc.media import Elastic, KelvinVoigt, Maxwell, Prony, StandardSolid, Viscous
+from mdrvisc.profiles import Axisymmetric
 
 
 def mdr_impulse(g, a, eta):

@@ -10,7 +10,8 @@ from scipy.integrate import quad
 from scipy.special import gamma
 
 from mdrvisc.errors import DomainError, InvalidInputError
-from mdrvisc.geometry import Axisymmetric, Cone, Indenter, Paraboloid, Rod, Sphere
+from mdrvisc.geometry import Cone, Indenter, Paraboloid, Rod, Sphere
+from mdrvisc.profiles import Axisymmetric
 
 X = np.concatenate([np.geomspace(1e-6, 1e-2, 20), np.linspace(0.01, 3.0, 200)])
 

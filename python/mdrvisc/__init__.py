@@ -12,8 +12,9 @@ Units are SI: m, s, N, Pa, Pa s. Depths and deflections are positive into the bo
 
 from . import analytic, arrays, scenefile
 from .errors import ConvergenceError, DomainError, InvalidInputError, MdrviscError
-from .geometry import Axisymmetric, Cone, Indenter, Paraboloid, Profile, Rod, Sphere
+from .geometry import Cone, Indenter, Paraboloid, Rod, Sphere
 from .media import Elastic, KelvinVoigt, Maxwell, Prony, StandardSolid, Viscous
+from .profiles import Axisymmetric, Profile
 from .result import Fields, Result
 from .scene import OUTPUTS, Scene
 from .solve import solve

@@ -12,8 +12,9 @@ import numpy as np
 
 from . import _core
 from .errors import DomainError, InvalidInputError
-from .geometry import Axisymmetric, Indenter, indenter_from_model
+from .geometry import Cone, Indenter, Paraboloid, Rod, Sphere
 from .media import Elastic, _Medium, medium_from_model
+from .profiles import Axisymmetric, Profile
 
 __all__ = ["Scene", "OUTPUTS"]
 
@@ -64,6 +65,15 @@ def _json(model):
                 walk(v, path)
     walk(model, "")
     return json.dumps(model)
+
+
+def indenter_from_model(model: dict) -> Indenter:
+    """The indenter of a scene model's ``[indenter]`` table."""
+    kind = model["type"]
+    args = {k: v for k, v in model.items() if k != "type"}
+    classes = {"rod": Rod, "paraboloid": Paraboloid, "cone": Cone, "sphere": Sphere,
+               "profile": Profile}
+    return classes[kind](**args)
 
 
 @dataclasses.dataclass(frozen=True, eq=False)

@@ -355,3 +355,82 @@ fn check_times(name: &str, times: &[f64], duration: f64) -> Result<()> {
     }
     Ok(())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn viscous(indenter: Indenter) -> Scene {
+        Scene {
+            indenter,
+            medium: Medium::Viscous { eta: 1.0 },
+            force: Some(History::Constant(1.0)),
+            depth: None,
+            duration: Some(5.0),
+            times: None,
+            outputs: None,
+            field_times: None,
+            dt: None,
+        }
+    }
+
+    fn paraboloid() -> Scene {
+        viscous(Indenter::Paraboloid {
+            c: 1.0,
+            edge: Some(2.56),
+        })
+    }
+
+    #[test]
+    fn default_times_and_field_times() {
+        let mut s = paraboloid();
+        assert_eq!(s.output_times(), vec![1.0, 2.0, 3.0, 4.0, 5.0]);
+        assert!(s.field_times().is_empty());
+        s.outputs = Some(vec![Output::Depth, Output::Pressure]);
+        s.field_times = Some(vec![2.5, 4.0]);
+        assert_eq!(s.output_times(), vec![1.0, 2.0, 2.5, 3.0, 4.0, 5.0]);
+        assert_eq!(s.field_steps(), vec![2, 4]);
+    }
+
+    #[test]
+    fn inconsistent_scenes_are_refused_naming_the_key() {
+        let refused = |s: Scene, word: &str| {
+            let e = s.validate().unwrap_err().to_string();
+            assert!(e.contains(word), "{e}");
+        };
+        let mut s = paraboloid();
+        s.force = None;
+        refused(s, "force");
+        let mut s = paraboloid();
+        s.depth = Some(History::Constant(0.1));
+        refused(s, "only one");
+        let mut s = paraboloid();
+        s.times = Some(vec![1.0, 6.0]);
+        refused(s, "times");
+        let mut s = paraboloid();
+        s.dt = Some(1e-300);
+        refused(s, "steps");
+        let mut s = paraboloid();
+        s.medium = Medium::Elastic { g: 1.0 };
+        refused(s, "static");
+        let mut s = paraboloid();
+        s.duration = None;
+        refused(s, "duration");
+    }
+
+    #[test]
+    fn scene_files_round_trip_through_toml() {
+        let mut s = viscous(Indenter::Sphere { radius: 2.0 });
+        s.force = Some(History::Samples(vec![[0.0, 0.0], [1.0, 0.1 + 0.2]]));
+        s.outputs = Some(vec![Output::Depth, Output::Deflection]);
+        s.field_times = Some(vec![1.0 / 3.0]);
+        let file = SceneFile {
+            scene: s,
+            settings: RunSettings::new(Method::Mdr, 1001),
+        };
+        let back = SceneFile::parse(&file.to_toml(), "test").unwrap();
+        assert_eq!(back, file);
+        let json = Scene::from_json(&file.scene.to_json()).unwrap();
+        assert_eq!(json, file.scene);
+    }
+}

@@ -496,3 +496,110 @@ fn run_viscoelastic(
     out.iterations = s.iterations.iter().sum();
     Ok(out)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::monitor::Silent;
+    use crate::scene::{History, Indenter, Medium};
+
+    fn scene(indenter: Indenter, medium: Medium, force: History) -> Scene {
+        Scene {
+            indenter,
+            medium,
+            force: Some(force),
+            depth: None,
+            duration: Some(2.0),
+            times: Some(vec![0.5, 1.0, 2.0]),
+            outputs: None,
+            field_times: None,
+            dt: None,
+        }
+    }
+
+    fn solve(s: &Scene, method: Method, n: usize) -> Report {
+        run(s, &RunSettings::new(method, n), &mut Silent).unwrap()
+    }
+
+    /// An unbounded paraboloid on a Maxwell body under a force: the grid is sized by the
+    /// compliance at the end, J = 1/G + t/eta, and holds the contact at every output;
+    /// MDR's depth is the elastic one at that compliance, 4/3 sqrt(R) d^1.5 / J = F.
+    #[test]
+    fn maxwell_under_a_force_on_an_unbounded_indenter() {
+        let s = scene(
+            Indenter::Paraboloid { c: 0.5, edge: None },
+            Medium::Maxwell { g: 1.0, eta: 2.0 },
+            History::Constant(0.3),
+        );
+        let mdr = solve(&s, Method::Mdr, 4001);
+        let half = mdr.dx * 4001.0 / 2.0;
+        for k in 0..3 {
+            let t = mdr.t[k];
+            let j = 1.0 / 1.0 + t / 2.0;
+            let exact = (3.0 * 0.3 * j / (16.0 * 1.0f64.sqrt())).powf(2.0 / 3.0);
+            assert!(
+                (mdr.depth[k] / exact - 1.0).abs() < 2e-3,
+                "{k}: {} {exact}",
+                mdr.depth[k]
+            );
+            assert!(0.5 * mdr.contact_length[k] < half / 1.1);
+        }
+        let bem = solve(&s, Method::Bem, 33);
+        for k in 0..3 {
+            assert!(
+                (bem.depth[k] / mdr.depth[k] - 1.0).abs() < 2e-2,
+                "{k}: {}",
+                bem.depth[k]
+            );
+        }
+    }
+
+    /// A flat punch under a force history needs one solve: its rate follows F(t), its depth
+    /// the impulse, its central pressure F(t) / (2 pi a^2) (MDR: exactly).
+    #[test]
+    fn punch_under_a_force_history() {
+        let history = History::Samples(vec![[0.0, 0.0], [1.0, 2.0], [2.0, 1.0]]);
+        let s = scene(
+            Indenter::Rod { radius: 1.0 },
+            Medium::Viscous { eta: 1.0 },
+            history,
+        );
+        let forces = [1.0, 2.0, 1.0];
+        let impulses = [0.25, 1.0, 2.5];
+        for method in [Method::Bem, Method::Mdr] {
+            let r = solve(&s, method, 40);
+            assert_eq!(r.solves, 1);
+            let v = r.velocity.as_ref().unwrap();
+            let p0 = r.central_pressure.as_ref().unwrap();
+            for k in 0..3 {
+                assert!((r.force[k] - forces[k]).abs() < 1e-15);
+                assert!((v[k] / forces[k] - v[1] / 2.0).abs() < 1e-12 * v[1]);
+                assert!((r.depth[k] - v[1] / 2.0 * impulses[k]).abs() < 1e-12 * r.depth[2]);
+                let exact = forces[k] / (2.0 * PI);
+                let tol = if method == Method::Mdr { 1e-9 } else { 0.05 };
+                assert!(
+                    (p0[k] / exact - 1.0).abs() < tol,
+                    "{method:?} {k}: {}",
+                    p0[k]
+                );
+            }
+        }
+    }
+
+    /// An elastic sphere by MDR: Hertz's depth a^2 / R and force 16/3 G sqrt(R) d^1.5 for a
+    /// contact small against R.
+    #[test]
+    fn elastic_sphere_follows_hertz() {
+        let mut s = scene(
+            Indenter::Sphere { radius: 10.0 },
+            Medium::Elastic { g: 2.0 },
+            History::Constant(0.05),
+        );
+        s.duration = None;
+        s.times = None;
+        let r = solve(&s, Method::Mdr, 200001);
+        let d = (3.0 * 0.05 / (16.0 * 2.0 * 10f64.sqrt())).powf(2.0 / 3.0);
+        assert!((r.depth[0] / d - 1.0).abs() < 1e-3, "{} {d}", r.depth[0]);
+        assert_eq!(r.integrator, "static");
+    }
+}
