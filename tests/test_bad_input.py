@@ -1,4 +1,4 @@
-"""Bad input gets a clear exception naming the bad value (issue: stability and bad input)."""
+"""Bad input gets a clear exception naming the bad value."""
 
 import numpy as np
 import pytest

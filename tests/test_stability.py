@@ -1,4 +1,4 @@
-"""Stiff and extreme cases (issue: numerical stability): scaling over many decades, tiny and
+"""Stiff and extreme cases: scaling over many decades, tiny and
 non-square grids, asymmetric indenters, huge and tiny steps, saturation, sharp contacts."""
 
 import numpy as np

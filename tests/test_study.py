@@ -1,4 +1,4 @@
-"""The error-vs-run-time study (issue 4): quick mode runs in seconds, errors fall with
+"""The error-vs-run-time study: quick mode runs in seconds, errors fall with
 resolution where they must, the paper's settings are marked, and its files are written."""
 
 import csv

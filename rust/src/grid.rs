@@ -61,7 +61,7 @@ impl Grid {
     }
 
     /// Whether any element of `set` lies on the outermost ring of the grid.
-    pub fn touches_border(&self, set: &[bool]) -> bool {
+    pub fn touches_edge(&self, set: &[bool]) -> bool {
         let (nx, ny) = (self.nx, self.ny);
         (0..nx * ny).any(|i| {
             let (ix, iy) = (i % nx, i / nx);

@@ -65,7 +65,7 @@ pub struct ViscousSeries {
     /// Final solver residual of each output step.
     pub residual: Vec<f64>,
     /// Whether the contact reached the outermost ring of the grid.
-    pub at_border: Vec<bool>,
+    pub at_edge: Vec<bool>,
     /// Fields at the requested steps.
     pub fields: Vec<Fields>,
     /// Contact solves performed (time steps plus rate solves).
@@ -175,7 +175,7 @@ impl ViscousSeries {
         self.stiffness_length.push(rate.map_or(f64::NAN, |r| r.1));
         self.iterations.push(iterations);
         self.residual.push(residual);
-        self.at_border.push(grid.touches_border(contact));
+        self.at_edge.push(grid.touches_edge(contact));
     }
 }
 

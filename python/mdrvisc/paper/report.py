@@ -3,6 +3,10 @@ beyond it (:mod:`mdrvisc.paper.studies`).
 
 Units as in :mod:`mdrvisc.paper.studies`: SI throughout; relative differences are
 (a - b) / b.
+
+One module of about 530 lines, for a reason: it mirrors :mod:`mdrvisc.paper.studies` section
+by section (table, files, figure of each), so a change to one section's data and to its
+output stay side by side.
 """
 
 import csv

@@ -9,6 +9,10 @@ NaN marks a closed form that does not apply.
 
 ``progress``, where accepted, is a callable ``progress(label)`` called before each solve with a
 short label naming it (e.g. ``"paraboloid c=1 BEM n=257"``).
+
+One module of about 650 lines, for a reason: the three sections and the error study share the
+paper's constants, its scenes (from the crate) and the timing helpers, and each section is a
+few functions that read top to bottom as the paper does.
 """
 
 import dataclasses
@@ -373,7 +377,7 @@ def paper(quick: bool = False, progress: Callable[[str], object] | None = None) 
 
 
 # ----------------------------------------------------------------------------- error vs run time
-#: The error-vs-run-time sweep (issue 4). Paraboloids h = c r^2 on the 2.56 m square (F = 1 N,
+#: The error-vs-run-time sweep. Paraboloids h = c r^2 on the 2.56 m square (F = 1 N,
 #: eta = 1 Pa s, errors of d(5 s) and l(5 s) against Lee-Radok) and the rod (a = 1 m, errors of
 #: dd/dt and p0 against the closed form). ``bem_n``: elements across the square (implicit);
 #: ``bem_explicit``: {n: relative steps dt / t} of the explicit loop, with ``bem_area_change``;
@@ -466,7 +470,7 @@ def _timed(run, label, *args, **kwargs):
 
 def error_vs_runtime(quick: bool = False, progress: Callable[[str], object] | None = None,
                      settings: dict | None = None) -> dict:
-    """Error against run time of BEM and MDR, implicit and explicit (issue 4, item 2).
+    """Error against run time of BEM and MDR, implicit and explicit.
 
     Paraboloids c = 1 and 5 (1/m) on the 2.56 m square, F = 1 N, eta = 1 Pa s: relative errors
     of d(5 s) and l(5 s) against Lee-Radok (the contact stays inside the square until 5 s);

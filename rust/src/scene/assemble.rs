@@ -103,7 +103,7 @@ pub fn bem_static_report(
     out.area = Some(vec![area]);
     out.force = vec![force];
     out.saturated = Some(vec![covers(grid, area)]);
-    out.at_edge = Some(vec![grid.touches_border(&contact)]);
+    out.at_edge = Some(vec![grid.touches_edge(&contact)]);
     out.solves = r.solves;
     out.iterations = r.summary.iterations;
     out.residual = r.summary.residual;
@@ -157,7 +157,7 @@ pub fn bem_viscous_report(
     out.force = forces;
     out.velocity = wanted.velocity.then_some(s.velocity);
     out.stiffness_length = wanted.stiffness_length.then_some(s.stiffness_length);
-    out.at_edge = Some(s.at_border);
+    out.at_edge = Some(s.at_edge);
     out.steps = s.steps;
     out.solves = s.solves;
     out.iterations = s.iterations.iter().sum();

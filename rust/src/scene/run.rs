@@ -275,7 +275,7 @@ fn run_viscous(scene: &Scene, settings: &RunSettings, monitor: &mut dyn Monitor)
                 )?,
             };
             if scene.indenter.half_width().is_none() {
-                if let Some(k) = s.at_border.iter().position(|&b| b) {
+                if let Some(k) = s.at_edge.iter().position(|&b| b) {
                     return Err(Error::Domain(format!(
                         "BEM: the contact reached the edge of the grid of an unbounded indenter at t = {} s; the grid is too small",
                         s.t[k]
