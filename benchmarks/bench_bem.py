@@ -1,6 +1,6 @@
 """The paper's Section 6 viscous BEM run: mdrvisc against the plain numpy reference.
 
-Problem (DESIGN.md 1.3): paraboloid h = c r^2 on a 2.56 m x 2.56 m square footprint, n x n
+Problem (the paper's Section 6): paraboloid h = c r^2 on a 2.56 m x 2.56 m square footprint, n x n
 = 257 x 257 elements, F = 1 N from t = 0, eta = 1 Pa s, outputs t = 1, 2, 3, 4, 5 s; c = 1
 (the paper's figure case), 5 and 20; CG tolerance 1e-10 and 1e-8. Both codes use the same
 implicit impulse stepping (one Polonsky-Keer solve per output time, warm-started) on the same

@@ -1,7 +1,7 @@
 """Plain numpy/scipy reference implementation of the mdrvisc viscous BEM.
 
 This module is a self-contained competitor for the Rust core (``rust/src``) used in
-wall-time benchmarks. It implements the same algorithm as DESIGN.md section 1.1:
+wall-time benchmarks. It implements the same algorithm as the crate's viscous BEM:
 
 * Love's (1929) influence coefficients for square elements of uniform pressure on an
   incompressible half-space with shear modulus G = 1 (E* = 4G = 4), see :func:`love_kernel`;
@@ -11,7 +11,7 @@ wall-time benchmarks. It implements the same algorithm as DESIGN.md section 1.1:
   :func:`polonsky_keer`;
 * implicit viscous time stepping in impulse form, see :func:`viscous_bem`.
 
-Sign convention (DESIGN.md section 1): depths and surface deflections are positive into the
+Sign convention: depths and surface deflections are positive into the
 body, the gap is g = u + h - d.
 
 Only numpy and ``scipy.fft`` are used. The FFTs are scipy's pocketfft real transforms

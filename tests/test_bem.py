@@ -1,4 +1,4 @@
-"""BEM against closed forms (DESIGN.md §1.3): rod, viscous paraboloid, elastic Hertz."""
+"""BEM against closed forms: rod, viscous paraboloid, elastic Hertz."""
 
 import os
 import threading

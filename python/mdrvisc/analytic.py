@@ -1,4 +1,4 @@
-"""Closed-form solutions: the analytic side of every comparison (DESIGN.md section 1.3).
+"""Closed-form solutions: the analytic side of every comparison.
 
 Units throughout: lengths in m, times in s, forces in N, pressures and moduli in Pa,
 viscosities in Pa s, impulses (force x time) in N s. Depths and deflections are positive into
