@@ -33,6 +33,10 @@ pub struct Series {
     pub contact_length: Vec<f64>,
     /// Solver iterations per output interval (BEM).
     pub iterations: Vec<usize>,
+    /// Largest final relative residual of the contact solves per output interval (BEM).
+    pub residual: Vec<f64>,
+    /// Whether the contact reached the outermost ring of the grid (BEM).
+    pub at_edge: Vec<bool>,
     /// Time steps taken.
     pub steps: usize,
 }
@@ -152,7 +156,7 @@ pub fn run_bem(
     let (mut x, mut q) = (vec![0.0; n], vec![0.0; n * m]);
     let (mut hist, mut k_hist, mut sep) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
     let mut out = Series::default();
-    let (mut t_prev, mut iterations) = (0.0, 0usize);
+    let (mut t_prev, mut iterations, mut residual) = (0.0, 0usize, 0.0f64);
     let mut warm = false;
     let (mut extrapolate, mut h_prev) = (false, 1.0);
     let (mut p_prev, mut guess) = (vec![0.0; n], vec![0.0; n]);
@@ -207,6 +211,7 @@ pub fn run_bem(
                     monitor,
                 )?;
                 iterations += r.iterations;
+                residual = residual.max(r.residual);
                 extrapolate = warm;
                 warm = r.contact_count > 0;
                 h_prev = t - t_prev;
@@ -229,7 +234,10 @@ pub fn run_bem(
             out.contact_length
                 .push(2.0 * (area / std::f64::consts::PI).sqrt());
             out.iterations.push(iterations);
-            iterations = 0;
+            out.residual.push(residual);
+            let contact: Vec<bool> = p.iter().map(|&v| v > 0.0).collect();
+            out.at_edge.push(grid.touches_edge(&contact));
+            (iterations, residual) = (0, 0.0);
             monitor.progress("time steps", k + 1, times.len())?;
         }
         out.steps = s + 1;

@@ -482,8 +482,20 @@ fn run_viscoelastic(
             (s, grid.dx, Some([grid.ny, grid.nx]))
         }
     };
+    if scene.indenter.half_width().is_none() {
+        if let Some(k) = s.at_edge.iter().position(|&b| b) {
+            return Err(Error::Domain(format!(
+                "BEM: the contact reached the edge of the grid of an unbounded indenter at t = {} s; the grid is too small",
+                s.t[k]
+            )));
+        }
+    }
     let mut out = report(settings, dx, "viscoelastic", s.t);
     out.grid_shape = shape;
+    if settings.method == Method::Bem {
+        out.residual = s.residual.iter().fold(0.0, |a: f64, &b| a.max(b));
+        out.at_edge = Some(s.at_edge);
+    }
     out.depth = s.depth;
     out.contact_length = s.contact_length;
     out.force = s.force;
@@ -545,6 +557,12 @@ mod tests {
             assert!(0.5 * mdr.contact_length[k] < half / 1.1);
         }
         let bem = solve(&s, Method::Bem, 33);
+        assert!(
+            bem.residual > 0.0 && bem.residual <= 1e-10,
+            "{}",
+            bem.residual
+        );
+        assert!(bem.at_edge.as_ref().unwrap().iter().all(|&e| !e));
         for k in 0..3 {
             assert!(
                 (bem.depth[k] / mdr.depth[k] - 1.0).abs() < 2e-2,
