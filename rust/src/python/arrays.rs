@@ -175,6 +175,22 @@ pub(crate) fn bem_punch(
     Ok(PyReport { inner: out })
 }
 
+/// An inverse MDR transform: (1D data, dx, radii) -> 3D values at the radii.
+type RadialTransform = fn(&[f64], f64, &[f64]) -> crate::Result<Vec<f64>>;
+
+/// Applies the inverse transform `f` to the named 1D data at radii `r`, numpy out.
+fn radial<'py>(
+    py: Python<'py>,
+    f: RadialTransform,
+    (values, name): (&PyReadonlyArray1<'py, f64>, &str),
+    dx: f64,
+    r: &PyReadonlyArray1<'py, f64>,
+) -> PyResult<Bound<'py, numpy::PyArray1<f64>>> {
+    let out =
+        f(&slice1(py, values, name)?, dx, &slice1(py, r, "r")?).map_err(|e| to_pyerr(py, e))?;
+    Ok(out.into_pyarray(py))
+}
+
 /// Inverse MDR transform: 3D pressure (Pa) at radii r (m) from the line load q (N/m) of
 /// elements spaced dx (m).
 #[pyfunction]
@@ -184,9 +200,7 @@ pub(crate) fn mdr_pressure<'py>(
     dx: f64,
     r: PyReadonlyArray1<'py, f64>,
 ) -> PyResult<Bound<'py, numpy::PyArray1<f64>>> {
-    let out = transforms::pressure_from_line_load(&slice1(py, &q, "q")?, dx, &slice1(py, &r, "r")?)
-        .map_err(|e| to_pyerr(py, e))?;
-    Ok(out.into_pyarray(py))
+    radial(py, transforms::pressure_from_line_load, (&q, "q"), dx, &r)
 }
 
 /// Inverse MDR transform: 3D surface deflection (or rate) at radii r (m) outside the
@@ -198,9 +212,7 @@ pub(crate) fn mdr_deflection<'py>(
     dx: f64,
     r: PyReadonlyArray1<'py, f64>,
 ) -> PyResult<Bound<'py, numpy::PyArray1<f64>>> {
-    let out = transforms::deflection_outside(&slice1(py, &w, "w")?, dx, &slice1(py, &r, "r")?)
-        .map_err(|e| to_pyerr(py, e))?;
-    Ok(out.into_pyarray(py))
+    radial(py, transforms::deflection_outside, (&w, "w"), dx, &r)
 }
 
 /// Surface deflection (m) of a half-space with G = 1 Pa under element pressures p (Pa),

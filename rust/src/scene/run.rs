@@ -141,6 +141,18 @@ pub fn run(scene: &Scene, settings: &RunSettings, monitor: &mut dyn Monitor) -> 
     Ok(report)
 }
 
+/// Fails when the BEM contact of an unbounded indenter reached the grid's edge (`at_edge`
+/// at the output times `t`): the grid, a window onto the indenter, was too small.
+fn unbounded_inside(scene: &Scene, at_edge: &[bool], t: &[f64]) -> Result<()> {
+    match at_edge.iter().position(|&b| b) {
+        Some(k) if scene.indenter.half_width().is_none() => Err(Error::Domain(format!(
+            "BEM: the contact reached the edge of the grid of an unbounded indenter at t = {} s; the grid is too small",
+            t[k]
+        ))),
+        _ => Ok(()),
+    }
+}
+
 /// Refuses outputs the scene's medium does not have.
 fn refuse(scene: &Scene, outputs: &[Output], why: &str) -> Result<()> {
     match outputs.iter().find(|o| scene.wants(**o)) {
@@ -274,14 +286,7 @@ fn run_viscous(scene: &Scene, settings: &RunSettings, monitor: &mut dyn Monitor)
                     monitor,
                 )?,
             };
-            if scene.indenter.half_width().is_none() {
-                if let Some(k) = s.at_edge.iter().position(|&b| b) {
-                    return Err(Error::Domain(format!(
-                        "BEM: the contact reached the edge of the grid of an unbounded indenter at t = {} s; the grid is too small",
-                        s.t[k]
-                    )));
-                }
-            }
+            unbounded_inside(scene, &s.at_edge, &s.t)?;
             let fields: Vec<(f64, usize)> = scene.field_times().into_iter().zip(steps).collect();
             Ok(bem_viscous_report(
                 settings,
@@ -482,14 +487,7 @@ fn run_viscoelastic(
             (s, grid.dx, Some([grid.ny, grid.nx]))
         }
     };
-    if scene.indenter.half_width().is_none() {
-        if let Some(k) = s.at_edge.iter().position(|&b| b) {
-            return Err(Error::Domain(format!(
-                "BEM: the contact reached the edge of the grid of an unbounded indenter at t = {} s; the grid is too small",
-                s.t[k]
-            )));
-        }
-    }
+    unbounded_inside(scene, &s.at_edge, &s.t)?;
     let mut out = report(settings, dx, "viscoelastic", s.t);
     out.grid_shape = shape;
     if settings.method == Method::Bem {
