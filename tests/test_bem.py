@@ -118,6 +118,13 @@ def test_reusable_surface_operator_is_the_dense_operator_and_checks_input():
         op.apply(q, out=np.empty((9, 13)).T)
     with pytest.raises(mv.InvalidInputError, match="float64"):
         op.apply(q, out=np.empty((13, 9), dtype=np.float32))
+    frozen = np.empty((13, 9))
+    frozen.flags.writeable = False
+    with pytest.raises(mv.InvalidInputError, match="writable"):
+        op.apply(q, out=frozen)
+    same = np.ascontiguousarray(q)
+    with pytest.raises(mv.InvalidInputError, match="must not be the pressure"):
+        op.apply(same, out=same)
     with pytest.raises(mv.InvalidInputError, match="shape"):
         op.apply(np.ones((9, 13)))
     with pytest.raises(mv.InvalidInputError, match="finite"):

@@ -302,7 +302,16 @@ impl PySurfaceOperator {
                     ));
                 }
                 {
-                    let mut rw = out.readwrite();
+                    // fails (instead of panicking) on a read-only array and on one that is
+                    // also the pressure
+                    let mut rw = out.try_readwrite().map_err(|_| {
+                        to_pyerr(
+                            py,
+                            Error::InvalidInput(
+                                "out must be writable and must not be the pressure array".into(),
+                            ),
+                        )
+                    })?;
                     let u = rw.as_slice_mut().map_err(|_| {
                         to_pyerr(
                             py,
