@@ -113,7 +113,7 @@ def _run(args):
         print(report.table(args.scene), end="")
 
 
-def main(argv=None):
+def main(argv: list[str] | None = None) -> int:
     """Runs the command line with ``argv`` (default ``sys.argv[1:]``); returns the exit status
     (0 success, 2 bad input or failed solve, 130 interrupted)."""
     args = _parser().parse_args(argv)

@@ -6,8 +6,12 @@ from __future__ import annotations
 
 import dataclasses
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
+
+if TYPE_CHECKING:
+    import pandas as pd
 
 __all__ = ["Result", "Fields", "UNITS"]
 
@@ -72,7 +76,8 @@ class Result:
                  area=None, velocity=None, stiffness_length=None, central_pressure=None, saturated=None,
                  at_edge=None, fields=None, grid_shape=None, integrator: str = "implicit",
                  solver: str | None = None, window=None, steps: int = 0, solves: int = 0,
-                 iterations: int = 0, residual: float = 0.0, wall_time: float = 0.0, warnings=()):
+                 iterations: int = 0, residual: float = 0.0, wall_time: float = 0.0,
+                 warnings=()) -> None:
         self.method, self.n, self.dx = str(method), int(n), float(dx)
         for name, value in (("t", t), ("depth", depth), ("contact_length", contact_length),
                             ("force", force), ("area", area), ("velocity", velocity),
@@ -156,7 +161,7 @@ class Result:
         parsed = {entry["t"]: Fields(**entry) for _, entry in sorted(fields.items())}
         return cls(fields=parsed, **values)
 
-    def to_dataframe(self):
+    def to_dataframe(self) -> pd.DataFrame:
         """The time series as a pandas DataFrame, one row per output time (needs pandas)."""
         try:
             import pandas as pd

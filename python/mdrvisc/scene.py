@@ -214,12 +214,12 @@ class Scene:
 
     __hash__ = None
 
-    def bem_grid(self, n: int):
+    def bem_grid(self, n: int) -> tuple[np.ndarray, float, np.ndarray, np.ndarray]:
         """(x, dx, height, mask) of the BEM grid with ``n`` elements across: element centres
         (m), element size (m), heights above the tip (m, (ny, nx)) and footprint mask."""
         return self._model.bem_grid(n)
 
-    def mdr_grid(self, n: int):
+    def mdr_grid(self, n: int) -> tuple[np.ndarray, float, np.ndarray]:
         """(x, dx, g) of the MDR foundation with ``n`` elements: centres (m), spacing (m),
         1D profile (m)."""
         return self._model.mdr_grid(n)
