@@ -104,3 +104,24 @@ def test_non_convergence_is_an_exception_with_its_numbers():
         mv.solve(scene, "bem", 65, max_iter=2)
     assert info.value.iterations == 2 and np.isfinite(info.value.residual)
     assert "residual" in str(info.value) and "2 iterations" in str(info.value)
+
+
+def test_sizes_are_checked_before_anything_is_allocated():
+    """Step counts, grids and explicit steps beyond the stated limits are errors that say what
+    they would cost, raised before any allocation (each case would otherwise take the
+    machine's memory or run for days)."""
+    scene = mv.Scene(indenter=PARA, medium=mv.StandardSolid(1.0, 3.0, 0.5), force=1.0, duration=2.0)
+    for method, n in (("mdr", 201), ("bem", 33)):
+        with pytest.raises(mv.InvalidInputError, match="steps, more than 1e7"):
+            mv.solve(scene, method, n, dt=1e-308)
+    with pytest.raises(mv.InvalidInputError, match="2.000e300 steps"):
+        mv.Scene(indenter=PARA, medium=mv.Maxwell(1.0, 1.0), force=1.0, duration=2.0, dt=1e-300)
+    viscous = mv.Scene(indenter=PARA, medium=VISCOUS, force=1.0, duration=1.0)
+    with pytest.raises(mv.InvalidInputError, match="explicit step"):
+        mv.solve(viscous, "mdr", 201, integrator="explicit", step=1e-9)
+    for method, n in (("bem", 100000), ("mdr", 10**12)):
+        with pytest.raises(mv.InvalidInputError, match="resolution n"):
+            mv.solve(viscous, method, n)
+    for shape in ((20000, 20000), (1, 10**9), (2**40, 2**40)):
+        with pytest.raises(mv.InvalidInputError, match="elements"):
+            mv.arrays.SurfaceOperator(shape, 1.0)

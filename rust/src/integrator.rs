@@ -32,6 +32,15 @@ impl ExplicitControl {
     pub fn validate(&self) -> Result<()> {
         check_positive("explicit step", self.step)?;
         check_positive("explicit start fraction", self.start)?;
+        // dt = step * t_first up to t_first, then growing by (1 + step) a step
+        let steps = 1.0 / self.step + (1.0 / self.start).ln() / self.step.ln_1p();
+        if steps > crate::viscoelastic::MAX_STEPS {
+            return Err(Error::InvalidInput(format!(
+                "explicit step = {} takes about {steps:.3e} steps, more than {:.0e}",
+                self.step,
+                crate::viscoelastic::MAX_STEPS
+            )));
+        }
         if !(self.area_change >= 0.0 && self.area_change.is_finite()) {
             return Err(Error::InvalidInput(format!(
                 "area_change must be finite and >= 0, got {}",

@@ -8,6 +8,7 @@ use mdrvisc::paper;
 use mdrvisc::scene::{self, RunSettings, Scene, SceneFile};
 use std::io::{IsTerminal, Write};
 use std::process::ExitCode;
+use std::time::Instant;
 
 /// Rigid indenters on viscous and viscoelastic half-spaces by BEM and MDR.
 #[derive(Parser)]
@@ -38,14 +39,18 @@ enum Command {
     },
 }
 
-/// Prints `stage: done/total` on one overwritten stderr line, when stderr is a terminal.
+/// Prints `stage: done/total` on one overwritten stderr line, when stderr is a terminal, at
+/// most every 200 ms and at the end of each stage.
 struct Progress {
     shown: bool,
+    last: Option<Instant>,
 }
 
 impl Monitor for Progress {
     fn progress(&mut self, stage: &str, done: usize, total: usize) -> mdrvisc::Result<()> {
-        if std::io::stderr().is_terminal() {
+        let due = done >= total || self.last.is_none_or(|t| t.elapsed().as_millis() >= 200);
+        if due && std::io::stderr().is_terminal() {
+            self.last = Some(Instant::now());
             eprint!("\r  {stage}: {done}/{total}{:20}", "");
             let _ = std::io::stderr().flush();
             self.shown = true;
@@ -65,7 +70,10 @@ impl Progress {
 
 fn run(runs: Vec<(String, Scene, RunSettings)>, json: bool) -> Result<(), String> {
     let mut documents = vec![];
-    let mut progress = Progress { shown: false };
+    let mut progress = Progress {
+        shown: false,
+        last: None,
+    };
     for (name, scene, settings) in &runs {
         let report = scene::run(scene, settings, &mut progress);
         progress.close();

@@ -85,6 +85,23 @@ impl Default for FftPlans {
     }
 }
 
+/// Largest grid (elements) of an FFT operator: 4096 x 4096, whose zero-padded spectra and
+/// buffers take a few GB.
+pub const MAX_FFT_ELEMENTS: usize = 1 << 24;
+/// Largest grid (elements) of a dense operator: its matrix of 8 n^2 bytes is 2 GB.
+pub const MAX_DENSE_ELEMENTS: usize = 1 << 14;
+
+/// Fails unless the `nx` x `ny` grid is non-empty and holds at most `limit` elements, before
+/// anything of that size is allocated.
+fn check_elements(nx: usize, ny: usize, limit: usize, what: &str) -> Result<()> {
+    match nx.checked_mul(ny) {
+        Some(n) if n > 0 && n <= limit => Ok(()),
+        _ => Err(Error::InvalidInput(format!(
+            "the {what} takes 1 to {limit} elements, got nx = {nx}, ny = {ny}"
+        ))),
+    }
+}
+
 /// DC-FFT operator: the kernel spectrum is computed once, FFT plans and buffers live with
 /// the operator, and rows and columns are transformed in parallel with rayon.
 pub struct FftOperator {
@@ -110,6 +127,7 @@ impl FftOperator {
     /// Builds the operator for an `nx` x `ny` grid of square elements of side `dx` (m).
     pub fn new(nx: usize, ny: usize, dx: f64) -> Result<Self> {
         check_positive("element size dx", dx)?;
+        check_elements(nx, ny, MAX_FFT_ELEMENTS, "FFT operator")?;
         Self::with_kernel(
             nx,
             ny,
@@ -409,6 +427,7 @@ pub struct DenseOperator {
 impl DenseOperator {
     /// Full matrix of an `nx` x `ny` grid (size (nx ny)^2: small grids only).
     pub fn new(nx: usize, ny: usize, dx: f64) -> Result<Self> {
+        check_elements(nx, ny, MAX_DENSE_ELEMENTS, "dense operator")?;
         let all: Vec<usize> = (0..nx * ny).collect();
         let matrix = Self::subset_matrix(nx, dx, &all)?;
         Ok(DenseOperator { nx, ny, dx, matrix })

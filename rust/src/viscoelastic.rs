@@ -41,13 +41,29 @@ pub struct Series {
     pub steps: usize,
 }
 
-/// Step times: the output times, each interval cut into equal steps no longer than `dt`.
-fn step_times(times: &[f64], dt: f64) -> Result<Vec<(f64, Option<usize>)>> {
+/// Most time steps a run may take, so that no step list outgrows memory (16 bytes a step).
+pub const MAX_STEPS: f64 = 1e7;
+
+/// Step times: the output times, each interval cut into equal steps no longer than `dt`;
+/// the flag marks output times. More than `MAX_STEPS` steps is an error, before anything
+/// is allocated.
+fn step_times(times: &[f64], dt: f64) -> Result<Vec<(f64, bool)>> {
     check_output_times(times)?;
     check_positive("time step dt", dt)?;
-    let mut out = vec![];
+    let mut total = 0.0;
     let mut t0 = 0.0;
-    for (k, &t1) in times.iter().enumerate() {
+    for &t1 in times {
+        total += ((t1 - t0) / dt).ceil().max(1.0);
+        t0 = t1;
+    }
+    if total > MAX_STEPS {
+        return Err(Error::InvalidInput(format!(
+            "dt = {dt:e} s over {t0} s is {total:.3e} steps, more than {MAX_STEPS:.0e}"
+        )));
+    }
+    let mut out = Vec::with_capacity(total as usize);
+    let mut t0 = 0.0;
+    for &t1 in times {
         let m = ((t1 - t0) / dt).ceil().max(1.0) as usize;
         for j in 1..=m {
             let t = if j == m {
@@ -55,7 +71,7 @@ fn step_times(times: &[f64], dt: f64) -> Result<Vec<(f64, Option<usize>)>> {
             } else {
                 t0 + (t1 - t0) * j as f64 / m as f64
             };
-            out.push((t, (j == m).then_some(k)));
+            out.push((t, j == m));
         }
         t0 = t1;
     }
@@ -124,15 +140,15 @@ pub fn run_mdr(
             rule.advance(w[i], w_new, &mut q[i * m..(i + 1) * m]);
             w[i] = w_new;
         }
-        if let Some(k) = output {
+        if output {
             out.t.push(t);
             out.depth.push(depth);
             out.force.push(force);
             out.contact_length.push(count as f64 * dx);
             out.iterations.push(0);
-            monitor.progress("time steps", k + 1, times.len())?;
         }
         out.steps = s + 1;
+        monitor.progress("time steps", s + 1, steps.len())?;
         t_prev = t;
     }
     Ok(out)
@@ -226,7 +242,7 @@ pub fn run_bem(
             x[i] = x_new;
             count += usize::from(p[i] > 0.0);
         }
-        if let Some(k) = output {
+        if output {
             let area = count as f64 * grid.dx * grid.dx;
             out.t.push(t);
             out.depth.push(depth);
@@ -238,9 +254,9 @@ pub fn run_bem(
             let contact: Vec<bool> = p.iter().map(|&v| v > 0.0).collect();
             out.at_edge.push(grid.touches_edge(&contact));
             (iterations, residual) = (0, 0.0);
-            monitor.progress("time steps", k + 1, times.len())?;
         }
         out.steps = s + 1;
+        monitor.progress("time steps", s + 1, steps.len())?;
         t_prev = t;
     }
     Ok(out)

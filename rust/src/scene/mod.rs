@@ -23,8 +23,7 @@ use crate::error::{check_finite, check_positive, Error, Result};
 use crate::loading::{DepthHistory, ForceHistory, Loading};
 use serde::{Deserialize, Serialize};
 
-/// Most time steps a scene may ask for (duration / dt), so that no step list outgrows memory.
-pub const MAX_STEPS: f64 = 1e8;
+pub use crate::viscoelastic::MAX_STEPS;
 
 /// A force (N) or depth (m) history: a constant from t = 0, or samples [t (s), value],
 /// piecewise linear from t = 0 and held after the last sample.
@@ -211,7 +210,7 @@ impl Scene {
             let steps = duration / dt;
             if steps > MAX_STEPS {
                 return Err(Error::InvalidInput(format!(
-                    "dt = {dt} s over {duration} s is {steps:.3e} steps, more than {MAX_STEPS:.0e}"
+                    "dt = {dt:e} s over {duration} s is {steps:.3e} steps, more than {MAX_STEPS:.0e}"
                 )));
             }
         }

@@ -6,7 +6,7 @@ use super::assemble::{
 };
 use super::report::{FieldSet, Report};
 use super::sizing::{bem_grid, depth_bounds, mdr_foundation, mdr_half_length, DEPTH_BOUND_FACTOR};
-use super::{Output, Scene, MAX_STEPS};
+use super::{Output, Scene};
 use crate::contact::{SolverOptions, Target};
 use crate::error::{check_positive, Error, Result};
 use crate::integrator::ExplicitControl;
@@ -459,12 +459,6 @@ fn run_viscoelastic(
     let times = scene.output_times();
     let duration = scene.duration.expect("validated: a duration");
     let dt = settings.dt.or(scene.dt).unwrap_or(duration / DEFAULT_STEPS);
-    if duration / dt > MAX_STEPS {
-        return Err(Error::InvalidInput(format!(
-            "dt = {dt} s over {duration} s is {:.3e} steps, more than {MAX_STEPS:.0e}",
-            duration / dt
-        )));
-    }
     let (s, dx, shape) = match settings.method {
         Method::Mdr => {
             let (g, dx) = scene
