@@ -11,6 +11,7 @@ Units are SI: m, s, N, Pa, Pa s. Depths and deflections are positive into the bo
 """
 
 from . import analytic, arrays, scenefile
+from ._core import num_threads, set_num_threads
 from .errors import ConvergenceError, DomainError, InvalidInputError, MdrviscError
 from .geometry import Cone, Indenter, Paraboloid, Rod, Sphere
 from .media import Elastic, KelvinVoigt, Maxwell, Prony, StandardSolid, Viscous
@@ -21,7 +22,7 @@ from .solve import solve
 
 __version__ = "0.1.0"
 
-__all__ = ["Scene", "Result", "Fields", "OUTPUTS", "solve", "Rod", "Paraboloid", "Cone", "Sphere",
+__all__ = ["set_num_threads", "num_threads", "Scene", "Result", "Fields", "OUTPUTS", "solve", "Rod", "Paraboloid", "Cone", "Sphere",
            "Axisymmetric", "Profile", "Indenter", "Viscous", "Elastic", "KelvinVoigt", "Maxwell",
            "StandardSolid", "Prony", "analytic", "arrays", "scenefile", "MdrviscError", "InvalidInputError",
            "ConvergenceError", "DomainError", "__version__"]

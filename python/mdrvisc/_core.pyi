@@ -19,10 +19,12 @@ __all__ = [
     "load_scene_file",
     "mdr_deflection",
     "mdr_pressure",
+    "num_threads",
     "paper_scenes",
     "parse_scene_file",
     "parse_scene_table",
     "run_scene",
+    "set_num_threads",
     "surface_deflection",
 ]
 
@@ -141,6 +143,8 @@ class SurfaceOperator:
     @property
     def padded(self) -> tuple[int, int]: ...
 
+def set_num_threads(n: int | None = None) -> None: ...
+def num_threads() -> int: ...
 def load_scene_file(path: str) -> tuple[Scene, str, int]: ...
 def parse_scene_file(text: str, source: str) -> tuple[Scene, str, int]: ...
 def parse_scene_table(text: str, source: str) -> tuple[Scene, str, int]: ...

@@ -22,6 +22,7 @@ pub mod mdr;
 pub mod monitor;
 pub mod operator;
 pub mod paper;
+pub mod pool;
 pub mod precondition;
 #[cfg(feature = "python")]
 mod python;

@@ -99,8 +99,9 @@ fn main() -> ExitCode {
             run(vec![(scene, file.scene, file.settings)], json)
         }
     };
-    // On a rayon worker, the solvers' parallel loops split without waking the main thread.
-    let (result, ()) = rayon::join(work, || ());
+    // On a worker of the pool, the solvers' parallel loops split without waking the main
+    // thread.
+    let result = mdrvisc::pool::run(work).unwrap_or_else(|e| Err(e.to_string()));
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {

@@ -235,7 +235,7 @@ pub(crate) fn surface_deflection<'py>(
             FftOperator::new(shape[1], shape[0], dx)?.apply(&pv, &mut u);
         }
         Ok(u)
-    });
+    })?;
     let u = r.map_err(|e| to_pyerr(py, e))?;
     u.into_pyarray(py).reshape(shape)
 }
@@ -318,13 +318,13 @@ impl PySurfaceOperator {
                             Error::InvalidInput("out must be C-contiguous and writable".into()),
                         )
                     })?;
-                    in_pool(py, || op.apply(pv, u));
+                    in_pool(py, || op.apply(pv, u))?;
                 }
                 Ok(out)
             }
             None => {
                 let mut u = vec![0.0; pv.len()];
-                in_pool(py, || op.apply(pv, &mut u));
+                in_pool(py, || op.apply(pv, &mut u))?;
                 u.into_pyarray(py).reshape(shape)
             }
         }

@@ -5,6 +5,7 @@
 mod arrays;
 mod convert;
 mod monitor;
+mod pool;
 mod report;
 mod scene;
 
@@ -16,6 +17,8 @@ mod core_module {
         bem_punch, bem_viscous, contact_solve, mdr_deflection, mdr_pressure, surface_deflection,
         PySurfaceOperator,
     };
+    #[pymodule_export]
+    use super::pool::{num_threads, set_num_threads};
     #[pymodule_export]
     use super::report::{PyFieldSet, PyReport};
     #[pymodule_export]

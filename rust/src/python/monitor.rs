@@ -73,12 +73,13 @@ impl PyMonitor {
             let r = py.detach(|| f(&mut self));
             return self.finish(py, r);
         }
+        let pool = crate::pool::get().map_err(|e| to_pyerr(py, e))?;
         let cancel = Arc::clone(&self.cancel);
         let monitor = &mut self;
         let (r, signal) = py.detach(|| {
             let (tx, rx) = mpsc::channel();
             let mut signal = None;
-            let r = rayon::in_place_scope(|s| {
+            let r = pool.in_place_scope(|s| {
                 s.spawn(move |_| {
                     // The receiver outlives the scope: the send cannot fail.
                     let _ = tx.send(f(monitor));
@@ -138,9 +139,11 @@ impl Monitor for PyMonitor {
     }
 }
 
-/// Runs `f` on a rayon worker with the GIL released and waits for it: its parallel loops
-/// then split among the workers without waking the calling thread each time (for short
-/// computations that serve no progress callback; the others use `PyMonitor::run`).
-pub(crate) fn in_pool<T: Send>(py: Python<'_>, f: impl FnOnce() -> T + Send) -> T {
-    py.detach(|| rayon::join(f, || ()).0)
+/// Runs `f` on a worker of the crate's pool with the GIL released and waits for it: its
+/// parallel loops then split among the workers without waking the calling thread each time
+/// (for short computations that serve no progress callback; the others use
+/// `PyMonitor::run`).
+pub(crate) fn in_pool<T: Send>(py: Python<'_>, f: impl FnOnce() -> T + Send) -> PyResult<T> {
+    py.detach(|| crate::pool::run(f))
+        .map_err(|e| to_pyerr(py, e))
 }

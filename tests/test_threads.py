@@ -1,0 +1,52 @@
+"""The crate's thread pool: its size can be set at run time, results do not depend on it,
+and a process forked after a solve (multiprocessing's default on Linux) solves too."""
+
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+import mdrvisc as mv
+
+SCENE = mv.Scene(indenter=mv.Paraboloid(c=1.0, edge=2.56), medium=mv.Viscous(eta=1.0), force=1.0,
+                 duration=5.0)
+
+
+def test_thread_count_is_set_and_results_repeat_bit_for_bit():
+    runs = {}
+    try:
+        for n in (1, 2):
+            mv.set_num_threads(n)
+            assert mv.num_threads() == n
+            runs[n] = mv.solve(SCENE, "bem", 65).depth
+    finally:
+        mv.set_num_threads(None)
+    np.testing.assert_array_equal(runs[1], runs[2])
+    with pytest.raises(mv.InvalidInputError, match=">= 1"):
+        mv.set_num_threads(0)
+
+
+def test_a_forked_child_solves_after_the_parent_did(tmp_path):
+    """Without its own pool rebuilt after fork, the child's first solve waits forever for
+    threads the fork did not copy (the timeout turns that into a failure)."""
+    script = tmp_path / "fork.py"
+    script.write_text(
+        "import multiprocessing as mp\n"
+        "import mdrvisc as mv\n"
+        "sc = mv.Scene(indenter=mv.Paraboloid(c=1.0, edge=2.56), medium=mv.Viscous(eta=1.0),"
+        " force=1.0, duration=5.0)\n"
+        "def child(q):\n"
+        "    q.put(float(mv.solve(sc, 'bem', 33).depth[-1]))\n"
+        "if __name__ == '__main__':\n"
+        "    parent = float(mv.solve(sc, 'bem', 33).depth[-1])\n"
+        "    ctx = mp.get_context('fork')\n"
+        "    q = ctx.Queue()\n"
+        "    p = ctx.Process(target=child, args=(q,))\n"
+        "    p.start()\n"
+        "    value = q.get(timeout=60)\n"
+        "    p.join(60)\n"
+        "    assert value == parent and p.exitcode == 0\n"
+        "    print('ok')\n")
+    out = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, timeout=120)
+    assert out.returncode == 0 and out.stdout.strip() == "ok", out.stderr
