@@ -22,7 +22,8 @@ from .solve import solve
 
 __version__ = "0.1.0"
 
-__all__ = ["set_num_threads", "num_threads", "Scene", "Result", "Fields", "OUTPUTS", "solve", "Rod", "Paraboloid", "Cone", "Sphere",
-           "Axisymmetric", "Profile", "Indenter", "Viscous", "Elastic", "KelvinVoigt", "Maxwell",
-           "StandardSolid", "Prony", "analytic", "arrays", "scenefile", "MdrviscError", "InvalidInputError",
-           "ConvergenceError", "DomainError", "__version__"]
+__all__ = ["Scene", "Result", "Fields", "OUTPUTS", "solve", "set_num_threads", "num_threads",
+           "Rod", "Paraboloid", "Cone", "Sphere", "Axisymmetric", "Profile", "Indenter", "Viscous",
+           "Elastic", "KelvinVoigt", "Maxwell", "StandardSolid", "Prony", "analytic", "arrays",
+           "scenefile", "MdrviscError", "InvalidInputError", "ConvergenceError", "DomainError",
+           "__version__"]
