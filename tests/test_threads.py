@@ -50,3 +50,17 @@ def test_a_forked_child_solves_after_the_parent_did(tmp_path):
         "    print('ok')\n")
     out = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, timeout=120)
     assert out.returncode == 0 and out.stdout.strip() == "ok", out.stderr
+
+
+def test_one_surface_operator_serves_several_threads():
+    """Calls from 4 threads on one operator all succeed and equal the sequential result."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    op = mv.arrays.SurfaceOperator((65, 65), 0.04)
+    rng = np.random.default_rng(3)
+    pressures = [rng.random((65, 65)) for _ in range(16)]
+    expected = [op.apply(p) for p in pressures]
+    with ThreadPoolExecutor(4) as pool:
+        got = list(pool.map(op.apply, pressures))
+    for a, b in zip(expected, got):
+        np.testing.assert_array_equal(a, b)

@@ -40,7 +40,9 @@ class SurfaceOperator:
     times: element pressures (Pa) to element-centre deflections (m) of an incompressible
     half-space with G = 1 Pa (Love's coefficients, zero-padded FFT convolution in Rust, GIL
     released). Divide by the shear modulus G for an elastic body, or by eta for the surface
-    velocity of a viscous one.
+    velocity of a viscous one. One operator may be shared between threads: its buffers are
+    behind a lock, so calls from different threads run one after the other (build one
+    operator per thread to apply in parallel).
 
     Parameters
     ----------

@@ -20,6 +20,7 @@ use numpy::{
     IntoPyArray, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods,
 };
 use pyo3::prelude::*;
+use std::sync::Mutex;
 use std::time::Instant;
 
 /// Settings of a BEM run on a given grid (n: its longer side).
@@ -244,9 +245,33 @@ pub(crate) fn surface_deflection<'py>(
 /// built once (Love kernel spectrum, FFT plans, buffers) and applied many times:
 /// `apply(p)` maps element pressures (Pa, shape (ny, nx)) to element-centre deflections (m)
 /// of an incompressible half-space with G = 1 Pa (divide by G, or by eta for rates).
-#[pyclass(name = "SurfaceOperator", module = "mdrvisc._core")]
+///
+/// One operator may be used from several threads: its buffers are behind a lock, so calls
+/// from different threads run one after the other.
+#[pyclass(name = "SurfaceOperator", module = "mdrvisc._core", frozen)]
 pub(crate) struct PySurfaceOperator {
-    op: FftOperator,
+    op: Mutex<FftOperator>,
+    /// (ny, nx) of the grid.
+    shape: [usize; 2],
+    /// Element side (m).
+    dx: f64,
+    /// Zero-padded FFT sizes (y, x).
+    padded: (usize, usize),
+}
+
+impl PySurfaceOperator {
+    /// Applies the operator on the crate's pool, the GIL released. The lock is taken on the
+    /// calling thread before the pool is entered: a worker waiting for the lock could
+    /// otherwise be the one the holder's parallel loop needs. A poisoned lock still holds
+    /// valid buffers (each apply overwrites them).
+    fn apply_locked(&self, py: Python<'_>, p: &[f64], u: &mut [f64]) -> PyResult<()> {
+        py.detach(|| {
+            let mut guard = self.op.lock().unwrap_or_else(|e| e.into_inner());
+            let op: &mut FftOperator = &mut guard;
+            crate::pool::run(|| op.apply(p, u))
+        })
+        .map_err(|e| to_pyerr(py, e))
+    }
 }
 
 #[pymethods]
@@ -256,19 +281,25 @@ impl PySurfaceOperator {
         let op = py
             .detach(|| FftOperator::new(nx, ny, dx))
             .map_err(|e| to_pyerr(py, e))?;
-        Ok(PySurfaceOperator { op })
+        let (mx, my) = op.padded();
+        Ok(PySurfaceOperator {
+            shape: [op.ny(), op.nx()],
+            dx: op.dx(),
+            padded: (my, mx),
+            op: Mutex::new(op),
+        })
     }
 
     /// K[p] (m) for pressures `p` (Pa, (ny, nx) float64), with the GIL released; written
     /// into `out` (a C-contiguous (ny, nx) float64 array) when given, else a new array.
     #[pyo3(signature = (p, out=None))]
     fn apply<'py>(
-        &mut self,
+        &self,
         py: Python<'py>,
         p: PyReadonlyArray2<'py, f64>,
         out: Option<Bound<'py, numpy::PyArray2<f64>>>,
     ) -> PyResult<Bound<'py, numpy::PyArray2<f64>>> {
-        let shape = [self.op.ny(), self.op.nx()];
+        let shape = self.shape;
         let bad_shape = |what: &str, got: &[usize]| {
             to_pyerr(
                 py,
@@ -289,7 +320,6 @@ impl PySurfaceOperator {
             }
         };
         check_finite("pressure", pv).map_err(|e| to_pyerr(py, e))?;
-        let op = &mut self.op;
         match out {
             Some(out) => {
                 if out.shape() != shape {
@@ -318,13 +348,13 @@ impl PySurfaceOperator {
                             Error::InvalidInput("out must be C-contiguous and writable".into()),
                         )
                     })?;
-                    in_pool(py, || op.apply(pv, u))?;
+                    self.apply_locked(py, pv, u)?;
                 }
                 Ok(out)
             }
             None => {
                 let mut u = vec![0.0; pv.len()];
-                in_pool(py, || op.apply(pv, &mut u))?;
+                self.apply_locked(py, pv, &mut u)?;
                 u.into_pyarray(py).reshape(shape)
             }
         }
@@ -333,20 +363,19 @@ impl PySurfaceOperator {
     /// Grid shape (ny, nx).
     #[getter]
     fn shape(&self) -> (usize, usize) {
-        (self.op.ny(), self.op.nx())
+        (self.shape[0], self.shape[1])
     }
 
     /// Element side (m).
     #[getter]
     fn dx(&self) -> f64 {
-        self.op.dx()
+        self.dx
     }
 
     /// Zero-padded FFT sizes (y, x).
     #[getter]
     fn padded(&self) -> (usize, usize) {
-        let (mx, my) = self.op.padded();
-        (my, mx)
+        self.padded
     }
 }
 
