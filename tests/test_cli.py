@@ -278,8 +278,12 @@ def test_wrong_type_or_value(path, value):
     """The error names the key (a nested table's values: the table) and what was wrong."""
     key = path if path.endswith(".type") else path.split(".")[0]
     named = rf"key '{key}(\[\d+\])?'( must|: (invalid|unknown|a number))"
-    with pytest.raises(mv.InvalidInputError, match=named):
+    with pytest.raises(mv.InvalidInputError, match=named) as info:
         parse_scene(edit(path, value))
+    if "." in path and not path.endswith(".type"):
+        # the table alone is not enough: the nested key or the offending value is named too
+        leaf, msg = path.rsplit(".", 1)[1], str(info.value)
+        assert f"`{leaf}`" in msg or f"'{leaf}'" in msg or json.dumps(value) in msg, msg
 
 
 def test_out_of_range_values_are_invalid_input():
