@@ -12,7 +12,8 @@ use crate::integrator::ExplicitControl;
 use crate::operator::{DenseOperator, FftOperator, SurfaceOperator};
 use crate::scene::assemble::{bem_static_report, bem_viscous_report, report, Wanted};
 use crate::scene::report::FieldSet;
-use crate::scene::{Method, RunSettings};
+use crate::scene::run::viscous_bem;
+use crate::scene::{Integrator, Method, RunSettings};
 use crate::static_contact;
 use crate::transforms;
 use crate::viscous::{self, ViscousRequest};
@@ -87,18 +88,19 @@ pub(crate) fn bem_viscous(
         fields_at: fields_at.clone(),
         depth_bounds: depth_bounds.unwrap_or_default(),
     };
-    let settings = grid_settings(
+    let mut settings = grid_settings(
         &grid,
         options(tol, max_iter, dense_limit, active_limit, precondition),
     );
-    let ctrl = explicit.map(|(step, area_change, start)| ExplicitControl {
-        step,
-        area_change,
-        start,
-    });
-    let s = PyMonitor::new(progress).run(py, |monitor| match &ctrl {
-        None => viscous::run_implicit(&grid, eta, &hist, &request, &settings.solver, monitor),
-        Some(c) => viscous::run_explicit(&grid, eta, &hist, &request, c, &settings.solver, monitor),
+    if let Some((step, area_change, start)) = explicit {
+        settings.integrator = Integrator::Explicit(ExplicitControl {
+            step,
+            area_change,
+            start,
+        });
+    }
+    let s = PyMonitor::new(progress).run(py, |monitor| {
+        viscous_bem(&grid, eta, &hist, &request, &settings, monitor)
     })?;
     let forces = times.iter().map(|&t| hist.force(t)).collect();
     let all = !fields_at.is_empty();
@@ -110,12 +112,7 @@ pub(crate) fn bem_viscous(
         deflection: all,
     };
     let fields: Vec<(f64, usize)> = fields_at.iter().map(|&k| (times[k], k)).collect();
-    let label = if ctrl.is_some() {
-        "explicit"
-    } else {
-        "implicit"
-    };
-    let mut inner = bem_viscous_report(&settings, &grid, label, forces, s, wanted, &fields);
+    let mut inner = bem_viscous_report(&settings, &grid, forces, s, wanted, &fields);
     inner.wall_time = start.elapsed().as_secs_f64();
     Ok(PyReport { inner })
 }

@@ -142,13 +142,12 @@ pub fn covers(grid: &Grid, area: f64) -> bool {
 pub fn bem_viscous_report(
     settings: &RunSettings,
     grid: &Grid,
-    label: &str,
     forces: Vec<f64>,
     s: ViscousSeries,
     wanted: Wanted,
     fields: &[(f64, usize)],
 ) -> Report {
-    let mut out = report(settings, grid.dx, label, s.t);
+    let mut out = report(settings, grid.dx, settings.integrator.name(), s.t);
     out.grid_shape = Some([grid.ny, grid.nx]);
     out.depth = s.depth;
     out.contact_length = s.contact_length;

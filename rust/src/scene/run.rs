@@ -9,6 +9,7 @@ use super::sizing::{bem_grid, depth_bounds, mdr_foundation, mdr_half_length, DEP
 use super::{Output, Scene};
 use crate::contact::{SolverOptions, Target};
 use crate::error::{check_positive, Error, Result};
+use crate::grid::Grid;
 use crate::integrator::ExplicitControl;
 use crate::loading::{ForceHistory, Loading};
 use crate::mdr;
@@ -16,7 +17,7 @@ use crate::monitor::Monitor;
 use crate::static_contact;
 use crate::transforms;
 use crate::viscoelastic;
-use crate::viscous::{self, ViscousRequest};
+use crate::viscous::{self, ViscousRequest, ViscousSeries};
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
 use std::time::Instant;
@@ -49,6 +50,36 @@ pub enum Integrator {
     Implicit,
     /// The paper's explicit loop (its Fig. 1b).
     Explicit(ExplicitControl),
+}
+
+impl Integrator {
+    /// "implicit" or "explicit".
+    pub fn name(&self) -> &'static str {
+        match self {
+            Integrator::Implicit => "implicit",
+            Integrator::Explicit(_) => "explicit",
+        }
+    }
+}
+
+/// Runs a viscous BEM request on `grid` with the integrator and solver options of
+/// `settings` (eta in Pa s, the force history in N over s).
+pub fn viscous_bem(
+    grid: &Grid,
+    eta: f64,
+    history: &ForceHistory,
+    request: &ViscousRequest,
+    settings: &RunSettings,
+    monitor: &mut dyn Monitor,
+) -> Result<ViscousSeries> {
+    match &settings.integrator {
+        Integrator::Implicit => {
+            viscous::run_implicit(grid, eta, history, request, &settings.solver, monitor)
+        }
+        Integrator::Explicit(c) => {
+            viscous::run_explicit(grid, eta, history, request, c, &settings.solver, monitor)
+        }
+    }
 }
 
 /// Largest BEM grid side (elements).
@@ -247,16 +278,7 @@ fn run_viscous(scene: &Scene, settings: &RunSettings, monitor: &mut dyn Monitor)
     }
     let times = scene.output_times();
     let steps = scene.field_steps();
-    let (label, forces) = (
-        match settings.integrator {
-            Integrator::Implicit => "implicit",
-            Integrator::Explicit(_) => "explicit",
-        },
-        times
-            .iter()
-            .map(|&t| history.force(t))
-            .collect::<Vec<f64>>(),
-    );
+    let forces: Vec<f64> = times.iter().map(|&t| history.force(t)).collect();
     match settings.method {
         Method::Bem => {
             let grid = bem_grid(scene, settings.n)?;
@@ -267,31 +289,12 @@ fn run_viscous(scene: &Scene, settings: &RunSettings, monitor: &mut dyn Monitor)
                 fields_at: steps.clone(),
                 depth_bounds,
             };
-            let s = match &settings.integrator {
-                Integrator::Implicit => viscous::run_implicit(
-                    &grid,
-                    eta,
-                    &history,
-                    &request,
-                    &settings.solver,
-                    monitor,
-                )?,
-                Integrator::Explicit(c) => viscous::run_explicit(
-                    &grid,
-                    eta,
-                    &history,
-                    &request,
-                    c,
-                    &settings.solver,
-                    monitor,
-                )?,
-            };
+            let s = viscous_bem(&grid, eta, &history, &request, settings, monitor)?;
             unbounded_inside(scene, &s.at_edge, &s.t)?;
             let fields: Vec<(f64, usize)> = scene.field_times().into_iter().zip(steps).collect();
             Ok(bem_viscous_report(
                 settings,
                 &grid,
-                label,
                 forces,
                 s,
                 Wanted::of(scene),
@@ -316,7 +319,7 @@ fn run_viscous(scene: &Scene, settings: &RunSettings, monitor: &mut dyn Monitor)
                     mdr::run_explicit(&f, eta, &history, &times, c, monitor)?
                 }
             };
-            let mut out = report(settings, f.dx(), label, s.t.clone());
+            let mut out = report(settings, f.dx(), settings.integrator.name(), s.t.clone());
             out.depth = s.depth.clone();
             out.contact_length = s.contact_length.clone();
             out.force = forces;
