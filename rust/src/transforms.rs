@@ -1,11 +1,15 @@
 //! Inverse MDR transforms: 3D axisymmetric fields from a 1D solution.
 //!
-//! Both work on piecewise-constant 1D data (one value per element, centres at
-//! x_i = (i - (n - 1) / 2) dx, symmetric about 0) and are exact for such data:
-//! * pressure p(r) = -(1/pi) integral_r^inf q'(x) / sqrt(x^2 - r^2) dx, where q' is a sum of
-//!   jumps at element boundaries;
+//! Both work on 1D data with one value per element, centres at x_i = (i - (n - 1) / 2) dx,
+//! symmetric about 0:
+//! * pressure p(r) = -(1/pi) integral_r^inf q'(x) / sqrt(x^2 - r^2) dx, for the line load
+//!   interpolated between element centres (linearly; quadratically, with zero slope, across
+//!   the centre x = 0) and ending in a jump at the outer edge of the last element (a punch's
+//!   rim). A piecewise-constant q would put an inverse-square-root spike at every element
+//!   edge; the interpolated one keeps the pressure of a smooth line load smooth and leaves
+//!   a constant one (the flat punch) exact;
 //! * surface deflection (or its rate) outside the contact,
-//!   u(r) = (2/pi) integral_0^a w(x) / sqrt(r^2 - x^2) dx.
+//!   u(r) = (2/pi) integral_0^a w(x) / sqrt(r^2 - x^2) dx, exact for piecewise-constant w.
 
 use crate::error::{check_finite, check_positive, Error, Result};
 use std::f64::consts::PI;
@@ -38,25 +42,42 @@ fn check(values: &[f64], dx: f64, r: &[f64], what: &str) -> Result<()> {
     Ok(())
 }
 
+/// integral from x0 to x1 of dx / sqrt(x^2 - r^2) for r <= x0 <= x1 (r >= 0).
+fn inverse_root_integral(x0: f64, x1: f64, r: f64) -> f64 {
+    let term = |x: f64| x + ((x - r) * (x + r)).max(0.0).sqrt();
+    (term(x1) / term(x0)).ln()
+}
+
 /// 3D pressure p(r) (Pa) at radii `r` (m) from the 1D line load `q` (N/m).
 pub fn pressure_from_line_load(q: &[f64], dx: f64, r: &[f64]) -> Result<Vec<f64>> {
     check(q, dx, r, "line load")?;
-    let half = right_half(q, dx);
-    // Jumps of q at the right edge of each element: next value minus this one.
-    let jumps: Vec<(f64, f64)> = half
-        .iter()
-        .enumerate()
-        .map(|(k, &(_, b, v))| (b, half.get(k + 1).map_or(0.0, |e| e.2) - v))
-        .filter(|&(_, j)| j != 0.0)
+    let n = q.len();
+    // values at the centres with x >= 0, outwards
+    let first = n / 2;
+    let nodes: Vec<(f64, f64)> = (first..n)
+        .map(|i| ((i as f64 - 0.5 * (n as f64 - 1.0)) * dx, q[i]))
         .collect();
+    let (last_x, last_q) = nodes[nodes.len() - 1];
+    let rim = last_x + 0.5 * dx;
     Ok(r.iter()
         .map(|&r| {
-            -jumps
-                .iter()
-                .filter(|&&(b, _)| b > r)
-                .map(|&(b, j)| j / (b * b - r * r).sqrt())
-                .sum::<f64>()
-                / PI
+            let mut integral = 0.0;
+            for w in nodes.windows(2) {
+                let ((x0, q0), (x1, q1)) = (w[0], w[1]);
+                if x1 <= r || q1 == q0 {
+                    continue;
+                }
+                integral += if x0 == 0.0 {
+                    // q0 + (q1 - q0)(x / x1)^2 across the centre: q' = 2 (q1 - q0) x / x1^2
+                    2.0 * (q1 - q0) / (x1 * x1) * ((x1 - r) * (x1 + r)).sqrt()
+                } else {
+                    (q1 - q0) / dx * inverse_root_integral(x0.max(r), x1, r)
+                };
+            }
+            if rim > r {
+                integral -= last_q / ((rim - r) * (rim + r)).sqrt();
+            }
+            -integral / PI
         })
         .collect())
 }

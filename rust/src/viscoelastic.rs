@@ -14,10 +14,11 @@ use crate::contact::{ContactSolver, SolverOptions, Target};
 use crate::error::{check_positive, Error, Result};
 use crate::grid::Grid;
 use crate::loading::{check_output_times, Loading};
-use crate::mdr::{depth_on_sorted, prefix_sums};
+use crate::mdr::{depth_on_sorted, prefix_sums, Fields1D};
 use crate::monitor::Monitor;
 use crate::operator::{FftOperator, SurfaceOperator};
 use crate::rheology::Rheology;
+use crate::viscous::Fields;
 
 /// Time series of a viscoelastic run, one entry per output time.
 #[derive(Debug, Clone, PartialEq, Default)]
@@ -31,6 +32,10 @@ pub struct Series {
     pub force: Vec<f64>,
     /// Contact length: BEM 2 sqrt(A / pi), MDR elements in contact times dx (m).
     pub contact_length: Vec<f64>,
+    /// Penetration rate dd/dt (m/s): the second-order backward difference of the depth over
+    /// the last three step times (first order on the first two steps, where the state at
+    /// t = 0 may precede a jump of the load).
+    pub velocity: Vec<f64>,
     /// Solver iterations per output interval (BEM).
     pub iterations: Vec<usize>,
     /// Largest final relative residual of the contact solves per output interval (BEM).
@@ -39,6 +44,81 @@ pub struct Series {
     pub at_edge: Vec<bool>,
     /// Time steps taken.
     pub steps: usize,
+}
+
+/// What a viscoelastic run computes: output times, step length, and fields.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Request<'a> {
+    /// Output times (s), > 0 and increasing.
+    pub times: &'a [f64],
+    /// Longest time step (s).
+    pub dt: f64,
+    /// Output-time indices at which to build fields.
+    pub fields_at: &'a [usize],
+    /// Whether those fields include surface-velocity rates (which keep two earlier states).
+    pub field_rates: bool,
+}
+
+impl Request<'_> {
+    fn check(&self) -> Result<()> {
+        if let Some(&k) = self.fields_at.iter().find(|&&k| k >= self.times.len()) {
+            return Err(Error::InvalidInput(format!(
+                "field output index {k} is out of range for {} output times",
+                self.times.len()
+            )));
+        }
+        Ok(())
+    }
+}
+
+/// The last two states of a quantity (a scalar or one value per point) and their times,
+/// for the backward-difference rate at a new state.
+struct Trail {
+    t: [f64; 2],
+    v: [Vec<f64>; 2],
+    known: usize,
+}
+
+impl Trail {
+    /// A trail that starts from `start` at t = 0.
+    fn new(start: Vec<f64>) -> Self {
+        Trail {
+            t: [0.0, 0.0],
+            v: [start.clone(), start],
+            known: 1,
+        }
+    }
+
+    /// Weights of the new state and the last two in the rate at `t`: BDF2 on the
+    /// nonuniform steps once two states after the start are known, first order before.
+    fn weights(&self, t: f64) -> [f64; 3] {
+        let h1 = t - self.t[0];
+        if self.known < 3 {
+            return [1.0 / h1, -1.0 / h1, 0.0];
+        }
+        let h2 = self.t[0] - self.t[1];
+        [
+            (2.0 * h1 + h2) / (h1 * (h1 + h2)),
+            -(h1 + h2) / (h1 * h2),
+            h1 / (h2 * (h1 + h2)),
+        ]
+    }
+
+    /// Rate (per s) at `t` of the new state `now`, written to `rate`.
+    fn rate(&self, t: f64, now: &[f64], rate: &mut [f64]) {
+        let [c0, c1, c2] = self.weights(t);
+        for (i, r) in rate.iter_mut().enumerate() {
+            *r = c0 * now[i] + c1 * self.v[0][i] + c2 * self.v[1][i];
+        }
+    }
+
+    /// Records the new state `now` at `t`.
+    fn push(&mut self, t: f64, now: &[f64]) {
+        self.v.swap(0, 1);
+        self.v[0].copy_from_slice(now);
+        self.t = [t, self.t[0]];
+        self.known += 1;
+    }
 }
 
 /// Most time steps a run may take, so that no step list outgrows memory (16 bytes a step).
@@ -79,22 +159,32 @@ fn step_times(times: &[f64], dt: f64) -> Result<Vec<(f64, bool)>> {
 }
 
 /// MDR: a viscoelastic foundation (elements 4 dx times the medium) under a 1D profile `g`
-/// (m, spacing dx m), output at `times` (s), steps no longer than `dt` (s).
+/// (m, spacing dx m), output as `request` says; also the 1D fields at its field indices:
+/// displacements w (m), line load 4 s (N/m, s the element stress) and dw/dt (m/s, zero
+/// unless field rates are asked for).
 pub fn run_mdr(
     g: &[f64],
     dx: f64,
     medium: &Rheology,
     loading: &Loading,
-    times: &[f64],
-    dt: f64,
+    request: &Request,
     monitor: &mut dyn Monitor,
-) -> Result<Series> {
+) -> Result<(Series, Vec<Fields1D>)> {
     check_positive("element spacing dx", dx)?;
     let n = g.len();
     if n == 0 {
         return Err(Error::InvalidInput("the 1D profile has no elements".into()));
     }
-    let steps = step_times(times, dt)?;
+    request.check()?;
+    let steps = step_times(request.times, request.dt)?;
+    let start = match loading {
+        Loading::Depth(h) => h.depth(0.0),
+        Loading::Force(_) => g.iter().copied().fold(f64::INFINITY, f64::min),
+    };
+    let mut depths = Trail::new(vec![start]);
+    let field_rates = request.field_rates && !request.fields_at.is_empty();
+    let mut displacements = field_rates.then(|| Trail::new(vec![0.0; n]));
+    let mut fields = vec![];
     let m = medium.internal();
     let (mut w, mut q) = (vec![0.0; n], vec![0.0; n * m]);
     let mut surface = vec![0.0; n];
@@ -140,33 +230,68 @@ pub fn run_mdr(
             rule.advance(w[i], w_new, &mut q[i * m..(i + 1) * m]);
             w[i] = w_new;
         }
+        let mut rate = [0.0];
+        depths.rate(t, &[depth], &mut rate);
         if output {
+            let k = out.t.len();
             out.t.push(t);
             out.depth.push(depth);
             out.force.push(force);
             out.contact_length.push(count as f64 * dx);
+            out.velocity.push(rate[0]);
             out.iterations.push(0);
+            if request.fields_at.contains(&k) {
+                let line_load = (0..n)
+                    .map(|i| 4.0 * rule.g_eff * (depth - surface[i]).max(0.0))
+                    .collect();
+                let mut velocity = vec![0.0; n];
+                if let Some(trail) = &displacements {
+                    trail.rate(t, &w, &mut velocity);
+                }
+                fields.push(Fields1D {
+                    step: k,
+                    displacement: w.clone(),
+                    line_load,
+                    velocity,
+                });
+            }
+        }
+        depths.push(t, &[depth]);
+        if let Some(trail) = &mut displacements {
+            trail.push(t, &w);
         }
         out.steps = s + 1;
         monitor.progress("time steps", s + 1, steps.len())?;
         t_prev = t;
     }
-    Ok(out)
+    Ok((out, fields))
 }
 
-/// BEM: a viscoelastic half-space under an indenter on `grid`, output at `times` (s), steps
-/// no longer than `dt` (s).
+/// BEM: a viscoelastic half-space under an indenter on `grid`, output as `request` says;
+/// also the fields at its field indices: pressure (Pa), deflection u = K[x] (m) and its
+/// rate (m/s, zero unless field rates are asked for).
 pub fn run_bem(
     grid: &Grid,
     medium: &Rheology,
     loading: &Loading,
-    times: &[f64],
-    dt: f64,
+    request: &Request,
     opts: &SolverOptions,
     monitor: &mut dyn Monitor,
-) -> Result<Series> {
-    let steps = step_times(times, dt)?;
+) -> Result<(Series, Vec<Fields>)> {
+    request.check()?;
+    let steps = step_times(request.times, request.dt)?;
     let n = grid.nx * grid.ny;
+    let start = match loading {
+        Loading::Depth(h) => h.depth(0.0),
+        Loading::Force(_) => (0..n)
+            .filter(|&i| grid.allowed[i])
+            .map(|i| grid.height[i])
+            .fold(f64::INFINITY, f64::min),
+    };
+    let mut depths = Trail::new(vec![start]);
+    let field_rates = request.field_rates && !request.fields_at.is_empty();
+    let mut strains = field_rates.then(|| Trail::new(vec![0.0; n]));
+    let mut fields = vec![];
     let m = medium.internal();
     let mut solver = ContactSolver::new(FftOperator::new(grid.nx, grid.ny, grid.dx)?);
     let (mut x, mut q) = (vec![0.0; n], vec![0.0; n * m]);
@@ -242,24 +367,48 @@ pub fn run_bem(
             x[i] = x_new;
             count += usize::from(p[i] > 0.0);
         }
+        let mut rate = [0.0];
+        depths.rate(t, &[depth], &mut rate);
         if output {
+            let k = out.t.len();
             let area = count as f64 * grid.dx * grid.dx;
             out.t.push(t);
             out.depth.push(depth);
             out.force.push(force);
             out.contact_length
                 .push(2.0 * (area / std::f64::consts::PI).sqrt());
+            out.velocity.push(rate[0]);
             out.iterations.push(iterations);
             out.residual.push(residual);
             let contact: Vec<bool> = p.iter().map(|&v| v > 0.0).collect();
             out.at_edge.push(grid.touches_edge(&contact));
             (iterations, residual) = (0, 0.0);
+            if request.fields_at.contains(&k) {
+                let pressure = p.to_vec();
+                let mut deflection = vec![0.0; n];
+                solver.operator().apply(&x, &mut deflection);
+                let mut velocity = vec![0.0; n];
+                if let Some(trail) = &strains {
+                    trail.rate(t, &x, &mut hist);
+                    solver.operator().apply(&hist, &mut velocity);
+                }
+                fields.push(Fields {
+                    step: k,
+                    pressure,
+                    velocity,
+                    deflection,
+                });
+            }
+        }
+        depths.push(t, &[depth]);
+        if let Some(trail) = &mut strains {
+            trail.push(t, &x);
         }
         out.steps = s + 1;
         monitor.progress("time steps", s + 1, steps.len())?;
         t_prev = t;
     }
-    Ok(out)
+    Ok((out, fields))
 }
 
 #[cfg(test)]
@@ -292,7 +441,13 @@ mod tests {
             .map(|k| 1e-7 * (5e7f64).powf(k as f64 / 39.0))
             .collect();
         let loading = Loading::Force(ForceHistory::constant(f).unwrap());
-        let s = run_mdr(&g, dx, &medium, &loading, &times, 1e-2, &mut Silent).unwrap();
+        let request = Request {
+            times: &times,
+            dt: 1e-2,
+            fields_at: &[],
+            field_rates: false,
+        };
+        let (s, _) = run_mdr(&g, dx, &medium, &loading, &request, &mut Silent).unwrap();
         let g0 = g_inf + g1;
         let r = 1.0 / (2.0 * c);
         for (t, d) in s.t.iter().zip(&s.depth) {
@@ -311,13 +466,18 @@ mod tests {
         let (prof, dx) = parabola(4001, 1.0, 1.0);
         let hist = DepthHistory::piecewise_linear(vec![0.0, 1e-6], vec![0.0, 0.2]).unwrap();
         let times = [1e-6, 0.1, 0.5, 1.0];
-        let s = run_mdr(
+        let request = Request {
+            times: &times,
+            dt: 1e-3,
+            fields_at: &[],
+            field_rates: false,
+        };
+        let (s, _) = run_mdr(
             &prof,
             dx,
             &medium,
             &Loading::Depth(hist),
-            &times,
-            1e-3,
+            &request,
             &mut Silent,
         )
         .unwrap();

@@ -6,14 +6,32 @@ use super::run::RunSettings;
 use super::{Output, Scene};
 use crate::error::Result;
 use crate::grid::Grid;
-use crate::mdr::{self, Foundation};
+use crate::mdr;
 use crate::static_contact;
 use crate::transforms;
-use crate::viscous::ViscousSeries;
+use crate::viscous::{Fields, ViscousSeries};
 use std::f64::consts::PI;
 
-/// Radii of an MDR radial field: this many points from 0 to twice the contact radius.
-pub const RADIAL_POINTS: usize = 401;
+/// Radii of an MDR radial field inside the contact (this many, from 0 towards the contact
+/// radius a) and outside it (one more, from just beyond a out to 2a).
+pub const RADIAL_POINTS: usize = 200;
+
+/// Radii (m) of an MDR radial field of contact radius `a` (m): graded towards r = a from
+/// both sides, where the pressure of a sharp-edged contact has its inverse-square-root
+/// singularity, so that the trapezoid rule over the samples integrates the force; r = a
+/// itself is not sampled. Without contact, uniform radii out to twice the element size
+/// `dx` (m).
+pub fn radial_points(a: f64, dx: f64) -> Vec<f64> {
+    let m = RADIAL_POINTS as f64;
+    if a <= 0.0 {
+        return (0..=2 * RADIAL_POINTS)
+            .map(|j| 2.0 * dx * j as f64 / (2.0 * m))
+            .collect();
+    }
+    let inside = (0..RADIAL_POINTS).map(|j| a * (1.0 - (1.0 - j as f64 / m).powi(4)));
+    let outside = (1..=RADIAL_POINTS + 1).map(|j| a * (1.0 + (j as f64 / (m + 1.0)).powi(4)));
+    inside.chain(outside).collect()
+}
 
 /// Element-centre coordinates (m) of `m` elements of size dx, symmetric about 0.
 pub fn centres(m: usize, dx: f64) -> Vec<f64> {
@@ -161,9 +179,22 @@ pub fn bem_viscous_report(
     out.solves = s.solves;
     out.iterations = s.iterations.iter().sum();
     out.residual = s.residual.iter().fold(0.0, |a: f64, &b| a.max(b));
-    for &(t, k) in fields {
-        if let Some(f) = s.fields.iter().find(|f| f.step == k) {
-            out.fields.push(FieldSet {
+    out.fields = bem_fields(grid, &s.fields, wanted, fields);
+    out
+}
+
+/// BEM field sets on `grid` at (time, output index) `at`, from the solver's fields, as
+/// `wanted` says.
+pub fn bem_fields(
+    grid: &Grid,
+    solved: &[Fields],
+    wanted: Wanted,
+    at: &[(f64, usize)],
+) -> Vec<FieldSet> {
+    at.iter()
+        .filter_map(|&(t, k)| {
+            let f = solved.iter().find(|f| f.step == k)?;
+            Some(FieldSet {
                 t,
                 x: Some(centres(grid.nx, grid.dx)),
                 y: Some(centres(grid.ny, grid.dx)),
@@ -171,10 +202,9 @@ pub fn bem_viscous_report(
                 surface_velocity: wanted.surface_velocity.then(|| f.velocity.clone()),
                 deflection: wanted.deflection.then(|| f.deflection.clone()),
                 ..FieldSet::default()
-            });
-        }
-    }
-    out
+            })
+        })
+        .collect()
 }
 
 /// Value at the grid centre: the centre element (odd sizes) or the mean of the 2 or 4
@@ -195,26 +225,22 @@ pub fn central_value(field: &[f64], nx: usize, ny: usize) -> f64 {
     vals.iter().sum::<f64>() / vals.len() as f64
 }
 
-/// 3D radial fields at the field times from the 1D solution, by the inverse MDR transforms,
-/// at `RADIAL_POINTS` radii from 0 to twice the contact radius.
+/// 3D radial fields at the field times from the 1D solution (element spacing `dx`, m), by
+/// the inverse MDR transforms, at the `radial_points` of each time's contact radius.
 pub fn mdr_fields(
     scene: &Scene,
-    f: &Foundation,
+    dx: f64,
     s: &mdr::MdrSeries,
     field_times: &[f64],
     steps: &[usize],
 ) -> Result<Vec<FieldSet>> {
-    let dx = f.dx();
     let mut out = vec![];
     for (&t, &k) in field_times.iter().zip(steps) {
         let Some(fl) = s.fields.iter().find(|fl| fl.step == k) else {
             continue;
         };
         let a = 0.5 * s.contact_length[k];
-        let span = 2.0 * a.max(dx);
-        let r: Vec<f64> = (0..RADIAL_POINTS)
-            .map(|i| span * i as f64 / (RADIAL_POINTS - 1) as f64)
-            .collect();
+        let r = radial_points(a, dx);
         let inside = |v: &mut Vec<f64>, value: &dyn Fn(f64) -> Result<f64>| -> Result<()> {
             for (i, &ri) in r.iter().enumerate() {
                 if ri < a {

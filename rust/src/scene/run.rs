@@ -2,7 +2,8 @@
 //! viscous impulse engine, the paper's explicit loop, viscoelastic stepping) and the report.
 
 use super::assemble::{
-    bem_static_report, bem_viscous_report, central_value, centres, mdr_fields, report, Wanted,
+    bem_fields, bem_static_report, bem_viscous_report, central_value, centres, mdr_fields, report,
+    Wanted,
 };
 use super::report::{FieldSet, Report};
 use super::sizing::{bem_grid, depth_bounds, mdr_foundation, mdr_half_length, DEPTH_BOUND_FACTOR};
@@ -258,7 +259,7 @@ fn run_static(scene: &Scene, settings: &RunSettings, monitor: &mut dyn Monitor) 
             out.force = vec![force];
             out.saturated = Some(s.saturated.clone());
             out.solves = 1;
-            out.fields = mdr_fields(scene, &f, &s, &[0.0], &fields_at)?;
+            out.fields = mdr_fields(scene, f.dx(), &s, &[0.0], &fields_at)?;
             Ok(out)
         }
     }
@@ -336,7 +337,7 @@ fn run_viscous(scene: &Scene, settings: &RunSettings, monitor: &mut dyn Monitor)
                     .push("the explicit MDR integrator computes no fields".into());
             }
             let field_times = scene.field_times();
-            out.fields = mdr_fields(scene, &f, &s, &field_times, &steps)?;
+            out.fields = mdr_fields(scene, f.dx(), &s, &field_times, &steps)?;
             Ok(out)
         }
     }
@@ -437,10 +438,13 @@ fn mdr_punch(
     out.saturated = Some(s.saturated.clone());
     out.steps = times.len();
     out.solves = 1;
-    out.fields = mdr_fields(scene, &f, &s, &scene.field_times(), &steps)?;
+    out.fields = mdr_fields(scene, f.dx(), &s, &scene.field_times(), &steps)?;
     Ok(out)
 }
 
+/// A viscoelastic scene by exact exponential steps, with the penetration rate and fields
+/// as asked for; `stiffness_length` (F / (4 eta dd/dt)) has no meaning without a single
+/// viscosity and is refused.
 fn run_viscoelastic(
     scene: &Scene,
     settings: &RunSettings,
@@ -448,58 +452,71 @@ fn run_viscoelastic(
 ) -> Result<Report> {
     refuse(
         scene,
-        &[
-            Output::Velocity,
-            Output::StiffnessLength,
-            Output::Pressure,
-            Output::SurfaceVelocity,
-            Output::Deflection,
-        ],
-        "from the viscoelastic stepping (depth, contact length and force are)",
+        &[Output::StiffnessLength],
+        "for a viscoelastic medium: F / (4 eta dd/dt) needs a purely viscous one",
     )?;
     let rheology = scene.medium.rheology()?;
     let loading: Loading = scene.loading()?;
     let times = scene.output_times();
+    let steps = scene.field_steps();
+    let field_times = scene.field_times();
     let duration = scene.duration.expect("validated: a duration");
-    let dt = settings.dt.or(scene.dt).unwrap_or(duration / DEFAULT_STEPS);
-    let (s, dx, shape) = match settings.method {
+    let request = viscoelastic::Request {
+        times: &times,
+        dt: settings.dt.or(scene.dt).unwrap_or(duration / DEFAULT_STEPS),
+        fields_at: &steps,
+        field_rates: scene.wants(Output::SurfaceVelocity),
+    };
+    let (s, mut out) = match settings.method {
         Method::Mdr => {
             let (g, dx) = scene
                 .indenter
                 .mdr_profile(settings.n, mdr_half_length(scene)?)?;
-            let s = viscoelastic::run_mdr(&g, dx, &rheology, &loading, &times, dt, monitor)?;
-            (s, dx, None)
+            let (s, fields) =
+                viscoelastic::run_mdr(&g, dx, &rheology, &loading, &request, monitor)?;
+            let radial = mdr::MdrSeries {
+                t: s.t.clone(),
+                depth: s.depth.clone(),
+                contact_length: s.contact_length.clone(),
+                velocity: s.velocity.clone(),
+                saturated: s
+                    .contact_length
+                    .iter()
+                    .map(|&l| l >= g.len() as f64 * dx)
+                    .collect(),
+                fields,
+            };
+            let mut out = report(settings, dx, "viscoelastic", s.t.clone());
+            out.fields = mdr_fields(scene, dx, &radial, &field_times, &steps)?;
+            out.saturated = Some(radial.saturated);
+            (s, out)
         }
         Method::Bem => {
             let grid = bem_grid(scene, settings.n)?;
-            let s = viscoelastic::run_bem(
+            let (s, fields) = viscoelastic::run_bem(
                 &grid,
                 &rheology,
                 &loading,
-                &times,
-                dt,
+                &request,
                 &settings.solver,
                 monitor,
             )?;
-            (s, grid.dx, Some([grid.ny, grid.nx]))
+            unbounded_inside(scene, &s.at_edge, &s.t)?;
+            let mut out = report(settings, grid.dx, "viscoelastic", s.t.clone());
+            out.grid_shape = Some([grid.ny, grid.nx]);
+            out.residual = s.residual.iter().fold(0.0, |a: f64, &b| a.max(b));
+            out.at_edge = Some(s.at_edge.clone());
+            out.solves = s.steps;
+            let at: Vec<(f64, usize)> = field_times.iter().copied().zip(steps.clone()).collect();
+            out.fields = bem_fields(&grid, &fields, Wanted::of(scene), &at);
+            (s, out)
         }
     };
-    unbounded_inside(scene, &s.at_edge, &s.t)?;
-    let mut out = report(settings, dx, "viscoelastic", s.t);
-    out.grid_shape = shape;
-    if settings.method == Method::Bem {
-        out.residual = s.residual.iter().fold(0.0, |a: f64, &b| a.max(b));
-        out.at_edge = Some(s.at_edge);
-    }
+    out.velocity = scene.wants(Output::Velocity).then_some(s.velocity);
     out.depth = s.depth;
     out.contact_length = s.contact_length;
     out.force = s.force;
     out.steps = s.steps;
-    out.solves = if settings.method == Method::Bem {
-        s.steps
-    } else {
-        0
-    };
     out.iterations = s.iterations.iter().sum();
     Ok(out)
 }
