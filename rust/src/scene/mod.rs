@@ -293,9 +293,32 @@ impl Scene {
         }
     }
 
-    /// Output times (s): the requested ones plus field times not within round-off
-    /// (1e-12 duration) of one of them, sorted; [0] for a static scene.
+    /// Times (s) the solvers run to: the `reported_times`, each within
+    /// `COINCIDENT_TIMES` of its value of the previous one merged into it.
     pub fn output_times(&self) -> Vec<f64> {
+        let mut solved: Vec<f64> = vec![];
+        for t in self.reported_times() {
+            match solved.last() {
+                Some(&prev) if t - prev <= COINCIDENT_TIMES * t => {}
+                _ => solved.push(t),
+            }
+        }
+        solved
+    }
+
+    /// For each of the `reported_times`, the index of the solved output time it is reported
+    /// from.
+    pub fn reported_from(&self) -> Vec<usize> {
+        let solved = self.output_times();
+        self.reported_times()
+            .iter()
+            .map(|&t| solved.partition_point(|&s| s <= t) - 1)
+            .collect()
+    }
+
+    /// Output times (s) of the report: the requested ones plus field times not within
+    /// round-off (1e-12 duration) of one of them, sorted; [0] for a static scene.
+    pub fn reported_times(&self) -> Vec<f64> {
         if self.medium.is_elastic() {
             return vec![0.0];
         }
@@ -352,8 +375,24 @@ fn check_times(name: &str, times: &[f64], duration: f64) -> Result<()> {
             "{name} must lie in (0, duration = {duration}], got {t}"
         )));
     }
+    let earliest = EARLIEST_TIME * duration;
+    if let Some(t) = times.iter().find(|&&t| t < earliest) {
+        return Err(Error::InvalidInput(format!(
+            "{name}: {t:e} s is too close to the start to resolve in double precision; \
+             output times must be >= {EARLIEST_TIME:e} of the duration ({earliest:e} s)"
+        )));
+    }
     Ok(())
 }
+
+/// Earliest output time, as a fraction of the duration: a solve at an impulse or a step
+/// this much smaller than the run's own works at the edge of double precision.
+pub const EARLIEST_TIME: f64 = 1e-12;
+
+/// Output times closer than this fraction of their value to the previous one are reported
+/// from the same solved state: a step that short is below what the contact solves resolve,
+/// and the state changes by less than this relative amount across it.
+pub const COINCIDENT_TIMES: f64 = 1e-9;
 
 #[cfg(test)]
 mod tests {
@@ -389,6 +428,20 @@ mod tests {
         s.field_times = Some(vec![2.5, 4.0]);
         assert_eq!(s.output_times(), vec![1.0, 2.0, 2.5, 3.0, 4.0, 5.0]);
         assert_eq!(s.field_steps(), vec![2, 4]);
+    }
+
+    /// Times within 1e-9 of their value are solved once and reported twice; a field time
+    /// among them maps to the solved one.
+    #[test]
+    fn coincident_times_are_solved_once() {
+        let mut s = paraboloid();
+        s.times = Some(vec![1.0, 1.0 + 1e-10, 3.0, 3.0 + 1e-6]);
+        s.outputs = Some(vec![Output::Depth, Output::Pressure]);
+        s.field_times = Some(vec![1.0 + 1e-10]);
+        assert_eq!(s.reported_times(), vec![1.0, 1.0 + 1e-10, 3.0, 3.0 + 1e-6]);
+        assert_eq!(s.output_times(), vec![1.0, 3.0, 3.0 + 1e-6]);
+        assert_eq!(s.reported_from(), vec![0, 0, 1, 2]);
+        assert_eq!(s.field_steps(), vec![0]);
     }
 
     #[test]

@@ -113,6 +113,35 @@ pub struct Report {
 pub const MIN_CONTACT_ELEMENTS: f64 = 10.0;
 
 impl Report {
+    /// The report at the output times `t` (s), entry k of each series taken from the solved
+    /// output `from[k]`.
+    pub fn expand(&mut self, t: Vec<f64>, from: &[usize]) {
+        fn pick<T: Copy>(v: &mut Vec<T>, from: &[usize]) {
+            *v = from.iter().map(|&k| v[k]).collect();
+        }
+        pick(&mut self.depth, from);
+        pick(&mut self.contact_length, from);
+        pick(&mut self.force, from);
+        for v in [
+            &mut self.area,
+            &mut self.velocity,
+            &mut self.stiffness_length,
+            &mut self.central_pressure,
+        ]
+        .into_iter()
+        .flatten()
+        {
+            pick(v, from);
+        }
+        for v in [&mut self.saturated, &mut self.at_edge]
+            .into_iter()
+            .flatten()
+        {
+            pick(v, from);
+        }
+        self.t = t;
+    }
+
     /// Flags output times whose contact spans fewer than `MIN_CONTACT_ELEMENTS` elements.
     pub fn check_resolution(&mut self) {
         let thin: Vec<usize> = (0..self.t.len())

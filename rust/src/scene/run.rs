@@ -168,6 +168,10 @@ pub fn run(scene: &Scene, settings: &RunSettings, monitor: &mut dyn Monitor) -> 
     } else {
         run_viscoelastic(scene, settings, monitor)?
     };
+    let from = scene.reported_from();
+    if from.len() != report.t.len() {
+        report.expand(scene.reported_times(), &from);
+    }
     report.check_resolution();
     report.wall_time = start.elapsed().as_secs_f64();
     Ok(report)
