@@ -64,3 +64,40 @@ def test_one_surface_operator_serves_several_threads():
         got = list(pool.map(op.apply, pressures))
     for a, b in zip(expected, got):
         np.testing.assert_array_equal(a, b)
+
+
+NESTED = """
+import sys, threading
+import mdrvisc as mv
+mv.set_num_threads(int(sys.argv[1]))
+sc = mv.Scene(indenter=mv.Paraboloid(c=1.0, edge=2.56), medium=mv.StandardSolid(1.0, 3.0, 0.5),
+              force=1.0, duration=2.0)
+inner = []
+def progress(stage, done, total):
+    if len(inner) < 2:
+        t = threading.Thread(target=lambda: inner.append(mv.solve(sc, 'mdr', 2001, dt=1e-3).depth[-1]))
+        t.start()
+        t.join()
+outer = []
+def run():
+    outer.append(mv.solve(sc, 'mdr', 4001, dt=1e-3, progress=progress).depth[-1])
+threads = [threading.Thread(target=run) for _ in range(2)]
+for t in threads:
+    t.start()
+for t in threads:
+    t.join()
+assert len(outer) == 2 and len(inner) >= 2, (outer, inner)
+print('ok')
+"""
+
+
+@pytest.mark.parametrize("threads", [1, 2])
+def test_a_callback_that_joins_another_solve_does_not_deadlock(tmp_path, threads):
+    """Two outer solves whose progress callbacks each run a solve on another thread and join
+    it: with callbacks served on the calling threads no worker of the pool waits on Python,
+    so the inner solves get workers (the timeout turns a deadlock into a failure)."""
+    script = tmp_path / "nested.py"
+    script.write_text(NESTED)
+    out = subprocess.run([sys.executable, str(script), str(threads)], capture_output=True, text=True,
+                         timeout=120)
+    assert out.returncode == 0 and out.stdout.strip() == "ok", out.stderr

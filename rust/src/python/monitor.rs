@@ -1,7 +1,7 @@
 //! Errors, progress and interruption across the Python boundary: crate errors become the
 //! exceptions of `mdrvisc.errors`; computations run on a rayon worker with the GIL released
-//! while the calling thread serves Ctrl-C, and progress callbacks are served between chunks
-//! of work.
+//! while the calling thread serves Ctrl-C and the progress callbacks, so that Python code
+//! never runs on, or holds, a worker of the pool.
 
 use crate::error::Error;
 use crate::monitor::Monitor;
@@ -38,104 +38,109 @@ pub(crate) fn to_pyerr(py: Python<'_>, e: Error) -> PyErr {
     }
 }
 
+/// What the worker running a computation tells the thread that waits for it.
+enum Message<T> {
+    /// `done` of `total` units of a stage are finished.
+    Progress(String, usize, usize),
+    /// The computation's result.
+    Done(crate::Result<T>),
+}
+
 /// Serves an optional Python callback `progress(stage, done, total)` at most every 200 ms
-/// (and at the end of each stage), and stops the computation when the callback raises or
-/// the calling thread caught a signal (`run`).
+/// (and at the end of each stage), on the calling thread, and stops the computation when
+/// the callback raises or that thread caught a signal (`run`).
 pub(crate) struct PyMonitor {
     callback: Option<Py<PyAny>>,
-    last: Instant,
-    error: Option<PyErr>,
+}
+
+/// The monitor a computation sees on its worker: it forwards progress to the waiting thread
+/// without waiting for it, so that no worker is ever held by Python code (a callback that
+/// runs and joins another solve cannot starve the pool), and stops when told to.
+struct Forward<T> {
+    tx: mpsc::Sender<Message<T>>,
+    last: Option<Instant>,
     cancel: Arc<AtomicBool>,
+}
+
+impl<T> Monitor for Forward<T> {
+    fn progress(&mut self, stage: &str, done: usize, total: usize) -> crate::Result<()> {
+        if self.cancel.load(Ordering::Relaxed) {
+            return Err(Error::Interrupted);
+        }
+        if done < total && self.last.is_some_and(|t| t.elapsed() < Duration::from_millis(200)) {
+            return Ok(());
+        }
+        self.last = Some(Instant::now());
+        // The receiver outlives the computation: the send cannot fail.
+        let _ = self.tx.send(Message::Progress(stage.into(), done, total));
+        Ok(())
+    }
 }
 
 impl PyMonitor {
     pub(crate) fn new(callback: Option<Py<PyAny>>) -> Self {
-        PyMonitor {
-            callback,
-            last: Instant::now(),
-            error: None,
-            cancel: Arc::new(AtomicBool::new(false)),
-        }
+        PyMonitor { callback }
     }
 
-    /// Runs `f` with this monitor on a rayon worker, the GIL released, while the calling
-    /// thread waits for it and checks for signals (Ctrl-C) every 50 ms; a signal stops `f` at
-    /// its next progress report (on a worker already, `f` runs in place). Returns f's result,
-    /// or the Python exception that stopped it.
+    /// Runs `f` on a worker of the crate's pool with the GIL released, while the calling
+    /// thread serves the progress callback and checks for signals (Ctrl-C) every 50 ms; a
+    /// signal or a raising callback stops `f` at its next progress report. Returns f's
+    /// result, or the Python exception that stopped it.
     pub(crate) fn run<T: Send>(
-        mut self,
+        self,
         py: Python<'_>,
-        f: impl FnOnce(&mut PyMonitor) -> crate::Result<T> + Send,
+        f: impl FnOnce(&mut dyn Monitor) -> crate::Result<T> + Send,
     ) -> PyResult<T> {
-        if rayon::current_thread_index().is_some() {
-            // Called from a worker (a progress callback that runs mdrvisc): run in place, as
-            // waiting on this thread for a job of the same pool could deadlock.
-            let r = py.detach(|| f(&mut self));
-            return self.finish(py, r);
-        }
         let pool = crate::pool::get().map_err(|e| to_pyerr(py, e))?;
-        let cancel = Arc::clone(&self.cancel);
-        let monitor = &mut self;
-        let (r, signal) = py.detach(|| {
-            let (tx, rx) = mpsc::channel();
-            let mut signal = None;
+        let cancel = Arc::new(AtomicBool::new(false));
+        let (tx, rx) = mpsc::channel();
+        let mut forward = Forward {
+            tx,
+            last: None,
+            cancel: Arc::clone(&cancel),
+        };
+        let callback = self.callback;
+        let (r, stop) = py.detach(move || {
+            let mut stop: Option<PyErr> = None;
             let r = pool.in_place_scope(|s| {
                 s.spawn(move |_| {
-                    // The receiver outlives the scope: the send cannot fail.
-                    let _ = tx.send(f(monitor));
+                    let r = f(&mut forward);
+                    let _ = forward.tx.send(Message::Done(r));
                 });
                 loop {
-                    match rx.recv_timeout(Duration::from_millis(50)) {
-                        Ok(r) => break r,
-                        Err(RecvTimeoutError::Timeout) if signal.is_none() => {
-                            if let Err(e) = Python::attach(|py| py.check_signals()) {
-                                cancel.store(true, Ordering::Relaxed);
-                                signal = Some(e);
-                            }
+                    let message = rx.recv_timeout(Duration::from_millis(50));
+                    let served = Python::attach(|py| -> PyResult<()> {
+                        if stop.is_none() {
+                            py.check_signals()?;
                         }
-                        Err(RecvTimeoutError::Timeout) => {}
+                        match (&message, &callback) {
+                            (Ok(Message::Progress(stage, done, total)), Some(cb))
+                                if stop.is_none() =>
+                            {
+                                cb.call1(py, (stage.as_str(), *done, *total))
+                                    .map(|_| ())
+                            }
+                            _ => Ok(()),
+                        }
+                    });
+                    if let Err(e) = served {
+                        cancel.store(true, Ordering::Relaxed);
+                        stop = Some(e);
+                    }
+                    match message {
+                        Ok(Message::Done(r)) => break r,
+                        Ok(Message::Progress(..)) | Err(RecvTimeoutError::Timeout) => {}
                         // The job panicked: the scope re-raises the panic when it ends.
                         Err(RecvTimeoutError::Disconnected) => break Err(Error::Interrupted),
                     }
                 }
             });
-            (r, signal)
+            (r, stop)
         });
-        match signal {
+        match stop {
             Some(e) => Err(e),
-            None => self.finish(py, r),
+            None => r.map_err(|e| to_pyerr(py, e)),
         }
-    }
-
-    /// Converts the computation's result, preferring the Python exception that stopped it.
-    fn finish<T>(self, py: Python<'_>, r: crate::Result<T>) -> PyResult<T> {
-        match (r, self.error) {
-            (Err(_), Some(e)) => Err(e),
-            (r, _) => r.map_err(|e| to_pyerr(py, e)),
-        }
-    }
-}
-
-impl Monitor for PyMonitor {
-    fn progress(&mut self, stage: &str, done: usize, total: usize) -> crate::Result<()> {
-        if self.cancel.load(Ordering::Relaxed) {
-            return Err(Error::Interrupted);
-        }
-        if done < total && self.last.elapsed() < Duration::from_millis(200) {
-            return Ok(());
-        }
-        self.last = Instant::now();
-        let outcome = Python::attach(|py| -> PyResult<()> {
-            py.check_signals()?;
-            if let Some(cb) = &self.callback {
-                cb.call1(py, (stage, done, total))?;
-            }
-            Ok(())
-        });
-        outcome.map_err(|e| {
-            self.error = Some(e);
-            Error::Interrupted
-        })
     }
 }
 
