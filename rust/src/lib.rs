@@ -19,6 +19,7 @@ pub mod influence;
 pub mod integrator;
 pub mod loading;
 pub mod mdr;
+pub mod memory;
 pub mod monitor;
 pub mod operator;
 pub mod paper;

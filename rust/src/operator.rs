@@ -123,11 +123,20 @@ pub struct FftOperator {
     workers: Vec<Worker>,
 }
 
+/// Memory of an FFT operator per element of its padded grid (bytes): the kernel's spectrum
+/// and the column buffer (12), the kernel table and its transform on the way (12).
+const BYTES_PER_PADDED_ELEMENT: f64 = 24.0;
+
 impl FftOperator {
     /// Builds the operator for an `nx` x `ny` grid of square elements of side `dx` (m).
     pub fn new(nx: usize, ny: usize, dx: f64) -> Result<Self> {
         check_positive("element size dx", dx)?;
         check_elements(nx, ny, MAX_FFT_ELEMENTS, "FFT operator")?;
+        let padded = (padded_size(nx) * padded_size(ny)) as f64;
+        crate::memory::check(
+            &format!("a {nx} x {ny} surface operator"),
+            BYTES_PER_PADDED_ELEMENT * padded,
+        )?;
         Self::with_kernel(
             nx,
             ny,

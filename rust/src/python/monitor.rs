@@ -67,7 +67,11 @@ impl<T> Monitor for Forward<T> {
         if self.cancel.load(Ordering::Relaxed) {
             return Err(Error::Interrupted);
         }
-        if done < total && self.last.is_some_and(|t| t.elapsed() < Duration::from_millis(200)) {
+        if done < total
+            && self
+                .last
+                .is_some_and(|t| t.elapsed() < Duration::from_millis(200))
+        {
             return Ok(());
         }
         self.last = Some(Instant::now());
@@ -117,8 +121,7 @@ impl PyMonitor {
                             (Ok(Message::Progress(stage, done, total)), Some(cb))
                                 if stop.is_none() =>
                             {
-                                cb.call1(py, (stage.as_str(), *done, *total))
-                                    .map(|_| ())
+                                cb.call1(py, (stage.as_str(), *done, *total)).map(|_| ())
                             }
                             _ => Ok(()),
                         }
