@@ -28,7 +28,8 @@ def test_coincident_times_are_reported_from_one_state(medium, method, n):
 
 
 def test_a_field_time_at_a_coincident_time_is_the_state_there():
-    s = mv.Scene(indenter=mv.Paraboloid(c=1.0, edge=2.56), medium=mv.Viscous(eta=1.0), force=1.0, duration=5.0, times=[3.0, 3.0 + 1e-12, 5.0],
+    s = mv.Scene(indenter=mv.Paraboloid(c=1.0, edge=2.56), medium=mv.Viscous(eta=1.0), force=1.0,
+                 duration=5.0, times=[3.0, 3.0 + 1e-12, 5.0],
                  outputs=("depth", "pressure"), field_times=[3.0 + 1e-12])
     r = mv.solve(s, "bem", 65)
     p = r.fields[3.0 + 1e-12].pressure
