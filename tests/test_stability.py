@@ -118,3 +118,10 @@ def test_rod_edge_singularity_is_finite_and_refines():
     assert np.all(np.isfinite(p)) and np.all(p >= 0)
     inside = p[p > 0]
     assert inside.max() / inside.min() > 3  # the edge carries the singular peak
+
+
+def test_an_under_resolved_contact_raises_a_resolution_warning():
+    with pytest.warns(mv.ResolutionWarning, match="fewer than 10 elements") as caught:
+        r = mv.solve(paraboloid(c=1e3, times=[1e-3, 5.0]), "mdr", 201)
+    assert [str(w.message) for w in caught] == r.warnings
+    assert caught[0].filename == __file__

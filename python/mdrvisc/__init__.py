@@ -12,7 +12,7 @@ Units are SI: m, s, N, Pa, Pa s. Depths and deflections are positive into the bo
 
 from . import analytic, arrays, scenefile
 from ._core import num_threads, set_num_threads
-from .errors import ConvergenceError, DomainError, InvalidInputError, MdrviscError
+from .errors import ConvergenceError, DomainError, InvalidInputError, MdrviscError, ResolutionWarning
 from .geometry import Cone, Indenter, Paraboloid, Rod, Sphere
 from .media import Elastic, KelvinVoigt, Maxwell, Prony, StandardSolid, Viscous
 from .profiles import Axisymmetric, Profile
@@ -26,4 +26,5 @@ __all__ = ["Scene", "Result", "Fields", "OUTPUTS", "solve", "set_num_threads", "
            "Rod", "Paraboloid", "Cone", "Sphere", "Axisymmetric", "Profile", "Indenter", "Viscous",
            "Elastic", "KelvinVoigt", "Maxwell", "StandardSolid", "Prony", "analytic", "arrays",
            "scenefile", "MdrviscError", "InvalidInputError", "ConvergenceError", "DomainError",
+           "ResolutionWarning",
            "__version__"]

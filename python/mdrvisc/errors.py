@@ -2,6 +2,7 @@
 
 Every error raised by the library derives from :class:`MdrviscError`; errors caused by a
 bad argument also derive from :class:`ValueError`, so ``except ValueError`` keeps working.
+Results of limited accuracy are flagged by :class:`ResolutionWarning`.
 """
 
 
@@ -33,3 +34,9 @@ class ConvergenceError(MdrviscError, RuntimeError):
 class DomainError(MdrviscError):
     """The solution left the region a method can represent (e.g. contact reached the edge of
     the BEM grid of an unbounded indenter)."""
+
+
+class ResolutionWarning(UserWarning):
+    """A result whose accuracy is limited by its resolution or by the method's reach (e.g. a
+    contact that spans fewer than 10 elements): the message says where and what to change.
+    The same messages are kept in ``Result.warnings``."""

@@ -5,10 +5,13 @@ from ``.npz`` without pickle, and gives a pandas table of its time series."""
 from __future__ import annotations
 
 import dataclasses
+import warnings
 from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
+
+from .errors import ResolutionWarning
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -95,9 +98,12 @@ class Result:
 
     @classmethod
     def _from_report(cls, report) -> Result:
-        """Wraps a ``mdrvisc._core.Report``."""
+        """Wraps a ``mdrvisc._core.Report``, issuing its warnings as :class:`ResolutionWarning`
+        at the caller of the public function that solved it."""
         fields = {f.t: Fields(**{k: getattr(f, k) for k in _FIELD_NAMES}) for f in report.fields}
         values = {k: getattr(report, k) for k in SERIES + SCALARS + SHAPES}
+        for message in report.warnings:
+            warnings.warn(message, ResolutionWarning, stacklevel=3)
         return cls(fields=fields, warnings=report.warnings, **values)
 
     def summary(self) -> str:

@@ -18,11 +18,13 @@ few functions that read top to bottom as the paper does.
 import dataclasses
 import math
 import time
+import warnings
 from collections.abc import Callable, Sequence
 
 import numpy as np
 
 from .. import _core, analytic
+from ..errors import ResolutionWarning
 from ..geometry import Paraboloid
 from ..media import KelvinVoigt, StandardSolid, Viscous
 from ..scene import Scene
@@ -106,7 +108,10 @@ def _announced(progress):
     def run(label, *args, **kwargs):
         if progress is not None:
             progress(label)
-        return solve(*args, **kwargs)
+        with warnings.catch_warnings():
+            # coarse runs are the point of the study, which measures their errors itself
+            warnings.simplefilter("ignore", ResolutionWarning)
+            return solve(*args, **kwargs)
 
     return run
 

@@ -142,21 +142,34 @@ impl Report {
         self.t = t;
     }
 
-    /// Flags output times whose contact spans fewer than `MIN_CONTACT_ELEMENTS` elements.
+    /// Flags output times whose contact spans fewer than `MIN_CONTACT_ELEMENTS` elements (but
+    /// some: no contact, after separation, is resolved at any n).
     pub fn check_resolution(&mut self) {
         let thin: Vec<usize> = (0..self.t.len())
-            .filter(|&k| self.contact_length[k] / self.dx < MIN_CONTACT_ELEMENTS)
+            .filter(|&k| {
+                let elements = self.contact_length[k] / self.dx;
+                elements > 0.0 && elements < MIN_CONTACT_ELEMENTS
+            })
             .collect();
-        if thin.is_empty() {
+        let (Some(&first), Some(&last)) = (thin.first(), thin.last()) else {
             return;
-        }
+        };
         let min = thin
             .iter()
             .map(|&k| self.contact_length[k] / self.dx)
             .fold(f64::INFINITY, f64::min);
-        let times: Vec<f64> = thin.iter().map(|&k| self.t[k]).collect();
+        let when = if thin.len() == 1 {
+            format!("at t = {} s", self.t[first])
+        } else {
+            format!(
+                "at {} output times from t = {} s to {} s",
+                thin.len(),
+                self.t[first],
+                self.t[last]
+            )
+        };
         self.warnings.push(format!(
-            "{}: the contact spans fewer than {MIN_CONTACT_ELEMENTS} elements (min {min:.1}) at t = {times:?} s; expect errors of several percent there (refine n)",
+            "{}: the contact spans fewer than {MIN_CONTACT_ELEMENTS} elements (min {min:.1}) {when}; expect errors of several percent there (refine n)",
             self.method.name().to_uppercase()
         ));
     }

@@ -2,8 +2,8 @@
 //! viscous impulse engine, the paper's explicit loop, viscoelastic stepping) and the report.
 
 use super::assemble::{
-    bem_fields, bem_static_report, bem_viscous_report, central_value, centres, mdr_fields, report,
-    Wanted,
+    bem_fields, bem_static_report, bem_viscous_report, central_value, centres, covers, mdr_fields,
+    report, Wanted,
 };
 use super::report::{FieldSet, Report};
 use super::sizing::{bem_grid, depth_bounds, mdr_foundation, mdr_half_length, DEPTH_BOUND_FACTOR};
@@ -176,6 +176,7 @@ pub fn run(scene: &Scene, settings: &RunSettings, monitor: &mut dyn Monitor) -> 
     } else {
         run_viscoelastic(scene, settings, monitor)?
     };
+    beyond_the_equator(scene, &report)?;
     let from = scene.reported_from();
     if from.len() != report.t.len() {
         report.expand(scene.reported_times(), &from);
@@ -218,6 +219,21 @@ fn memory_needed(scene: &Scene, settings: &RunSettings) -> f64 {
         _ => 0.0,
     };
     elements * (per_element + 8.0 * (internal + fields)) + 16.0 * steps
+}
+
+/// Fails when the contact of a sphere covers its whole footprint (its equator): beyond
+/// that the indenter the solvers see is a sphere on a cylinder, not a sphere.
+fn beyond_the_equator(scene: &Scene, report: &Report) -> Result<()> {
+    let super::Indenter::Sphere { radius } = scene.indenter else {
+        return Ok(());
+    };
+    match report.saturated.iter().flatten().position(|&s| s) {
+        Some(k) => Err(Error::Domain(format!(
+            "the contact of the sphere (radius {radius} m) reached its equator at t = {} s (depth {:.4e} m); past it the solvers' indenter is no longer a sphere: lower the load or enlarge the radius",
+            report.t[k], report.depth[k]
+        ))),
+        None => Ok(()),
+    }
 }
 
 /// Fails when the BEM contact of an unbounded indenter reached the grid's edge (`at_edge`
@@ -553,6 +569,12 @@ fn run_viscoelastic(
             out.grid_shape = Some([grid.ny, grid.nx]);
             out.residual = s.residual.iter().fold(0.0, |a: f64, &b| a.max(b));
             out.at_edge = Some(s.at_edge.clone());
+            out.saturated = Some(
+                s.contact_length
+                    .iter()
+                    .map(|&l| covers(&grid, 0.25 * PI * l * l))
+                    .collect(),
+            );
             out.solves = s.steps;
             let at: Vec<(f64, usize)> = field_times.iter().copied().zip(steps.clone()).collect();
             out.fields = bem_fields(&grid, &fields, Wanted::of(scene), &at);
