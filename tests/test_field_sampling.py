@@ -13,11 +13,12 @@ def radial_force(field):
     return np.trapezoid(2 * np.pi * field.r * field.pressure, field.r)
 
 
-@pytest.mark.parametrize("indenter,measured", [(mv.Paraboloid(c=1.0, edge=2.56), 2.6e-4), (mv.Rod(radius=1.0), 3.7e-4)],
+@pytest.mark.parametrize("indenter,measured",
+                         [(mv.Paraboloid(c=1.0, edge=2.56), 2.6e-4), (mv.Rod(radius=1.0), 3.7e-4)],
                          ids=["paraboloid", "rod"])
 def test_mdr_viscous_pressure_samples_integrate_to_the_force(indenter, measured):
-    scene = mv.Scene(indenter=indenter, medium=mv.Viscous(eta=1.0), force=1.0, duration=5.0, times=[1.0, 5.0],
-                     outputs=("depth", "pressure"), field_times=[1.0, 5.0])
+    scene = mv.Scene(indenter=indenter, medium=mv.Viscous(eta=1.0), force=1.0, duration=5.0,
+                     times=[1.0, 5.0], outputs=("depth", "pressure"), field_times=[1.0, 5.0])
     r = mv.solve(scene, "mdr", 8001)
     for t in (1.0, 5.0):
         f = r.fields[t]
@@ -27,10 +28,11 @@ def test_mdr_viscous_pressure_samples_integrate_to_the_force(indenter, measured)
         assert radial_force(f) == pytest.approx(1.0, abs=3 * measured)
 
 
-@pytest.mark.parametrize("medium", [mv.Viscous(eta=1.0), mv.StandardSolid(1.0, 3.0, 0.5)], ids=["viscous", "sls"])
+@pytest.mark.parametrize("medium", [mv.Viscous(eta=1.0), mv.StandardSolid(1.0, 3.0, 0.5)],
+                         ids=["viscous", "sls"])
 def test_bem_pressure_sums_to_the_force(medium):
-    scene = mv.Scene(indenter=mv.Paraboloid(c=1.0, edge=2.56), medium=medium, force=([0, 5], [0, 2]), duration=5.0,
-                     times=[1.0, 5.0], outputs=("depth", "pressure"), field_times=[1.0, 5.0])
+    scene = mv.Scene(indenter=mv.Paraboloid(c=1.0, edge=2.56), medium=medium, force=([0, 5], [0, 2]),
+                     duration=5.0, times=[1.0, 5.0], outputs=("depth", "pressure"), field_times=[1.0, 5.0])
     r = mv.solve(scene, "bem", 65, dt=0.05)
     for t, force in ((1.0, 0.4), (5.0, 2.0)):
         assert r.fields[t].pressure.sum() * r.dx**2 == pytest.approx(force, rel=1e-9)
