@@ -1,0 +1,52 @@
+"""Ctrl-C stops a run within a second, inside the time-step loops too, and progress is
+reported from inside them (not only at output times)."""
+
+import signal
+import subprocess
+import sys
+import time
+
+import pytest
+
+import mdrvisc as mv
+
+LONG = """
+import sys, time
+import mdrvisc as mv
+scene = mv.Scene(indenter=mv.Paraboloid(1.0, 2.56), medium=mv.StandardSolid(1, 3, 0.5), force=1.0,
+                 duration=2.0, times=[2.0])
+method, n, dt = sys.argv[1], int(sys.argv[2]), float(sys.argv[3])
+print('started', flush=True)
+try:
+    mv.solve(scene, method, n, dt=dt)
+except KeyboardInterrupt:
+    print('interrupted', flush=True)
+    sys.exit(0)
+sys.exit(3)
+"""
+
+
+@pytest.mark.parametrize("method,n,dt", [("mdr", 20001, 1e-6), ("bem", 129, 1e-5)])
+def test_ctrl_c_stops_a_viscoelastic_run_within_a_second(method, n, dt):
+    proc = subprocess.Popen([sys.executable, "-c", LONG, method, str(n), str(dt)], stdout=subprocess.PIPE,
+                            text=True)
+    assert proc.stdout.readline().strip() == "started"
+    time.sleep(1.5)
+    sent = time.monotonic()
+    proc.send_signal(signal.SIGINT)
+    try:
+        out, _ = proc.communicate(timeout=30)
+    finally:
+        proc.kill()
+    stopped = time.monotonic() - sent
+    assert proc.returncode == 0 and out.strip() == "interrupted", (proc.returncode, out)
+    assert stopped < 1.0, f"stopped {stopped:.2f} s after SIGINT"
+
+
+def test_progress_is_reported_inside_the_step_loop():
+    scene = mv.Scene(indenter=mv.Paraboloid(1.0, 2.56), medium=mv.StandardSolid(1, 3, 0.5), force=1.0,
+                     duration=2.0, times=[2.0])
+    calls = []
+    mv.solve(scene, "mdr", 2001, dt=1e-3, progress=lambda stage, done, total: calls.append((stage, done, total)))
+    steps = [c for c in calls if c[0] == "time steps"]
+    assert len(steps) >= 2 and steps[0][1] < steps[0][2] == 2000 and steps[-1][1] == 2000
