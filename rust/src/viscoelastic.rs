@@ -124,6 +124,24 @@ impl Trail {
 /// Most time steps a run may take, so that no step list outgrows memory (16 bytes a step).
 pub const MAX_STEPS: f64 = 1e7;
 
+/// Fails when `steps`, the time steps of `dt` (s) over `span` (s), exceed `MAX_STEPS`; the
+/// message gives the count even where it overflows a double (dt = 1e-308 over 2 s is
+/// 2.0e308 steps).
+pub fn check_steps(dt: f64, span: f64, steps: f64) -> Result<()> {
+    if steps <= MAX_STEPS {
+        return Ok(());
+    }
+    let count = if steps.is_finite() {
+        format!("{steps:.3e}")
+    } else {
+        let decades = span.log10() - dt.log10();
+        format!("{:.1}e{}", 10f64.powf(decades.fract()), decades.trunc())
+    };
+    Err(Error::InvalidInput(format!(
+        "dt = {dt:e} s over {span} s is {count} steps, more than {MAX_STEPS:.0e}"
+    )))
+}
+
 /// Step times: the output times, each interval cut into equal steps no longer than `dt`;
 /// the flag marks output times. More than `MAX_STEPS` steps is an error, before anything
 /// is allocated.
@@ -136,11 +154,7 @@ fn step_times(times: &[f64], dt: f64) -> Result<Vec<(f64, bool)>> {
         total += ((t1 - t0) / dt).ceil().max(1.0);
         t0 = t1;
     }
-    if total > MAX_STEPS {
-        return Err(Error::InvalidInput(format!(
-            "dt = {dt:e} s over {t0} s is {total:.3e} steps, more than {MAX_STEPS:.0e}"
-        )));
-    }
+    check_steps(dt, t0, total)?;
     let mut out = Vec::with_capacity(total as usize);
     let mut t0 = 0.0;
     for &t1 in times {

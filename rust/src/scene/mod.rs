@@ -207,12 +207,7 @@ impl Scene {
         })?;
         check_positive("duration", duration)?;
         if let Some(dt) = self.dt {
-            let steps = duration / dt;
-            if steps > MAX_STEPS {
-                return Err(Error::InvalidInput(format!(
-                    "dt = {dt:e} s over {duration} s is {steps:.3e} steps, more than {MAX_STEPS:.0e}"
-                )));
-            }
+            crate::viscoelastic::check_steps(dt, duration, duration / dt)?;
         }
         check_times("times", &self.requested_times(), duration)?;
         check_times("field_times", &self.requested_field_times(), duration)?;

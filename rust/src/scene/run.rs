@@ -151,6 +151,9 @@ pub fn run(scene: &Scene, settings: &RunSettings, monitor: &mut dyn Monitor) -> 
     let start = Instant::now();
     scene.validate()?;
     settings.validate()?;
+    if let (Some(duration), Some(dt)) = (scene.duration, settings.dt) {
+        viscoelastic::check_steps(dt, duration, duration / dt)?;
+    }
     crate::memory::check(
         &format!(
             "{} n = {}",
