@@ -135,7 +135,9 @@ def test_bem_fields_follow_lee_radok_and_converge(n, deflection_tol, velocity_to
     assert np.max(np.abs(f.surface_velocity[out] / velocity - 1)) < velocity_tol
     assert np.all(f.pressure >= 0)
     core = radius < 0.8 * a
-    exact = np.array([lee_radok_pressure(v, T_END) for v in radius[core]])
+    # the reference on 321 radii, interpolated (its own error is 3e-6 of the peak there)
+    radii = np.linspace(0.0, 0.8 * a, 321)
+    exact = np.interp(radius[core], radii, [lee_radok_pressure(v, T_END) for v in radii])
     assert np.max(np.abs(f.pressure[core] - exact)) < pressure_tol * exact.max()
     assert np.max(np.abs(r.velocity / depth_and_rate(r.t)[1] - 1)) < 1e-2  # measured 3.1e-3
 
