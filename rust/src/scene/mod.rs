@@ -288,11 +288,11 @@ impl Scene {
         }
     }
 
-    /// Times (s) the solvers run to: the `reported_times`, each within
-    /// `COINCIDENT_TIMES` of its value of the previous one merged into it.
-    pub fn output_times(&self) -> Vec<f64> {
+    /// Times (s) the solvers run to: the `output_times`, each within `COINCIDENT_TIMES` of
+    /// its value of the previous one merged into it.
+    pub fn solved_times(&self) -> Vec<f64> {
         let mut solved: Vec<f64> = vec![];
-        for t in self.reported_times() {
+        for t in self.output_times() {
             match solved.last() {
                 Some(&prev) if t - prev <= COINCIDENT_TIMES * t => {}
                 _ => solved.push(t),
@@ -301,11 +301,10 @@ impl Scene {
         solved
     }
 
-    /// For each of the `reported_times`, the index of the solved output time it is reported
-    /// from.
-    pub fn reported_from(&self) -> Vec<usize> {
-        let solved = self.output_times();
-        self.reported_times()
+    /// For each of the `output_times`, the index of the solved time it is reported from.
+    pub fn solved_from(&self) -> Vec<usize> {
+        let solved = self.solved_times();
+        self.output_times()
             .iter()
             .map(|&t| solved.partition_point(|&s| s <= t) - 1)
             .collect()
@@ -313,7 +312,7 @@ impl Scene {
 
     /// Output times (s) of the report: the requested ones plus field times not within
     /// round-off (1e-12 duration) of one of them, sorted; [0] for a static scene.
-    pub fn reported_times(&self) -> Vec<f64> {
+    pub fn output_times(&self) -> Vec<f64> {
         if self.medium.is_elastic() {
             return vec![0.0];
         }
@@ -329,9 +328,9 @@ impl Scene {
         times
     }
 
-    /// Index into `output_times` of each field time.
+    /// Index into `solved_times` of each field time.
     pub fn field_steps(&self) -> Vec<usize> {
-        let times = self.output_times();
+        let times = self.solved_times();
         self.field_times()
             .iter()
             .map(|&f| {
@@ -433,9 +432,9 @@ mod tests {
         s.times = Some(vec![1.0, 1.0 + 1e-10, 3.0, 3.0 + 1e-6]);
         s.outputs = Some(vec![Output::Depth, Output::Pressure]);
         s.field_times = Some(vec![1.0 + 1e-10]);
-        assert_eq!(s.reported_times(), vec![1.0, 1.0 + 1e-10, 3.0, 3.0 + 1e-6]);
-        assert_eq!(s.output_times(), vec![1.0, 3.0, 3.0 + 1e-6]);
-        assert_eq!(s.reported_from(), vec![0, 0, 1, 2]);
+        assert_eq!(s.output_times(), vec![1.0, 1.0 + 1e-10, 3.0, 3.0 + 1e-6]);
+        assert_eq!(s.solved_times(), vec![1.0, 3.0, 3.0 + 1e-6]);
+        assert_eq!(s.solved_from(), vec![0, 0, 1, 2]);
         assert_eq!(s.field_steps(), vec![0]);
     }
 

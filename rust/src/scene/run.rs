@@ -180,9 +180,9 @@ pub fn run(scene: &Scene, settings: &RunSettings, monitor: &mut dyn Monitor) -> 
         run_viscoelastic(scene, settings, monitor)?
     };
     beyond_the_equator(scene, &report)?;
-    let from = scene.reported_from();
+    let from = scene.solved_from();
     if from.len() != report.t.len() {
-        report.expand(scene.reported_times(), &from);
+        report.expand(scene.output_times(), &from);
     }
     report.check_resolution();
     report.wall_time = start.elapsed().as_secs_f64();
@@ -343,7 +343,7 @@ fn run_viscous(scene: &Scene, settings: &RunSettings, monitor: &mut dyn Monitor)
             Method::Mdr => mdr_punch(scene, settings, eta, &history, monitor),
         };
     }
-    let times = scene.output_times();
+    let times = scene.solved_times();
     let steps = scene.field_steps();
     let forces: Vec<f64> = times.iter().map(|&t| history.force(t)).collect();
     match settings.method {
@@ -423,7 +423,7 @@ fn bem_punch(
     let extended = scene.wants(Output::SurfaceVelocity) || scene.wants(Output::Deflection);
     let margin = extended.then_some(grid.nx / 2);
     let r = viscous::run_punch(&grid, eta, 1.0, margin, &settings.solver, monitor)?;
-    let times = scene.output_times();
+    let times = scene.solved_times();
     let area = grid.allowed.iter().filter(|&&a| a).count() as f64 * grid.dx * grid.dx;
     let p0 = central_value(&r.pressure, grid.nx, grid.ny);
     let mut out = report(settings, grid.dx, "one solve", times.clone());
@@ -481,7 +481,7 @@ fn mdr_punch(
     monitor: &mut dyn Monitor,
 ) -> Result<Report> {
     let f = mdr_foundation(scene, settings.n)?;
-    let times = scene.output_times();
+    let times = scene.solved_times();
     let steps = scene.field_steps();
     let medium = mdr::Medium::Viscous { eta };
     let s = mdr::run(&f, medium, history, &times, &steps, monitor)?;
@@ -523,7 +523,7 @@ fn run_viscoelastic(
     )?;
     let rheology = scene.medium.rheology()?;
     let loading: Loading = scene.loading()?;
-    let times = scene.output_times();
+    let times = scene.solved_times();
     let steps = scene.field_steps();
     let field_times = scene.field_times();
     let duration = scene.duration.expect("validated: a duration");

@@ -26,7 +26,7 @@ pub fn sizing_radius(scene: &Scene) -> Result<f64> {
         Medium::Elastic { g } => ind.radius_at_load(force.last() / (4.0 * g)),
         Medium::Viscous { eta } => {
             let t_end = *scene
-                .output_times()
+                .solved_times()
                 .last()
                 .expect("validated: output times");
             ind.radius_at_load(force.force()?.impulse(t_end) / (4.0 * eta))
@@ -79,7 +79,7 @@ pub fn depth_bounds(scene: &Scene) -> Result<Vec<f64>> {
         }
     };
     Ok(scene
-        .output_times()
+        .solved_times()
         .iter()
         .map(|&t| {
             match scene
