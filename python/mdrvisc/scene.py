@@ -19,9 +19,11 @@ from .profiles import Axisymmetric, Profile
 __all__ = ["Scene", "OUTPUTS"]
 
 #: Outputs a scene may ask for. ``depth`` and ``contact_length`` are always computed;
-#: ``velocity`` (dd/dt, m/s) and ``stiffness_length`` (F / (4 eta dd/dt), m) are series of a
-#: viscous medium; ``pressure`` (Pa), ``surface_velocity`` (m/s) and ``deflection`` (m) are
-#: fields at ``field_times``.
+#: ``velocity`` (dd/dt, m/s) is a series of every time-dependent medium (exact for a viscous
+#: one, a second-order backward difference over the steps for the others);
+#: ``stiffness_length`` (F / (4 eta dd/dt), m) is a series of a purely viscous medium;
+#: ``pressure`` (Pa), ``surface_velocity`` (m/s) and ``deflection`` (m) are fields at
+#: ``field_times``.
 OUTPUTS = ("depth", "contact_length", "velocity", "stiffness_length", "pressure",
            "surface_velocity", "deflection")
 #: Samples taken of a loading history given as a callable.
@@ -97,7 +99,9 @@ class Scene:
         Simulated time (s); required unless the medium is elastic.
     times : array_like, optional
         Output times (s) in (0, duration], increasing; default five equal steps up to the
-        duration. After construction: the output times, field times included.
+        duration. After construction: the output times, field times included. Times below
+        1e-12 of the duration are refused (a step that short is lost to rounding); a time
+        within 1e-9 of its value of the one before is reported from the same solved state.
     outputs : iterable of str
         What to compute, from :data:`OUTPUTS`; fields only when named.
     field_times : array_like, optional
