@@ -8,6 +8,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 __all__ = [
+    "MAGNITUDE",
     "FieldSet",
     "Indenter",
     "Report",
@@ -27,6 +28,8 @@ __all__ = [
     "set_num_threads",
     "surface_deflection",
 ]
+
+MAGNITUDE: float
 
 _Progress = Callable[[str, int, int], object] | None
 _F64 = NDArray[np.float64]

@@ -2,27 +2,84 @@
 
 Each validator names the function or class it checks for (``owner``) and the argument
 (``name``) in its InvalidInputError, and returns the value in the form the caller computes
-with. This module imports nothing else from mdrvisc but its errors, so every module can use it.
+with. This module imports nothing else from mdrvisc but its errors and the compiled core's
+range of physical inputs, so every module can use it.
 """
 
 import math
+import operator
 
 import numpy as np
 from numpy.typing import ArrayLike
 
+from ._core import MAGNITUDE
 from .errors import InvalidInputError
 
 
-def _positive(owner: str, name: str, value: object) -> float:
-    """``value`` as a float, or InvalidInputError unless it is a finite number > 0."""
+def _float(value: object) -> float | None:
+    """``value`` as a float, None when it is no real number (bools, strings, too large ints)."""
+    if isinstance(value, (bool, np.bool_)):
+        return None
     try:
-        number = float(value)
-    except (TypeError, ValueError):
-        number = None
-    if isinstance(value, bool) or number is None or not math.isfinite(number) or number <= 0.0:
-        shown = repr(value) if number is None or isinstance(value, bool) else repr(number)
-        raise InvalidInputError(f"{owner}: {name} must be a finite positive number, got {shown}")
+        return float(value)  # type: ignore[arg-type]
+    except (TypeError, ValueError, OverflowError):
+        return None
+
+
+def _magnitude(owner: str, name: str, number: float) -> float:
+    """``number``, or InvalidInputError unless it is 0 or its magnitude lies within the
+    crate's range of physical inputs ([1 / MAGNITUDE, MAGNITUDE])."""
+    m = abs(number)
+    if number != 0.0 and not (1.0 / MAGNITUDE <= m <= MAGNITUDE):
+        raise InvalidInputError(
+            f"{owner}: {name} = {number!r} is out of range: physical inputs must lie within "
+            f"1e-100..1e100 in magnitude (rescale the units)")
     return number
+
+
+def _positive(owner: str, name: str, value: object) -> float:
+    """``value`` as a float, or InvalidInputError unless it is a finite number > 0 within
+    the range of physical inputs."""
+    number = _float(value)
+    if number is None or not math.isfinite(number) or number <= 0.0:
+        shown = repr(value) if number is None else repr(number)
+        raise InvalidInputError(f"{owner}: {name} must be a finite positive number, got {shown}")
+    return _magnitude(owner, name, number)
+
+
+def _number(owner: str, name: str, value: object) -> float:
+    """``value`` as a float, or InvalidInputError unless it is a finite real number within
+    the range of physical inputs."""
+    number = _float(value)
+    if number is None or not math.isfinite(number):
+        raise InvalidInputError(f"{owner}: {name} must be a finite real number, got {value!r}")
+    return _magnitude(owner, name, number)
+
+
+def _integer(owner: str, name: str, value: object, minimum: int) -> int:
+    """``value`` as an int, or InvalidInputError unless it is an integer >= ``minimum``
+    (bools and floats are refused, not truncated)."""
+    try:
+        number = None if isinstance(value, (bool, np.bool_)) else operator.index(value)  # type: ignore[arg-type]
+    except TypeError:
+        number = None
+    if number is None or number < minimum:
+        raise InvalidInputError(f"{owner}: {name} must be an integer >= {minimum}, got {value!r}")
+    return number
+
+
+def _flag(owner: str, name: str, value: object) -> bool:
+    """``value`` as a bool, or InvalidInputError unless it is True or False."""
+    if not isinstance(value, (bool, np.bool_)):
+        raise InvalidInputError(f"{owner}: {name} must be True or False, got {value!r}")
+    return bool(value)
+
+
+def _callback(owner: str, name: str, value: object) -> object:
+    """``value``, or InvalidInputError unless it is None or callable."""
+    if value is not None and not callable(value):
+        raise InvalidInputError(f"{owner}: {name} must be a callable or None, got {value!r}")
+    return value
 
 
 def _optional_positive(owner: str, name: str, value: object) -> float | None:
@@ -37,8 +94,8 @@ def _array(owner: str, name: str, value: ArrayLike, minimum: float | None = None
     """
     try:
         array = np.asarray(value, dtype=np.float64)
-    except (TypeError, ValueError):
-        raise InvalidInputError(f"{owner}: {name} must be real numbers, got {value!r}") from None
+    except (TypeError, ValueError, OverflowError):
+        raise InvalidInputError(f"{owner}: {name} must be real numbers, got {value!r:.200}") from None
     bad = ~np.isfinite(array)
     rule = "finite"
     if minimum is not None:

@@ -55,8 +55,35 @@ impl Error {
     }
 }
 
-/// Fails with `InvalidInput` unless `value` is finite and > 0.
+/// Largest magnitude of a physical input, and the inverse of its smallest nonzero one: the
+/// solvers multiply and square such values, and beyond this (or below its inverse) their
+/// products overflow or underflow double precision. SI values of real problems lie far
+/// inside; rescale the units otherwise.
+pub const MAGNITUDE: f64 = 1e100;
+
+/// Fails with `InvalidInput` unless `value` is 0 or its magnitude lies in
+/// [1 / MAGNITUDE, MAGNITUDE].
+pub fn check_magnitude(name: &str, value: f64) -> Result<()> {
+    let m = value.abs();
+    if value == 0.0 || (m <= MAGNITUDE && m >= 1.0 / MAGNITUDE) {
+        Ok(())
+    } else {
+        Err(Error::InvalidInput(format!(
+            "{name} = {value:e} is out of range: physical inputs must lie within 1e-100..1e100 in magnitude (products of larger or smaller ones overflow double precision; rescale the units)"
+        )))
+    }
+}
+
+/// Fails with `InvalidInput` unless `value` is finite and > 0, with a magnitude in
+/// [1 / MAGNITUDE, MAGNITUDE].
 pub fn check_positive(name: &str, value: f64) -> Result<()> {
+    check_finite_positive(name, value)?;
+    check_magnitude(name, value)
+}
+
+/// Fails with `InvalidInput` unless `value` is finite and > 0 (for step lengths, whose
+/// smallness is bounded by the step count instead).
+pub fn check_finite_positive(name: &str, value: f64) -> Result<()> {
     if value.is_finite() && value > 0.0 {
         Ok(())
     } else {

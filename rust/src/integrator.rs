@@ -30,7 +30,7 @@ impl Default for ExplicitControl {
 impl ExplicitControl {
     /// Fails unless step and start are positive and area_change >= 0.
     pub fn validate(&self) -> Result<()> {
-        check_positive("explicit step", self.step)?;
+        crate::error::check_finite_positive("explicit step", self.step)?;
         check_positive("explicit start fraction", self.start)?;
         // dt = step * t_first up to t_first, then growing by (1 + step) a step
         let steps = 1.0 / self.step + (1.0 / self.start).ln() / self.step.ln_1p();

@@ -1,6 +1,6 @@
 //! Loading histories: the force F(t) applied to the indenter and its impulse.
 
-use crate::error::{check_finite, Error, Result};
+use crate::error::{check_finite, check_magnitude, Error, Result};
 
 /// A force history F(t) (N), piecewise linear between samples, constant after the last
 /// sample; time starts at t = 0 (first touch).
@@ -127,6 +127,10 @@ fn check_samples(what: &str, times: &[f64], values: &[f64]) -> Result<()> {
     }
     check_finite(&format!("{what} times"), times)?;
     check_finite(&format!("{what} values"), values)?;
+    for (t, v) in times.iter().zip(values) {
+        check_magnitude(&format!("{what} time"), *t)?;
+        check_magnitude(&format!("{what} value"), *v)?;
+    }
     if times[0] != 0.0 {
         return Err(Error::InvalidInput(format!(
             "{what} must start at t = 0, got {}",

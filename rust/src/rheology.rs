@@ -8,7 +8,7 @@
 //! to step is stable: the step stress is s_{n+1} = G_eff x_{n+1} + r_n, with the effective
 //! modulus G_eff and a history term r_n.
 
-use crate::error::{check_positive, Error, Result};
+use crate::error::{check_magnitude, check_positive, Error, Result};
 
 /// The relaxation modulus of a medium (shear moduli in Pa, times in s, eta in Pa s).
 #[derive(Debug, Clone, PartialEq)]
@@ -39,7 +39,7 @@ impl Rheology {
     pub fn new(g_inf: f64, terms: Vec<(f64, f64)>, eta: f64) -> Result<Self> {
         let nonneg = |name: &str, v: f64| {
             if v.is_finite() && v >= 0.0 {
-                Ok(())
+                check_magnitude(name, v)
             } else {
                 Err(Error::InvalidInput(format!(
                     "{name} must be finite and >= 0, got {v}"

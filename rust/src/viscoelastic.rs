@@ -147,7 +147,7 @@ pub fn check_steps(dt: f64, span: f64, steps: f64) -> Result<()> {
 /// is allocated.
 fn step_times(times: &[f64], dt: f64) -> Result<Vec<(f64, bool)>> {
     check_output_times(times)?;
-    check_positive("time step dt", dt)?;
+    crate::error::check_finite_positive("time step dt", dt)?;
     let mut total = 0.0;
     let mut t0 = 0.0;
     for &t1 in times {

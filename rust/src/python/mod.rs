@@ -19,6 +19,9 @@ mod core_module {
     };
     #[pymodule_export]
     use super::pool::{num_threads, set_num_threads};
+    /// Largest magnitude of a physical input (and inverse of the smallest nonzero one).
+    #[pymodule_export]
+    const MAGNITUDE: f64 = crate::error::MAGNITUDE;
     #[pymodule_export]
     use super::report::{PyFieldSet, PyReport};
     #[pymodule_export]

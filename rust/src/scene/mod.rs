@@ -192,7 +192,7 @@ impl Scene {
             }
         }
         if let Some(dt) = self.dt {
-            check_positive("dt", dt)?;
+            crate::error::check_finite_positive("dt", dt)?;
         }
         if self.medium.is_elastic() {
             if self.duration.is_some() || self.times.is_some() || self.field_times.is_some() {

@@ -140,7 +140,7 @@ impl RunSettings {
             c.validate()?;
         }
         if let Some(dt) = self.dt {
-            check_positive("dt", dt)?;
+            crate::error::check_finite_positive("dt", dt)?;
         }
         Ok(())
     }
