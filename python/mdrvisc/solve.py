@@ -40,7 +40,7 @@ def solve(scene: Scene, method: str = "bem", n: int | None = None, tol: float = 
         BEM: elements across the footprint (n x n grid, at most 4096); MDR: elements of the
         1D indenter. Default 257 (BEM) or 66049 (MDR), the paper's resolutions.
     tol : float
-        Relative tolerance of the BEM contact solver (sum |dp| / sum p); MDR is exact.
+        Relative tolerance of the BEM contact solver (sum ``|dp|`` / sum p); MDR is exact.
     max_iter : int
         Iteration limit of the BEM solver; reaching it raises ConvergenceError.
     progress : callable(stage, done, total) or True, optional
