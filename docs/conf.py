@@ -1,6 +1,6 @@
 """Sphinx configuration of the mdrvisc documentation site.
 
-Build: ``pip install '.[docs]'`` then ``sphinx-build -W --keep-going -b html docs docs/_build/html``.
+Build: ``pip install '.[docs]'`` then ``sphinx-build -E -W --keep-going -b html docs docs/_build/html``.
 The API reference is generated from the installed package's docstrings (autodoc, autosummary,
 napoleon for the numpy docstring style); the pages in Markdown are read by myst-parser; the
 scripts in ``examples/`` are run at build time by sphinx-gallery, which turns each into a page
@@ -109,3 +109,14 @@ def _write_api_reference(path: Path) -> None:
 
 
 _write_api_reference(Path(__file__).resolve().parent / "api.rst")
+
+
+def _list_verification(app, docname, source):
+    """Puts the verification matrix (docs/verification.md) in the contents, after the physics
+    page, when the repository has it."""
+    if docname == "index" and (Path(app.srcdir) / "verification.md").exists():
+        source[0] = source[0].replace("\nphysics\n", "\nphysics\nverification\n", 1)
+
+
+def setup(app):
+    app.connect("source-read", _list_verification)
