@@ -130,3 +130,15 @@ def test_the_command_line_run_shows_a_bar_and_can_be_silenced(tmp_path):
     quiet = subprocess.run([sys.executable, "-m", "mdrvisc", "run", "--no-progress", str(path)],
                            capture_output=True, text=True, check=True).stderr
     assert not re.search(r"\d+/\d+ ", quiet), quiet
+
+
+def test_tqdm_bar_when_tqdm_is_installed():
+    pytest.importorskip("tqdm", reason="tqdm (the 'progress' extra) is optional")
+    out = io.StringIO()
+    bar = ProgressBar(file=out, use_tqdm=True)
+    for k in range(1, 6):
+        bar("time steps", k, 5)
+        bar("contact iterations", 3 * k, 5000)
+    text = out.getvalue()
+    assert "time steps" in text and "5/5" in text, text
+    assert repr(bar).endswith("tqdm=True)")
