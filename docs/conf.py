@@ -8,6 +8,7 @@ with its printed output and figures.
 """
 
 import os
+import shutil
 from pathlib import Path
 
 import mdrvisc
@@ -62,7 +63,32 @@ def _example_arguments(gallery_conf, script_vars):
     return ["--quick", str(out)] if name.startswith("fig") else []
 
 
+class _WrittenFigures:
+    """sphinx-gallery image scraper for the figures an example saved as PNG files in the
+    gallery folder (the figure scripts save theirs and close them): each is shown once, after
+    the code block that wrote it."""
+
+    def __init__(self):
+        self.shown = set()
+
+    def __repr__(self):
+        return "_WrittenFigures()"
+
+    def __call__(self, block, block_vars, gallery_conf):
+        from sphinx_gallery.scrapers import figure_rst
+
+        folder = Path(gallery_conf["src_dir"]) / gallery_conf["gallery_dirs"][0]
+        written = sorted(p for p in folder.glob("*.png") if p not in self.shown)
+        self.shown.update(written)
+        names = []
+        for png, target in zip(written, block_vars["image_path_iterator"]):
+            shutil.copyfile(png, target)
+            names.append(target)
+        return figure_rst(names, gallery_conf["src_dir"])
+
+
 sphinx_gallery_conf = {
+    "image_scrapers": ("matplotlib", _WrittenFigures()),
     "examples_dirs": [str(ROOT / "examples")],
     "gallery_dirs": ["auto_examples"],
     "filename_pattern": r".*\.py$",
