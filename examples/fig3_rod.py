@@ -1,4 +1,7 @@
-"""Fig. 3 of Kürschner & Filippov (2012): a flat rod (a = 1 m) pressed by F = 1 N into a
+"""Fig. 3: a flat rod on a viscous half-space
+==========================================
+
+Fig. 3 of Kürschner & Filippov (2012): a flat rod (a = 1 m) pressed by F = 1 N into a
 viscous half-space (eta = 1 Pa s): surface velocity and pressure through the centre.
 
 Run: python examples/fig3_rod.py [OUT.png] [--quick]   (default OUT: fig3_rod.png)

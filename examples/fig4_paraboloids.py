@@ -1,4 +1,7 @@
-"""Fig. 4 of Kürschner & Filippov (2012): paraboloids h = c r^2 (c = 0.05 ... 20 1/m) on a
+"""Fig. 4: paraboloids on a viscous half-space
+===========================================
+
+Fig. 4 of Kürschner & Filippov (2012): paraboloids h = c r^2 (c = 0.05 ... 20 1/m) on a
 2.56 m square pressed by F = 1 N into a viscous half-space (eta = 1 Pa s) for 5 s: depth d(t)
 and contact length l(t) by BEM (symbols) and MDR (lines).
 

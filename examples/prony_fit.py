@@ -1,4 +1,7 @@
-"""Fit a Prony series to a relaxation curve given as data, then indent with it.
+"""Fitting a Prony series to relaxation data
+=========================================
+
+Fit a Prony series to a relaxation curve given as data, then indent with it.
 
 The data here are a measured-looking relaxation curve G(t) (Pa) sampled over six decades
 (made from a stretched exponential with 0.5 % noise, so that no finite Prony series is

@@ -8,7 +8,11 @@ elements (BEM) and by the method of dimensionality reduction (MDR), side by side
 >>> mdr = mv.solve(scene, method="mdr", n=66049)     # doctest: +SKIP
 
 Units are SI: m, s, N, Pa, Pa s. Depths and deflections are positive into the body.
+Diagnostics (each solve, its resolution and run time) go to the logger ``"mdrvisc"``, silent
+until logging is configured, e.g. ``logging.basicConfig(level=logging.INFO)``.
 """
+
+import logging
 
 from . import analytic, arrays, scenefile
 from ._core import num_threads, set_num_threads
@@ -21,6 +25,8 @@ from .scene import OUTPUTS, Scene
 from .solve import solve
 
 __version__ = "0.1.0"
+
+logging.getLogger("mdrvisc").addHandler(logging.NullHandler())
 
 __all__ = ["Scene", "Result", "Fields", "OUTPUTS", "solve", "set_num_threads", "num_threads",
            "Rod", "Paraboloid", "Cone", "Sphere", "Axisymmetric", "Profile", "Indenter", "Viscous",

@@ -129,7 +129,7 @@ def paraboloid_contact_length(t: ArrayLike, force: float, c: float, eta: float) 
 def cone_depth(t: ArrayLike, force: float, slope: float, eta: float) -> float | np.ndarray:
     """Depth of a cone h = slope r under a constant force on a viscous half-space (m).
 
-    The elastic cone (MDR profile g = (pi/2) s |x|, contact radius a = 2d / (pi s)) carries
+    The elastic cone (MDR profile g = (pi/2) s ``|x|``, contact radius a = 2d / (pi s)) carries
     F = E* d a = 2 E* d^2 / (pi s); with E* -> 4 eta and F -> F t (Lee-Radok) this gives
     d(t) = sqrt(pi s F t / (8 eta)). Parameters: time t >= 0 (s, scalar or array), force F (N)
     acting from first touch at t = 0, slope s (dimensionless), viscosity eta (Pa s).
@@ -154,7 +154,7 @@ def cone_contact_radius(t: ArrayLike, force: float, slope: float, eta: float) ->
 def power_law_mdr_factor(n: float) -> float:
     """Factor kappa_n of the MDR map of a power-law profile (dimensionless).
 
-    f(r) = c r^n maps to g(x) = kappa_n c |x|^n with
+    f(r) = c r^n maps to g(x) = kappa_n c ``|x|^n`` with
     kappa_n = sqrt(pi) Gamma(n/2 + 1) / Gamma(n/2 + 1/2) (kappa_1 = pi/2, kappa_2 = 2).
     Parameter: exponent n > 0.
     """
@@ -163,10 +163,10 @@ def power_law_mdr_factor(n: float) -> float:
 
 
 def sphere_mdr_profile(x: ArrayLike, radius: float) -> float | np.ndarray:
-    """MDR profile of a spherical cap of radius R: g(x) = (|x|/2) ln((R + |x|) / (R - |x|)) (m).
+    """MDR profile of a spherical cap of radius R: g(x) = (``|x|``/2) ln((R + ``|x|``) / (R - ``|x|``)) (m).
 
-    Evaluated as |x| artanh(|x|/R). Parameters: 1D coordinate x (m, scalar or array) with
-    |x| < R, sphere radius R (m); g grows without bound as |x| -> R.
+    Evaluated as ``|x|`` artanh(``|x|``/R). Parameters: 1D coordinate x (m, scalar or array) with
+    ``|x|`` < R, sphere radius R (m); g grows without bound as ``|x|`` -> R.
     """
     radius = _positive("sphere_mdr_profile", "radius", radius)
     x = np.abs(_array("sphere_mdr_profile", "x", x))
@@ -258,7 +258,7 @@ def ting_paraboloid_triangle(
     shear relaxation modulus G(t) = G_inf + sum_k G_k exp(-t / tau_k) + eta delta(t) (any
     :mod:`mdrvisc.media` medium), depth d(s) = v s up to s = t_peak and v (2 t_peak - s) after
     (Ting 1966, J. Appl. Mech. 33:845; Greenwood 2010, Int. J. Mech. Sci. 52:829). In MDR
-    terms the element at |x| is pressed since the contact radius first reached |x|, and carries
+    terms the element at ``|x|`` is pressed since the contact radius first reached ``|x|``, and carries
     4 dx int G(t - s) ddot(s) ds:
 
     * loading, t <= t_peak: a(t)^2 = R d(t) and

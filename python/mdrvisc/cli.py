@@ -7,14 +7,18 @@ Bad input exits with status 2 and an ``error: ...`` line on stderr.
 
 import argparse
 import json
+import logging
 import sys
 import time
 
 from . import __version__, _core
 from .errors import MdrviscError
 from .paper import report, studies
+from .progress import ProgressBar
 
 __all__ = ["main"]
+
+_log = logging.getLogger("mdrvisc")
 
 
 class _Progress:
@@ -27,28 +31,14 @@ class _Progress:
         print(f"[{time.perf_counter() - self.start:7.2f} s] {label}", file=sys.stderr, flush=True)
 
 
-class _SolverProgress:
-    """A solver's ``progress(stage, done, total)``: one overwritten stderr line per solve."""
-
-    def __init__(self):
-        self.shown = False
-
-    def __call__(self, stage, done, total):
-        print(f"\r  {stage}: {done}/{total}".ljust(50), end="", file=sys.stderr, flush=True)
-        self.shown = True
-
-    def close(self):
-        """Ends the progress line."""
-        if self.shown:
-            print(file=sys.stderr)
-
-
 def _parser():
     parser = argparse.ArgumentParser(
         prog="mdrvisc",
         description="Rigid indenters on a viscous half-space by BEM and MDR "
                     "(Kürschner & Filippov 2012).")
     parser.add_argument("--version", action="version", version=f"mdrvisc {__version__}")
+    parser.add_argument("-v", "--verbose", action="store_true",
+                        help="log each solve (resolution, iterations, run time) to stderr")
     commands = parser.add_subparsers(dest="command", required=True)
     paper = commands.add_parser(
         "paper", help="the paper's comparisons and viscoelastic unloading against Ting: tables "
@@ -66,6 +56,8 @@ def _parser():
     run = commands.add_parser("run", help="run one scene file (TOML)")
     run.add_argument("scene", help="scene file, e.g. examples/rod.toml")
     run.add_argument("--json", action="store_true", help="print the result as JSON")
+    run.add_argument("--no-progress", action="store_true",
+                     help="no progress bar (by default a bar with the time left on stderr)")
     return parser
 
 
@@ -99,14 +91,17 @@ def _run(args):
     """Runs a scene file as the Rust binary does: same parsing, report, table and JSON."""
     scene, method, n = _core.load_scene_file(args.scene)
     _Progress()(f"{args.scene}: {method.upper()} n={n}")
-    progress = _SolverProgress()
+    progress = None if args.no_progress else ProgressBar()
     try:
         report = _core.run_scene(scene, method, n, progress=progress)
     except MdrviscError as exc:
         exc.args = (f"{args.scene}: {exc}",) + exc.args[1:]
         raise
     finally:
-        progress.close()
+        if progress is not None:
+            progress.close()
+    _log.info("solved: %s %s n=%d steps=%d solves=%d iterations=%d wall=%.3f s", args.scene,
+              method.upper(), n, report.steps, report.solves, report.iterations, report.wall_time)
     if args.json:
         print(f"[{report.document(args.scene, scene)}]")
     else:
@@ -117,6 +112,8 @@ def main(argv: list[str] | None = None) -> int:
     """Runs the command line with ``argv`` (default ``sys.argv[1:]``); returns the exit status
     (0 success, 2 bad input or failed solve, 130 interrupted)."""
     args = _parser().parse_args(argv)
+    if args.verbose:
+        logging.basicConfig(level=logging.INFO, format="%(name)s: %(message)s")
     try:
         if args.command == "paper":
             _paper(args)

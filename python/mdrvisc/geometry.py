@@ -4,7 +4,7 @@ Units: lengths in m. Sign convention: h(x, y) >= 0 is the height of the indenter
 its tip; the tip sits at the origin and the axis at x = y = 0. Every indenter here is
 axisymmetric, h = f(r) with r = sqrt(x^2 + y^2), and has a footprint (the part of the plane it
 covers, where it can touch): a disc, a centred square of edge L (``edge``), or the whole plane
-(unbounded). Its MDR profile is g(x) = |x| * integral_0^|x| f'(r) / sqrt(x^2 - r^2) dr
+(unbounded). Its MDR profile is g(x) = ``|x|`` * integral_0^``|x|`` f'(r) / sqrt(x^2 - r^2) dr
 (Popov & Hess), the 1D indenter that, pressed into a foundation of independent elements,
 reproduces the depth, force and contact radius of the 3D contact; a square footprint of edge
 L maps to a 1D indenter of half-length L / sqrt(pi) (equal area). Tabulated and
@@ -127,7 +127,7 @@ class Indenter(abc.ABC):
 
     def _coordinates(self, x):
         """``x`` (m) validated for :meth:`profile_1d`: finite, and on the 1D indenter of a disc
-        footprint (|x| <= radius; < radius where the rim is outside the footprint)."""
+        footprint (``|x|`` <= radius; < radius where the rim is outside the footprint)."""
         name = type(self).__name__
         x = _array(name, "x", x)
         if self._disc is not None:
@@ -203,7 +203,7 @@ class Indenter(abc.ABC):
 class Rod(Indenter):
     """Flat cylindrical punch of radius ``radius`` (m): h = 0 on the disc r <= radius.
 
-    Its MDR image is a flat line, g = 0 for |x| <= radius.
+    Its MDR image is a flat line, g = 0 for ``|x|`` <= radius.
     """
 
     def __init__(self, radius: float) -> None:
@@ -223,7 +223,7 @@ class Rod(Indenter):
         return np.zeros_like(r)
 
     def profile_1d(self, x: ArrayLike) -> np.ndarray:
-        """MDR profile g = 0 (m) for |x| <= radius (m); other x raise InvalidInputError."""
+        """MDR profile g = 0 (m) for ``|x|`` <= radius (m); other x raise InvalidInputError."""
         return np.zeros_like(self._coordinates(x))
 
     def contact_radius_at_depth(self, d: float) -> float:
@@ -295,7 +295,7 @@ class Cone(Indenter):
 
     Parameters: ``slope`` (dimensionless, the cotangent of the half-opening angle) > 0;
     ``edge`` (m): side of a centred square footprint, or None (unbounded). MDR profile
-    g = (pi/2) slope |x|.
+    g = (pi/2) slope ``|x|``.
     """
 
     def __init__(self, slope: float, edge: float | None = None) -> None:
@@ -316,7 +316,7 @@ class Cone(Indenter):
         return self._slope * r
 
     def profile_1d(self, x: ArrayLike) -> np.ndarray:
-        """MDR profile g = (pi/2) slope |x| (m) at ``x`` (m)."""
+        """MDR profile g = (pi/2) slope ``|x|`` (m) at ``x`` (m)."""
         x = self._coordinates(x)
         return 0.5 * math.pi * self._slope * np.abs(x)
 
@@ -342,7 +342,7 @@ class Sphere(Indenter):
     """Exact spherical cap of radius ``radius`` = R (m): h = R - sqrt(R^2 - r^2) for r < R.
 
     Footprint: the open disc r < R. MDR profile (closed form)
-    g(x) = (|x|/2) ln((R + |x|) / (R - |x|)) for |x| < R, growing without bound at the rim.
+    g(x) = (``|x|``/2) ln((R + ``|x|``) / (R - ``|x|``)) for ``|x|`` < R, growing without bound at the rim.
     """
 
     _rim_inside = False
@@ -360,7 +360,7 @@ class Sphere(Indenter):
         return r * r / (radius + np.sqrt((radius - r) * (radius + r)))
 
     def profile_1d(self, x: ArrayLike) -> np.ndarray:
-        """MDR profile g(x) (m) at ``x`` (m); |x| >= radius raises InvalidInputError."""
+        """MDR profile g(x) (m) at ``x`` (m); ``|x|`` >= radius raises InvalidInputError."""
         x = self._coordinates(x)
         return np.asarray(sphere_mdr_profile(x, self._disc), dtype=np.float64)
 

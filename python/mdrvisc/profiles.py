@@ -69,13 +69,13 @@ class Axisymmetric(Indenter):
     radius : float, optional
         Radius of a disc footprint (m); not together with ``edge``. Neither: unbounded.
 
-    The MDR profile is computed numerically: with r = |x| sin(theta) the weak singularity
-    of the map goes away, g(x) = |x| * integral_0^{pi/2} f'(|x| sin theta) d theta, which a
+    The MDR profile is computed numerically: with r = ``|x|`` sin(theta) the weak singularity
+    of the map goes away, g(x) = ``|x|`` * integral_0^{pi/2} f'(``|x|`` sin theta) d theta, which a
     tanh-sinh rule (109 nodes) evaluates for all x at once; f' may have integrable endpoint
     singularities (power laws r^n with n < 2, a sphere near its rim). Scale-free profiles
     (power laws) come out to ~1e-15 at every x; a profile with a feature of size l near the
-    axis (f' changing over r ~ l) is resolved while |x| is within a few decades of l (relative
-    error ~1e-10 at |x| = 10 l, ~1e-7 at 100 l for a bump of width l).
+    axis (f' changing over r ~ l) is resolved while ``|x|`` is within a few decades of l (relative
+    error ~1e-10 at ``|x|`` = 10 l, ~1e-7 at 100 l for a bump of width l).
     """
 
     # x values per block of the vectorised quadrature (block * nodes ~ 2^18 evaluations).
@@ -169,7 +169,7 @@ class Axisymmetric(Indenter):
     def profile_1d(self, x: ArrayLike) -> np.ndarray:
         """MDR profile g(x) (m) at ``x`` (m) by tanh-sinh quadrature (see the class docstring).
 
-        For a disc footprint |x| <= radius is required.
+        For a disc footprint ``|x|`` <= radius is required.
         """
         x = self._coordinates(x)
         flat = np.abs(x).ravel()
@@ -278,6 +278,8 @@ class Profile(Indenter):
         Side of a centred square footprint, or radius of a disc footprint (m). Neither:
         unbounded, up to the last sample (a solve that needs more is an error).
 
+    Notes
+    -----
     The MDR profile g(x) = x integral_0^x h'(r) / sqrt(x^2 - r^2) dr of the interpolant is
     integrated exactly at the samples (and interpolated between them) by the compiled core,
     which also validates the table.

@@ -7,12 +7,13 @@ this module passes the options through, with the GIL released while it runs.
 
 from __future__ import annotations
 
+import logging
 import operator
-import sys
 from collections.abc import Callable
 
 from . import _core
 from .errors import InvalidInputError
+from .progress import ProgressBar
 from .result import Result
 from .scene import Scene
 
@@ -22,10 +23,7 @@ __all__ = ["solve", "DEFAULT_N"]
 DEFAULT_N = {"bem": 257, "mdr": 66049}
 
 
-def _progress_printer(stage: str, done: int, total: int) -> None:
-    """Prints one self-overwriting progress line per stage to stderr."""
-    end = "\n" if done >= total else ""
-    print(f"\r  {stage}: {done}/{total}".ljust(48), end=end, file=sys.stderr, flush=True)
+_log = logging.getLogger("mdrvisc")
 
 
 def solve(scene: Scene, method: str = "bem", n: int | None = None, tol: float = 1e-10,
@@ -42,12 +40,13 @@ def solve(scene: Scene, method: str = "bem", n: int | None = None, tol: float = 
         BEM: elements across the footprint (n x n grid, at most 4096); MDR: elements of the
         1D indenter. Default 257 (BEM) or 66049 (MDR), the paper's resolutions.
     tol : float
-        Relative tolerance of the BEM contact solver (sum |dp| / sum p); MDR is exact.
+        Relative tolerance of the BEM contact solver (sum ``|dp|`` / sum p); MDR is exact.
     max_iter : int
         Iteration limit of the BEM solver; reaching it raises ConvergenceError.
     progress : callable(stage, done, total) or True, optional
-        Called from the calling thread between chunks of work; True prints to stderr. An
-        exception it raises stops the run and propagates.
+        Called from the calling thread between chunks of work; an exception it raises stops
+        the run and propagates. True: a :class:`~mdrvisc.progress.ProgressBar` (a bar with
+        the time left; tqdm's, in terminals and notebooks, when tqdm is installed).
     integrator : {"implicit", "explicit"}
         Viscous medium under a force: "implicit" (default) takes one exact impulse step per
         output time (no time-discretisation error while the contact grows); "explicit" is
@@ -77,8 +76,17 @@ def solve(scene: Scene, method: str = "bem", n: int | None = None, tol: float = 
         raise InvalidInputError(f"solve: n must be a positive integer, got {n!r}") from None
     if n < 1:
         raise InvalidInputError(f"solve: n must be a positive integer, got {n!r}")
-    callback = _progress_printer if progress is True else progress
-    report = _core.run_scene(scene._model, method, n, tol=float(tol), max_iter=int(max_iter),
-                             integrator=integrator, step=float(step), area_change=float(area_change),
-                             dt=None if dt is None else float(dt), progress=callback)
-    return Result._from_report(report)
+    callback = ProgressBar() if progress is True else progress
+    _log.info("solve: %s n=%d, %r", method.upper(), n, scene)
+    try:
+        report = _core.run_scene(scene._model, method, n, tol=float(tol), max_iter=int(max_iter),
+                                 integrator=integrator, step=float(step),
+                                 area_change=float(area_change),
+                                 dt=None if dt is None else float(dt), progress=callback)
+    finally:
+        if isinstance(callback, ProgressBar):
+            callback.close()
+    result = Result._from_report(report)
+    _log.info("solved: %s%s", result.summary(),
+              "".join(f"; warning: {w}" for w in result.warnings))
+    return result

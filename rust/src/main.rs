@@ -1,6 +1,7 @@
 //! The Rust-only command line: `mdrvisc paper [--json] [--quick]` runs the paper's scenes,
 //! `mdrvisc run SCENE.toml [--json]` runs a scene file. Tables (or one JSON document) go to
-//! stdout, progress and errors to stderr; bad input and failed solves exit with status 2.
+//! stdout, progress (a bar with the time left, in a terminal) and errors to stderr; bad input
+//! and failed solves exit with status 2. `--help` and `--version` as usual.
 
 use clap::{Parser, Subcommand};
 use mdrvisc::monitor::Monitor;
@@ -28,6 +29,9 @@ enum Command {
         /// Coarse resolutions (BEM rod 50, paraboloids 65, MDR 4097): seconds.
         #[arg(long)]
         quick: bool,
+        /// No progress bar (by default a bar with the time left on stderr, in a terminal).
+        #[arg(long)]
+        no_progress: bool,
     },
     /// Run one scene file (TOML).
     Run {
@@ -36,45 +40,153 @@ enum Command {
         /// Print the result as one JSON document instead of a table.
         #[arg(long)]
         json: bool,
+        /// No progress bar (by default a bar with the time left on stderr, in a terminal).
+        #[arg(long)]
+        no_progress: bool,
     },
 }
 
-/// Prints `stage: done/total` on one overwritten stderr line, when stderr is a terminal, at
-/// most every 200 ms and at the end of each stage.
+/// Characters of the progress bar.
+const BAR_WIDTH: usize = 24;
+
+/// Draws, on one overwritten stderr line, the current stage's bar, count, time elapsed and
+/// time left (from the stage's mean rate so far): when enabled (asked for, and stderr is a
+/// terminal), at most every 200 ms and at the end of each stage.
 struct Progress {
+    enabled: bool,
+    /// A line is drawn and not yet ended.
     shown: bool,
+    /// A stage with a known total is under way.
+    active: bool,
+    stage: String,
+    done: usize,
+    total: usize,
+    /// The count of the iteration stage under way, if any.
+    inner: String,
+    start: Instant,
     last: Option<Instant>,
 }
 
+/// `seconds` as `12.3 s`, `4 min 05 s` or `2 h 03 min`.
+fn duration(seconds: f64) -> String {
+    let whole = seconds as u64;
+    if seconds < 60.0 {
+        format!("{seconds:.1} s")
+    } else if seconds < 3600.0 {
+        format!("{} min {:02} s", whole / 60, whole % 60)
+    } else {
+        format!("{} h {:02} min", whole / 3600, whole % 3600 / 60)
+    }
+}
+
+/// The progress line of `stage` after `elapsed` seconds with `done` of `total` finished.
+fn progress_line(stage: &str, done: usize, total: usize, elapsed: f64) -> String {
+    let fraction = if total > 0 {
+        (done as f64 / total as f64).min(1.0)
+    } else {
+        1.0
+    };
+    let filled = (fraction * BAR_WIDTH as f64).round() as usize;
+    let left = if done > 0 && done < total {
+        let rate = elapsed / done as f64;
+        format!(", {} left", duration(rate * (total - done) as f64))
+    } else {
+        String::new()
+    };
+    format!(
+        "  {stage} [{}{}] {done}/{total} {}{left}",
+        "#".repeat(filled),
+        "-".repeat(BAR_WIDTH - filled),
+        duration(elapsed)
+    )
+}
+
 impl Monitor for Progress {
+    /// A stage named `... iterations` counts towards a limit, not a known total: it is shown
+    /// as a count after the current bar, without a time left.
     fn progress(&mut self, stage: &str, done: usize, total: usize) -> mdrvisc::Result<()> {
-        let due = done >= total || self.last.is_none_or(|t| t.elapsed().as_millis() >= 200);
-        if due && std::io::stderr().is_terminal() {
-            self.last = Some(Instant::now());
-            eprint!("\r  {stage}: {done}/{total}{:20}", "");
-            let _ = std::io::stderr().flush();
-            self.shown = true;
+        if !self.enabled {
+            return Ok(());
+        }
+        if stage.ends_with("iterations") {
+            self.inner = format!("{stage} {done}");
+            if self.last.is_none_or(|t| t.elapsed().as_millis() >= 200) {
+                self.draw();
+            }
+            return Ok(());
+        }
+        if !self.active || stage != self.stage || done < self.done {
+            if self.active {
+                self.close();
+            }
+            self.stage = stage.to_string();
+            self.start = Instant::now();
+            self.last = None;
+            self.active = true;
+        }
+        (self.done, self.total) = (done, total);
+        self.inner.clear();
+        if done >= total || self.last.is_none_or(|t| t.elapsed().as_millis() >= 200) {
+            self.draw();
+        }
+        if done >= total {
+            self.close();
         }
         Ok(())
     }
 }
 
 impl Progress {
+    /// A progress display, drawn only when `wanted` and stderr is a terminal.
+    fn new(wanted: bool) -> Self {
+        Progress {
+            enabled: wanted && std::io::stderr().is_terminal(),
+            shown: false,
+            active: false,
+            stage: String::new(),
+            done: 0,
+            total: 0,
+            inner: String::new(),
+            start: Instant::now(),
+            last: None,
+        }
+    }
+
+    /// Overwrites the line with the current bar and iteration count.
+    fn draw(&mut self) {
+        self.last = Some(Instant::now());
+        let mut line = String::new();
+        if self.active {
+            let elapsed = self.start.elapsed().as_secs_f64();
+            line = progress_line(&self.stage, self.done, self.total, elapsed);
+        }
+        if !self.inner.is_empty() {
+            line = format!("{line}  {}", self.inner);
+        }
+        eprint!("\r{line:78}");
+        let _ = std::io::stderr().flush();
+        self.shown = true;
+    }
+
+    /// Ends the current line.
     fn close(&mut self) {
         if self.shown {
             eprintln!();
             self.shown = false;
         }
+        self.active = false;
+        self.inner.clear();
     }
 }
 
-fn run(runs: Vec<(String, Scene, RunSettings)>, json: bool) -> Result<(), String> {
+fn run(
+    runs: Vec<(String, Scene, RunSettings)>,
+    json: bool,
+    show_progress: bool,
+) -> Result<(), String> {
     let mut documents = vec![];
-    let mut progress = Progress {
-        shown: false,
-        last: None,
-    };
     for (name, scene, settings) in &runs {
+        let mut progress = Progress::new(show_progress);
         let report = scene::run(scene, settings, &mut progress);
         progress.close();
         let report = report.map_err(|e| format!("{name}: {e}"))?;
@@ -93,10 +205,18 @@ fn run(runs: Vec<(String, Scene, RunSettings)>, json: bool) -> Result<(), String
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let work = || match cli.command {
-        Command::Paper { json, quick } => run(paper::scenes(quick), json),
-        Command::Run { scene, json } => {
+        Command::Paper {
+            json,
+            quick,
+            no_progress,
+        } => run(paper::scenes(quick), json, !no_progress),
+        Command::Run {
+            scene,
+            json,
+            no_progress,
+        } => {
             let file = SceneFile::load(&scene).map_err(|e| e.to_string())?;
-            run(vec![(scene, file.scene, file.settings)], json)
+            run(vec![(scene, file.scene, file.settings)], json, !no_progress)
         }
     };
     // On a worker of the pool, the solvers' parallel loops split without waking the main
@@ -108,5 +228,25 @@ fn main() -> ExitCode {
             eprintln!("error: {e}");
             ExitCode::from(2)
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_time_left_is_the_mean_rate_times_the_work_left() {
+        // 30 of 120 steps in 9 s: 0.3 s a step, 90 steps left, 27 s.
+        let line = progress_line("time steps", 30, 120, 9.0);
+        assert!(line.contains("30/120 9.0 s, 27.0 s left"), "{line}");
+        assert_eq!(line.matches('#').count(), BAR_WIDTH / 4);
+        let finished = progress_line("time steps", 120, 120, 36.0);
+        assert!(
+            !finished.contains("left") && finished.matches('-').count() == 0,
+            "{finished}"
+        );
+        assert_eq!(duration(125.0), "2 min 05 s");
+        assert_eq!(duration(7380.0), "2 h 03 min");
     }
 }

@@ -276,7 +276,7 @@ pub fn run_explicit(
             }
             steps += 1;
             if steps % 4096 == 0 {
-                monitor.progress("explicit time steps", k, times.len())?;
+                monitor.progress("time steps", k, times.len())?;
             }
         }
         out.t.push(t);

@@ -375,7 +375,7 @@ pub fn run_explicit(
                 residual = residual.max(res);
             }
             if steps % 256 == 0 {
-                monitor.progress("explicit time steps", k, request.times.len())?;
+                monitor.progress("time steps", k, request.times.len())?;
             }
         }
         let force = history.force(t);

@@ -187,3 +187,38 @@ fn force_histories_in_scene_files_follow_the_impulse() {
     assert_eq!(code, 2);
     assert!(err.contains("t = 0"), "{err}");
 }
+
+#[test]
+fn version_and_help() {
+    let (code, out, _) = mdrvisc(&["--version"]);
+    assert_eq!(code, 0);
+    assert_eq!(out.trim(), format!("mdrvisc {}", env!("CARGO_PKG_VERSION")));
+    let (code, out, _) = mdrvisc(&["--help"]);
+    assert_eq!(code, 0);
+    assert!(
+        out.contains("paper") && out.contains("run") && out.contains("--version"),
+        "{out}"
+    );
+    let (code, out, _) = mdrvisc(&["run", "--help"]);
+    assert_eq!(code, 0);
+    assert!(
+        out.contains("--json") && out.contains("--no-progress"),
+        "{out}"
+    );
+}
+
+#[test]
+fn no_progress_gives_the_same_table() {
+    let path = scene_file("quiet", GOOD);
+    let (code, shown, _) = mdrvisc(&["run", &path]);
+    let (quiet_code, quiet, err) = mdrvisc(&["run", "--no-progress", &path]);
+    assert_eq!((code, quiet_code), (0, 0), "{err}");
+    // the tables differ only in the wall time
+    let strip = |s: &str| {
+        s.lines()
+            .filter(|l| !l.contains("wall="))
+            .collect::<Vec<_>>()
+            .join("\n")
+    };
+    assert_eq!(strip(&shown), strip(&quiet));
+}

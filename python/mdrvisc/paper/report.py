@@ -395,7 +395,7 @@ def _style(row, bem_explicit_n):
 
 
 def plot_error_vs_runtime(study: dict, path: str | os.PathLike) -> None:
-    """|relative error| against wall time (s), log-log: one panel per case and quantity, one
+    """``|relative error|`` against wall time (s), log-log: one panel per case and quantity, one
     curve per method x integrator (explicit: per n or area rule, the step varying; dotted:
     explicit at the fixed step with n varying); stars mark the paper's settings. Saves a PNG."""
     plt = _pyplot()

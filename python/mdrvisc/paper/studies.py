@@ -77,9 +77,9 @@ PARABOLOID_UNITS = {
     "length_mdr_vs_lee_radok": "1", "bem_at_edge": "", "mdr_saturated": "",
 }
 
-#: Units of the keys of :func:`viscoelastic`'s rows. Force errors: max |F - F_Ting| / max
+#: Units of the keys of :func:`viscoelastic`'s rows. Force errors: max ``|F - F_Ting|`` / max
 #: F_Ting over the outputs while loading (t <= t_peak) and unloading (t > t_peak);
-#: ``radius_error``: max |contact_length / 2 - a_Ting| in elements (units of ``dx``);
+#: ``radius_error``: max ``|contact_length / 2 - a_Ting|`` in elements (units of ``dx``);
 #: ``t_last_contact`` / ``t_first_free``: the last output time with F > 0 and the first with
 #: F = 0 (None if there is none), which should bracket Ting's ``t_separation``.
 VISCOELASTIC_UNITS = {
@@ -455,7 +455,7 @@ ERROR_UNITS = {
     "iterations": "", "paper": "",
 }
 
-#: Units of the keys of :func:`error_vs_runtime`'s ``orders``: |error| ~ variable^order.
+#: Units of the keys of :func:`error_vs_runtime`'s ``orders``: ``|error|`` ~ variable^order.
 ORDER_UNITS = {
     "method": "", "integrator": "", "case": "", "quantity": "", "fixed": "", "variable": "",
     "against": "", "points": "", "from": "", "to": "", "error_finest": "1", "order": "1",
@@ -495,7 +495,7 @@ def error_vs_runtime(quick: bool = False, progress: Callable[[str], object] | No
     -------
     dict
         ``rows``: one dict per (run, quantity), keys :data:`ERROR_UNITS`. ``orders``: observed
-        convergence orders, keys :data:`ORDER_UNITS`: |error| ~ dx^order along every
+        convergence orders, keys :data:`ORDER_UNITS`: ``|error|`` ~ dx^order along every
         resolution sweep (implicit; explicit at a fixed step), ~ step^order along every step
         sweep (against the closed form and against the implicit answer at the same n), fitted
         by least squares in log-log (``order``) and from the two finest points
@@ -601,7 +601,7 @@ def _rod_sweep(sweep, run):
 
 
 def _fit_order(x, err, floor):
-    """(least-squares order, order of the two finest points) of |err| ~ x^order, the points
+    """(least-squares order, order of the two finest points) of ``|err|`` ~ x^order, the points
     ordered coarse to fine; errors at or below ``floor`` are left out of the fit, and the
     two-point order is None unless both finest errors are above it. None where fewer than two
     errors are above ``floor``."""
@@ -644,7 +644,7 @@ def _order_entry(group, variable, against, fixed):
 
 
 def convergence_orders(rows: list[dict], cross_step: float = 0.01) -> list[dict]:
-    """Observed orders |error| ~ variable^order of the study's ``rows``: along dx for every
+    """Observed orders ``|error|`` ~ variable^order of the study's ``rows``: along dx for every
     implicit (and one-solve) series, along dx for the explicit runs at step ``cross_step``, and
     along the step for every explicit series of more than one step (against the closed form
     and against the implicit answer at the same n)."""
