@@ -17,8 +17,9 @@ from .errors import InvalidInputError
 
 
 def _float(value: object) -> float | None:
-    """``value`` as a float, None when it is no real number (bools, strings, too large ints)."""
-    if isinstance(value, (bool, np.bool_)):
+    """``value`` as a float, None when it is no real number (bools, strings, ints too large
+for a float)."""
+    if isinstance(value, (bool, np.bool_, str, bytes)):
         return None
     try:
         return float(value)  # type: ignore[arg-type]
@@ -40,11 +41,17 @@ def _magnitude(owner: str, name: str, number: float) -> float:
 def _positive(owner: str, name: str, value: object) -> float:
     """``value`` as a float, or InvalidInputError unless it is a finite number > 0 within
     the range of physical inputs."""
+    return _magnitude(owner, name, _finite_positive(owner, name, value))
+
+
+def _finite_positive(owner: str, name: str, value: object) -> float:
+    """``value`` as a float, or InvalidInputError unless it is a finite number > 0 (for step
+    lengths, whose smallness the crate bounds by the step count instead)."""
     number = _float(value)
     if number is None or not math.isfinite(number) or number <= 0.0:
-        shown = repr(value) if number is None else repr(number)
+        shown = f"{value!r:.80}" if number is None else repr(number)
         raise InvalidInputError(f"{owner}: {name} must be a finite positive number, got {shown}")
-    return _magnitude(owner, name, number)
+    return number
 
 
 def _number(owner: str, name: str, value: object) -> float:
@@ -52,7 +59,7 @@ def _number(owner: str, name: str, value: object) -> float:
     the range of physical inputs."""
     number = _float(value)
     if number is None or not math.isfinite(number):
-        raise InvalidInputError(f"{owner}: {name} must be a finite real number, got {value!r}")
+        raise InvalidInputError(f"{owner}: {name} must be a finite real number, got {value!r:.80}")
     return _magnitude(owner, name, number)
 
 
@@ -64,7 +71,7 @@ def _integer(owner: str, name: str, value: object, minimum: int) -> int:
     except TypeError:
         number = None
     if number is None or number < minimum:
-        raise InvalidInputError(f"{owner}: {name} must be an integer >= {minimum}, got {value!r}")
+        raise InvalidInputError(f"{owner}: {name} must be an integer >= {minimum}, got {value!r:.80}")
     return number
 
 

@@ -227,7 +227,7 @@ def lee_radok_depth_from_impulse(
     :class:`mdrvisc.geometry.Indenter`), viscosity eta (Pa s).
 
     The indenter computes it: this is :meth:`mdrvisc.geometry.Indenter.depth_from_impulse`
-    (closed forms for Rod, Paraboloid and Cone; numerical otherwise, with scipy), which
+    (closed forms for Rod, Paraboloid and Cone; numerical otherwise), which
     raises DomainError once the contact circle reaches the edge of a square footprint. Any
     object with a ``depth_from_impulse(impulse, eta)`` method is accepted as the indenter.
     """

@@ -13,7 +13,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from . import _core
-from ._validate import _positive
+from ._validate import _array, _callback, _flag, _integer, _number, _positive
 from .errors import DomainError, InvalidInputError
 from .result import Result
 
@@ -56,11 +56,11 @@ class SurfaceOperator:
 
     def __init__(self, shape: tuple[int, int], dx: float) -> None:
         try:
-            ny, nx = (int(v) for v in shape)
+            ny, nx = shape
         except (TypeError, ValueError):
-            raise InvalidInputError(f"SurfaceOperator: shape must be (ny, nx), got {shape!r}") from None
-        if ny < 1 or nx < 1:
-            raise InvalidInputError(f"SurfaceOperator: shape must be >= (1, 1), got {shape!r}")
+            raise InvalidInputError(f"SurfaceOperator: shape must be (ny, nx), got {shape!r:.200}") from None
+        ny = _integer("SurfaceOperator", "shape[0]", ny, 1)
+        nx = _integer("SurfaceOperator", "shape[1]", nx, 1)
         self._op = _core.SurfaceOperator(nx, ny, _positive("SurfaceOperator", "dx", dx))
 
     @property
@@ -86,6 +86,8 @@ class SurfaceOperator:
         arr = np.asarray(p)
         if arr.dtype.kind not in "biuf":
             raise InvalidInputError(f"pressure must hold real numbers, got dtype {arr.dtype}")
+        if arr.shape != self.shape:
+            raise InvalidInputError(f"pressure must have the operator's shape {self.shape}, got {arr.shape}")
         if out is not None and (not isinstance(out, np.ndarray) or out.dtype != np.float64):
             raise InvalidInputError(f"out must be a float64 numpy array, got {out!r:.60}")
         return self._op.apply(np.ascontiguousarray(arr, dtype=np.float64), out)
@@ -141,9 +143,13 @@ def contact(height: ArrayLike, dx: float, G: float, force: float | None = None,
     if depth_bound is not None:
         depth_bound = _positive("contact", "depth_bound", depth_bound)
     r = _core.contact_solve(h, _mask(mask, h.shape), dx, 1.0 / G, force=force,
-                            depth=None if depth is None else float(depth), tol=tol, max_iter=max_iter,
-                            active_limit=active_limit, precondition=precondition,
-                            depth_bound=depth_bound, deflection=bool(deflection))
+                            depth=None if depth is None else _number("contact", "depth", depth),
+                            tol=_positive("contact", "tol", tol),
+                            max_iter=_integer("contact", "max_iter", max_iter, 1),
+                            active_limit=None if active_limit is None
+                            else _integer("contact", "active_limit", active_limit, 0),
+                            precondition=_flag("contact", "precondition", precondition),
+                            depth_bound=depth_bound, deflection=_flag("contact", "deflection", deflection))
     return Result._from_report(r)
 
 
@@ -170,10 +176,20 @@ def viscous(height: ArrayLike, dx: float, eta: float,
     if np.ndim(force) == 0:
         ft, fv = np.array([0.0]), np.array([_positive("viscous", "force", force)])
     else:
-        ft, fv = (np.ascontiguousarray(a, dtype=np.float64) for a in force)
-    t = np.ascontiguousarray(np.asarray(times, dtype=np.float64).ravel())
-    r = _core.bem_viscous(h, m, dx, eta, t, ft, fv, rates=rates, tol=tol, max_iter=max_iter,
-                          progress=progress, precondition=precondition)
+        try:
+            ft, fv = force  # type: ignore[misc]
+        except (TypeError, ValueError):
+            raise InvalidInputError(
+                f"viscous: force must be a number or (times, forces), got {force!r:.200}") from None
+        ft = np.ascontiguousarray(_array("viscous", "force times", ft).ravel())
+        fv = np.ascontiguousarray(_array("viscous", "forces", fv).ravel())
+    t = np.ascontiguousarray(_array("viscous", "times", times).ravel())
+    options = {"rates": _flag("viscous", "rates", rates), "tol": _positive("viscous", "tol", tol),
+               "max_iter": _integer("viscous", "max_iter", max_iter, 1),
+               "progress": _callback("viscous", "progress", progress),
+               "precondition": _flag("viscous", "precondition", precondition)}
+    r = _core.bem_viscous(h, m, dx, eta, t, ft, fv, **options)
+    unbounded = _flag("viscous", "unbounded", unbounded)
     result = Result._from_report(r)
     if unbounded and np.any(result.at_edge):
         first = result.t[np.argmax(result.at_edge)]

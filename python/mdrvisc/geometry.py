@@ -173,7 +173,7 @@ class Indenter(abc.ABC):
         eta -> G.
 
         Rod, Paraboloid and Cone use closed forms (:mod:`mdrvisc.analytic`); other indenters
-        are solved numerically with scipy (``brentq`` on a, ``quad`` for the integral). Once
+        are solved numerically (bisection on a, Gauss-Legendre quadrature of the integral). Once
         the contact fills a disc footprint of radius R (Rod, ``Axisymmetric(..., radius=R)``)
         the indenter moves on like a rod: d = g(R) + (J - J_R) / (8 eta R). Raises
         DomainError once the contact circle reaches the edge of a square footprint, where it
@@ -391,6 +391,10 @@ def _edge_error(indenter, impulse):
     )
 
 
+#: Gauss-Legendre rule of the Lee-Radok impulse integral (exact for polynomials of degree 127).
+_GAUSS_NODES, _GAUSS_WEIGHTS = np.polynomial.legendre.leggauss(64)
+
+
 class _LeeRadok:
     """Numerical Lee-Radok depth of one indenter from J(a) = 8 eta int_0^a (g(a) - g(x)) dx.
 
@@ -416,18 +420,19 @@ class _LeeRadok:
         return float(self.indenter.profile_1d(x))
 
     def impulse(self, a):
-        """Impulse (N s) that brings the contact radius to ``a`` (m)."""
-        from scipy.integrate import quad
-
-        depth = self.g(a)
-        integral, _ = quad(lambda x: depth - self.g(x), 0.0, a, epsabs=0.0, epsrel=1e-12,
-                           limit=200)
-        return 8.0 * self.eta * integral
+        """Impulse (N s) that brings the contact radius to ``a`` (m): 8 eta times
+        integral_0^a (g(a) - g(x)) dx by Gauss-Legendre quadrature on nodes graded towards
+        x = a, x = a (1 - (1 - u)^2), where g' may be log-singular (a sphere near its rim)."""
+        if a == 0.0:
+            return 0.0
+        u = 0.5 * (_GAUSS_NODES + 1.0)
+        x = a * (1.0 - (1.0 - u) ** 2)
+        jacobian = 2.0 * a * (1.0 - u)
+        values = self.g(a) - np.asarray(self.indenter.profile_1d(x), dtype=np.float64)
+        return 8.0 * self.eta * float(np.sum(0.5 * _GAUSS_WEIGHTS * jacobian * values))
 
     def __call__(self, impulse):
         """Depth (m) reached at ``impulse`` (N s)."""
-        from scipy.optimize import brentq
-
         if impulse == 0.0:
             return 0.0
         if self.disc is not None:
@@ -437,9 +442,15 @@ class _LeeRadok:
             upper = self.disc
         else:
             upper = self._bracket(impulse)
-        radius = brentq(lambda a: self.impulse(a) - impulse, 0.0, upper, xtol=1e-15 * upper,
-                        rtol=4.0 * np.finfo(float).eps, maxiter=200)
-        return self.g(radius)
+        # bisection: the impulse grows with the contact radius
+        low, high = 0.0, upper
+        while high - low > 4.0 * np.finfo(float).eps * high:
+            middle = 0.5 * (low + high)
+            if self.impulse(middle) < impulse:
+                low = middle
+            else:
+                high = middle
+        return self.g(0.5 * (low + high))
 
     def _bracket(self, impulse):
         """A contact radius (m) whose impulse is at least ``impulse``."""

@@ -11,7 +11,8 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ._validate import _positive
+from ._core import MAGNITUDE
+from ._validate import _array, _number, _positive
 from .errors import InvalidInputError
 
 __all__ = ["Viscous", "Elastic", "KelvinVoigt", "Maxwell", "StandardSolid", "Prony"]
@@ -21,9 +22,13 @@ Rheology = tuple[float, list[tuple[float, float]], float]
 
 
 def _times(t):
-    t = np.asarray(t, dtype=np.float64)
-    if not np.all(np.isfinite(t)) or np.any(t < 0):
-        raise InvalidInputError(f"times must be finite and >= 0, got {t}")
+    """Times (s) as a float64 array, finite and >= 0; InvalidInputError otherwise."""
+    if isinstance(t, (str, bytes)):
+        raise InvalidInputError(f"times must be real numbers, got {t!r:.80}")
+    t = _array("medium", "times", t, minimum=0.0)
+    if np.any(t > MAGNITUDE):
+        raise InvalidInputError(
+            f"times must be <= {MAGNITUDE:g} s (the range of physical inputs), got {t.max()!r}")
     return t
 
 
@@ -62,7 +67,9 @@ class _Medium:
         for i in range(1, grid.size):
             dt = grid[i] - grid[i - 1]
             e = np.array([np.exp(-dt / tau) for _, tau in terms])
-            a = np.array([g * (tau / dt) * (1 - np.exp(-dt / tau)) for g, tau in terms])
+            # (tau/dt)(1 - exp(-dt/tau)), by its series where dt/tau underflows the quotient
+            a = np.array([g * (1 - 0.5 * dt / tau if dt / tau < 1e-8 else (tau / dt) * -np.expm1(-dt / tau))
+                          for g, tau in terms])
             g_eff = g_inf + a.sum() + eta / dt
             x_new = (1.0 - (e @ q - (a.sum() + eta / dt) * x)) / g_eff
             q = e * q + a * (x_new - x)
@@ -177,8 +184,8 @@ class Prony(_Medium):
     terms: tuple
 
     def __post_init__(self) -> None:
-        g_inf = float(self.G_inf)
-        if not (np.isfinite(g_inf) and g_inf >= 0):
+        g_inf = _number("Prony", "G_inf", self.G_inf)
+        if g_inf < 0:
             raise InvalidInputError(f"Prony: G_inf must be finite and >= 0, got {self.G_inf!r}")
         try:
             terms = tuple((_positive("Prony", "G_k", g), _positive("Prony", "tau_k", tau))

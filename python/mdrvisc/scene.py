@@ -11,6 +11,7 @@ import math
 import numpy as np
 
 from . import _core
+from ._validate import _array, _number, _positive
 from .errors import DomainError, InvalidInputError
 from .geometry import Cone, Indenter, Paraboloid, Rod, Sphere
 from .media import Elastic, _Medium, medium_from_model
@@ -26,6 +27,8 @@ __all__ = ["Scene", "OUTPUTS"]
 #: ``field_times``.
 OUTPUTS = ("depth", "contact_length", "velocity", "stiffness_length", "pressure",
            "surface_velocity", "deflection")
+#: Outputs of a scene that names none.
+DEFAULT_OUTPUTS = ("depth", "contact_length")
 #: Samples taken of a loading history given as a callable.
 CALLABLE_SAMPLES = 4001
 
@@ -34,15 +37,22 @@ def _history(value, name, duration):
     """A force or depth given as a number, (times, values) or a callable, in the model's form:
     a number or a list of [t, value] pairs."""
     if isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, bool):
-        return float(value)
+        return _number("Scene", name, value)
     if callable(value):
         if duration is None:
             raise InvalidInputError(f"Scene: a callable {name} history needs a duration")
-        span = np.linspace(0.0, float(duration), CALLABLE_SAMPLES)
-        value = (span, [value(float(t)) for t in span])
+        span = np.linspace(0.0, _positive("Scene", "duration", duration), CALLABLE_SAMPLES)
+        samples = []
+        for t in span:
+            try:
+                samples.append(value(float(t)))
+            except Exception as exc:
+                raise InvalidInputError(
+                    f"Scene: the {name} callable raised at t = {float(t)!r} s: {exc!r}") from exc
+        value = (span, samples)
     try:
         t, v = (np.asarray(a, dtype=np.float64) for a in value)
-    except (TypeError, ValueError) as exc:
+    except (TypeError, ValueError, OverflowError) as exc:
         raise InvalidInputError(
             f"Scene: {name} must be a number, a pair (times, values) or a callable, got {value!r}") from exc
     if t.ndim != 1 or t.shape != v.shape or t.size == 0:
@@ -50,8 +60,8 @@ def _history(value, name, duration):
     return np.column_stack([t, v]).tolist()
 
 
-def _array_or_none(value):
-    return None if value is None else np.asarray(value, dtype=np.float64).ravel().tolist()
+def _array_or_none(name, value):
+    return None if value is None else _array("Scene", name, value).ravel().tolist()
 
 
 def _json(model):
@@ -102,8 +112,9 @@ class Scene:
         duration. After construction: the output times, field times included. Times below
         1e-12 of the duration are refused (a step that short is lost to rounding); a time
         within 1e-9 of its value of the one before is reported from the same solved state.
-    outputs : iterable of str
-        What to compute, from :data:`OUTPUTS`; fields only when named.
+    outputs : iterable of str, optional
+        What to compute, from :data:`OUTPUTS`; fields only when named. Default (also for
+        None): depth and contact length.
     field_times : array_like, optional
         Times (s) of the field outputs; default the duration. They are added to ``times``.
     dt : float, optional
@@ -119,7 +130,7 @@ class Scene:
     force: object = None
     duration: float | None = None
     times: object = None
-    outputs: tuple = ("depth", "contact_length")
+    outputs: tuple | None = DEFAULT_OUTPUTS
     field_times: object = None
     depth: object = None
     dt: float | None = None
@@ -130,7 +141,13 @@ class Scene:
             raise InvalidInputError(f"Scene: indenter must be an mdrvisc indenter, got {self.indenter!r}")
         if not isinstance(self.medium, _Medium):
             raise InvalidInputError(f"Scene: medium must be an mdrvisc medium, got {self.medium!r}")
-        outputs = (self.outputs,) if isinstance(self.outputs, str) else tuple(self.outputs)
+        if self.outputs is None:
+            object.__setattr__(self, "outputs", DEFAULT_OUTPUTS)
+        try:
+            outputs = (self.outputs,) if isinstance(self.outputs, str) else tuple(self.outputs)
+        except TypeError:
+            raise InvalidInputError(
+                f"Scene: outputs must be names from {OUTPUTS}, got {self.outputs!r}") from None
         model = {"medium": self.medium._model(), "outputs": list(outputs)}
         for name in ("force", "depth"):
             if getattr(self, name) is not None:
@@ -140,7 +157,7 @@ class Scene:
                 model[name] = getattr(self, name)
         for name in ("times", "field_times"):
             if getattr(self, name) is not None:
-                model[name] = _array_or_none(getattr(self, name))
+                model[name] = _array_or_none(name, getattr(self, name))
         core = self._build(model)
         set_ = object.__setattr__.__get__(self)
         set_("_model", core)

@@ -8,10 +8,10 @@ this module passes the options through, with the GIL released while it runs.
 from __future__ import annotations
 
 import logging
-import operator
 from collections.abc import Callable
 
 from . import _core
+from ._validate import _callback, _finite_positive, _integer, _number, _positive
 from .errors import InvalidInputError
 from .progress import ProgressBar
 from .result import Result
@@ -67,22 +67,22 @@ def solve(scene: Scene, method: str = "bem", n: int | None = None, tol: float = 
         raise InvalidInputError(f"solve: scene must be a Scene, got {scene!r}")
     if method not in DEFAULT_N:
         raise InvalidInputError(f"solve: method must be 'bem' or 'mdr', got {method!r}")
-    n = DEFAULT_N[method] if n is None else n
-    if isinstance(n, bool):
-        raise InvalidInputError(f"solve: n must be a positive integer, got {n!r}")
-    try:
-        n = operator.index(n)
-    except TypeError:
-        raise InvalidInputError(f"solve: n must be a positive integer, got {n!r}") from None
-    if n < 1:
-        raise InvalidInputError(f"solve: n must be a positive integer, got {n!r}")
-    callback = ProgressBar() if progress is True else progress
+    n = _integer("solve", "n", DEFAULT_N[method] if n is None else n, 1)
+    if integrator not in ("implicit", "explicit"):
+        raise InvalidInputError(f"solve: integrator must be 'implicit' or 'explicit', got {integrator!r}")
+    # every option is checked, whether or not this scene and method use it
+    options = {"tol": _positive("solve", "tol", tol), "max_iter": _integer("solve", "max_iter", max_iter, 1),
+               "step": _finite_positive("solve", "step", step),
+               "area_change": _number("solve", "area_change", area_change),
+               "dt": None if dt is None else _finite_positive("solve", "dt", dt)}
+    if options["area_change"] < 0:
+        raise InvalidInputError(f"solve: area_change must be >= 0, got {area_change!r}")
+    if progress is not True and progress is not False:
+        _callback("solve", "progress", progress)
+    callback = ProgressBar() if progress is True else (progress or None)
     _log.info("solve: %s n=%d, %r", method.upper(), n, scene)
     try:
-        report = _core.run_scene(scene._model, method, n, tol=float(tol), max_iter=int(max_iter),
-                                 integrator=integrator, step=float(step),
-                                 area_change=float(area_change),
-                                 dt=None if dt is None else float(dt), progress=callback)
+        report = _core.run_scene(scene._model, method, n, integrator=integrator, progress=callback, **options)
     finally:
         if isinstance(callback, ProgressBar):
             callback.close()

@@ -65,7 +65,7 @@ pub const MAGNITUDE: f64 = 1e100;
 /// [1 / MAGNITUDE, MAGNITUDE].
 pub fn check_magnitude(name: &str, value: f64) -> Result<()> {
     let m = value.abs();
-    if value == 0.0 || (m <= MAGNITUDE && m >= 1.0 / MAGNITUDE) {
+    if value == 0.0 || (1.0 / MAGNITUDE..=MAGNITUDE).contains(&m) {
         Ok(())
     } else {
         Err(Error::InvalidInput(format!(

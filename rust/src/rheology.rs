@@ -79,7 +79,8 @@ impl Rheology {
                 }
             })
             .collect();
-        let damping = self.eta / dt;
+        // a step of zero length (a jump of the load) meets no dashpot when there is none
+        let damping = if self.eta == 0.0 { 0.0 } else { self.eta / dt };
         StepRule {
             g_eff: self.g_inf + gain.iter().sum::<f64>() + damping,
             decay,

@@ -142,10 +142,22 @@ pub fn check_steps(dt: f64, span: f64, steps: f64) -> Result<()> {
     )))
 }
 
-/// Step times: the output times, each interval cut into equal steps no longer than `dt`;
-/// the flag marks output times. More than `MAX_STEPS` steps is an error, before anything
-/// is allocated.
-fn step_times(times: &[f64], dt: f64) -> Result<Vec<(f64, bool)>> {
+/// Whether the loading jumps at t = 0 (a force or a depth already there at t = 0+) on a
+/// medium without a dashpot, which then answers at once with its instantaneous modulus.
+fn jumps_at_start(loading: &Loading, medium: &Rheology) -> bool {
+    medium.eta == 0.0
+        && match loading {
+            Loading::Force(h) => h.force(0.0) > 0.0,
+            Loading::Depth(h) => h.depth(0.0) != 0.0,
+        }
+}
+
+/// Step times: a zero-length step at t = 0 when `jump` (the exponential update assumes the
+/// strain varies linearly over a step, so a jump spread over the first step would leave the
+/// relaxation high by dt / (2 tau) ever after), then the output times, each interval cut
+/// into equal steps no longer than `dt`; the flag marks output times. More than
+/// `MAX_STEPS` steps is an error, before anything is allocated.
+fn step_times(times: &[f64], dt: f64, jump: bool) -> Result<Vec<(f64, bool)>> {
     check_output_times(times)?;
     crate::error::check_finite_positive("time step dt", dt)?;
     let mut total = 0.0;
@@ -155,7 +167,10 @@ fn step_times(times: &[f64], dt: f64) -> Result<Vec<(f64, bool)>> {
         t0 = t1;
     }
     check_steps(dt, t0, total)?;
-    let mut out = Vec::with_capacity(total as usize);
+    let mut out = Vec::with_capacity(total as usize + 1);
+    if jump {
+        out.push((0.0, false));
+    }
     let mut t0 = 0.0;
     for &t1 in times {
         let m = ((t1 - t0) / dt).ceil().max(1.0) as usize;
@@ -190,9 +205,9 @@ pub fn run_mdr(
         return Err(Error::InvalidInput("the 1D profile has no elements".into()));
     }
     request.check()?;
-    let steps = step_times(request.times, request.dt)?;
+    let steps = step_times(request.times, request.dt, jumps_at_start(loading, medium))?;
     let start = match loading {
-        Loading::Depth(h) => h.depth(0.0),
+        Loading::Depth(_) => 0.0,
         Loading::Force(_) => g.iter().copied().fold(f64::INFINITY, f64::min),
     };
     let mut depths = Trail::new(vec![start]);
@@ -244,6 +259,11 @@ pub fn run_mdr(
             rule.advance(w[i], w_new, &mut q[i * m..(i + 1) * m]);
             w[i] = w_new;
         }
+        if h == 0.0 {
+            // the jump at t = 0: rates start from the state just after it
+            depths = Trail::new(vec![depth]);
+            displacements = displacements.map(|_| Trail::new(w.clone()));
+        }
         let mut rate = [0.0];
         depths.rate(t, &[depth], &mut rate);
         if output {
@@ -270,9 +290,11 @@ pub fn run_mdr(
                 });
             }
         }
-        depths.push(t, &[depth]);
-        if let Some(trail) = &mut displacements {
-            trail.push(t, &w);
+        if h > 0.0 {
+            depths.push(t, &[depth]);
+            if let Some(trail) = &mut displacements {
+                trail.push(t, &w);
+            }
         }
         out.steps = s + 1;
         monitor.progress("time steps", s + 1, steps.len())?;
@@ -293,10 +315,10 @@ pub fn run_bem(
     monitor: &mut dyn Monitor,
 ) -> Result<(Series, Vec<Fields>)> {
     request.check()?;
-    let steps = step_times(request.times, request.dt)?;
+    let steps = step_times(request.times, request.dt, jumps_at_start(loading, medium))?;
     let n = grid.nx * grid.ny;
     let start = match loading {
-        Loading::Depth(h) => h.depth(0.0),
+        Loading::Depth(_) => 0.0,
         Loading::Force(_) => (0..n)
             .filter(|&i| grid.allowed[i])
             .map(|i| grid.height[i])
@@ -367,7 +389,7 @@ pub fn run_bem(
                 )?;
                 iterations += r.iterations;
                 residual = residual.max(r.residual);
-                extrapolate = warm;
+                extrapolate = warm && t > t_prev;
                 warm = r.contact_count > 0;
                 h_prev = t - t_prev;
                 (r.depth, r.force)
@@ -380,6 +402,11 @@ pub fn run_bem(
             rule.advance(x[i], x_new, &mut q[i * m..(i + 1) * m]);
             x[i] = x_new;
             count += usize::from(p[i] > 0.0);
+        }
+        if t == t_prev {
+            // the jump at t = 0: rates start from the state just after it
+            depths = Trail::new(vec![depth]);
+            strains = strains.map(|_| Trail::new(x.clone()));
         }
         let mut rate = [0.0];
         depths.rate(t, &[depth], &mut rate);
@@ -414,9 +441,11 @@ pub fn run_bem(
                 });
             }
         }
-        depths.push(t, &[depth]);
-        if let Some(trail) = &mut strains {
-            trail.push(t, &x);
+        if t > t_prev {
+            depths.push(t, &[depth]);
+            if let Some(trail) = &mut strains {
+                trail.push(t, &x);
+            }
         }
         out.steps = s + 1;
         monitor.progress("time steps", s + 1, steps.len())?;

@@ -265,7 +265,9 @@ impl PySurfaceOperator {
         py.detach(|| {
             let mut guard = self.op.lock().unwrap_or_else(|e| e.into_inner());
             let op: &mut FftOperator = &mut guard;
-            crate::pool::run(|| op.apply(p, u))
+            crate::pool::run(|| op.apply(p, u))?;
+            // pressures and element sizes near the range of physical inputs can overflow
+            crate::error::check_finite("deflection K[p] (overflows double precision)", u)
         })
         .map_err(|e| to_pyerr(py, e))
     }

@@ -44,7 +44,20 @@ pub fn sizing_radius(scene: &Scene) -> Result<f64> {
 pub fn bem_half_width(scene: &Scene) -> Result<f64> {
     match scene.indenter.half_width() {
         Some(h) => Ok(h),
-        None => Ok(UNBOUNDED_MARGIN * sizing_radius(scene)?),
+        None => unbounded_extent(scene),
+    }
+}
+
+/// `UNBOUNDED_MARGIN` times the largest contact radius of a scene whose indenter has no
+/// edge; an error when that radius is zero (no load at any time: nothing sizes the grid).
+fn unbounded_extent(scene: &Scene) -> Result<f64> {
+    let radius = sizing_radius(scene)?;
+    if radius > 0.0 {
+        Ok(UNBOUNDED_MARGIN * radius)
+    } else {
+        Err(Error::InvalidInput(
+            "the indenter is unbounded and the load is zero throughout: no contact sizes the grid; give the indenter an edge or a load".into(),
+        ))
     }
 }
 
@@ -53,7 +66,7 @@ pub fn bem_half_width(scene: &Scene) -> Result<f64> {
 pub fn mdr_half_length(scene: &Scene) -> Result<f64> {
     match scene.indenter.half_length_1d() {
         Some(h) => Ok(h),
-        None => Ok(UNBOUNDED_MARGIN * sizing_radius(scene)?),
+        None => unbounded_extent(scene),
     }
 }
 
