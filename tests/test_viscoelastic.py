@@ -23,7 +23,9 @@ MEDIA = [mv.StandardSolid(G_inf=1.0, G1=3.0, tau1=0.5), mv.Maxwell(G=2.0, eta=1.
 
 
 @pytest.mark.parametrize("medium", MEDIA, ids=lambda m: type(m).__name__)
-@pytest.mark.parametrize("method,n,tol", [("mdr", 8001, 3e-4), ("bem", 65, 1e-3)])
+# measured (largest of the three media): MDR 3.1e-5, BEM 3.6e-4; the step force is a jump at
+# t = 0 taken with the instantaneous modulus, so the error is second order in dt
+@pytest.mark.parametrize("method,n,tol", [("mdr", 8001, 1e-4), ("bem", 65, 1e-3)])
 def test_creep_under_a_step_force_follows_lee_radok(medium, method, n, tol):
     scene = mv.Scene(indenter=mv.Paraboloid(c=C), medium=medium, force=FORCE, duration=5.0, times=TIMES)
     r = mv.solve(scene, method, n, dt=0.02)
@@ -50,14 +52,19 @@ def test_creep_compliance_closed_forms_match_the_generic_stepping():
     assert sls.creep_compliance(1e9) == pytest.approx(1.0)
 
 
-def test_held_depth_relaxes_the_force_of_a_maxwell_body():
-    medium = mv.Maxwell(G=2.0, eta=0.6)
-    scene = mv.Scene(indenter=mv.Paraboloid(c=C), medium=medium, depth=([0.0, 1e-6], [0.0, 0.2]),
-                     duration=1.0, times=[1e-6, 0.1, 0.5, 1.0])
-    for method, n in (("mdr", 4001), ("bem", 65)):
-        r = mv.solve(scene, method, n, dt=0.01)
-        expected = r.force[0] * np.exp(-(r.t - 1e-6) / (medium.eta / medium.G))
-        assert np.allclose(r.force, expected, rtol=1e-6)
+@pytest.mark.parametrize("method,n,tol", [("mdr", 8001, 1e-8), ("bem", 65, 2e-4)])
+@pytest.mark.parametrize("dt", [0.01, 0.001])
+def test_a_depth_held_from_the_start_relaxes_as_the_closed_form(method, n, tol, dt):
+    """A depth d there from t = 0 on a Maxwell body: F(t) = 16/3 sqrt(R) G(t) d^(3/2) with
+    G(t) = G exp(-t / tau) (E* = 4 G), exactly at any step: the jump is taken at t = 0 with
+    the instantaneous modulus, not spread over the first step. Measured: MDR 2.8e-9, BEM
+    (65 x 65) 7.2e-5, the same at both steps."""
+    medium, depth = mv.Maxwell(G=2.0, eta=1.0), 0.1
+    times = np.array([0.1, 0.5, 1.0, 2.0])
+    scene = mv.Scene(indenter=mv.Paraboloid(c=C), medium=medium, depth=depth, duration=2.0, times=times)
+    r = mv.solve(scene, method, n, dt=dt)
+    exact = 16 / 3 * np.sqrt(R) * medium.G * np.exp(-times * medium.G / medium.eta) * depth**1.5
+    assert np.max(np.abs(r.force / exact - 1)) < tol
 
 
 # Ting (1966): the paraboloid pushed in at V until T_PEAK, then pulled out at V. Separation
