@@ -64,15 +64,20 @@ def _number(owner: str, name: str, value: object) -> float:
 
 
 def _integer(owner: str, name: str, value: object, minimum: int) -> int:
-    """``value`` as an int, or InvalidInputError unless it is an integer >= ``minimum``
-    (bools and floats are refused, not truncated)."""
+    """``value`` as an int, or InvalidInputError unless it is an integer >= ``minimum`` that
+    the compiled core can take (bools and floats are refused, not truncated)."""
     try:
         number = None if isinstance(value, (bool, np.bool_)) else operator.index(value)  # type: ignore[arg-type]
     except TypeError:
         number = None
-    if number is None or number < minimum:
-        raise InvalidInputError(f"{owner}: {name} must be an integer >= {minimum}, got {value!r:.80}")
+    if number is None or number < minimum or number > _LARGEST_INTEGER:
+        raise InvalidInputError(
+            f"{owner}: {name} must be an integer in [{minimum}, 2**63 - 1], got {value!r:.80}")
     return number
+
+
+#: The largest integer the compiled core takes (its sizes and counts are 64-bit).
+_LARGEST_INTEGER = 2**63 - 1
 
 
 def _flag(owner: str, name: str, value: object) -> bool:

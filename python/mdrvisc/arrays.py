@@ -173,7 +173,7 @@ def viscous(height: ArrayLike, dx: float, eta: float,
     m = _mask(mask, h.shape)
     dx = _positive("viscous", "dx", dx)
     eta = _positive("viscous", "eta", eta)
-    if np.ndim(force) == 0:
+    if np.isscalar(force) or (isinstance(force, np.ndarray) and force.ndim == 0):
         ft, fv = np.array([0.0]), np.array([_positive("viscous", "force", force)])
     else:
         try:
