@@ -52,6 +52,10 @@ class SceneFailure:
     scene: Scene
     error: BaseException
 
+    def __repr__(self) -> str:
+        message = str(self.error)[:160]
+        return f"SceneFailure(index={self.index}, error={type(self.error).__name__}({message!r}))"
+
 
 @dataclasses.dataclass
 class Sweep:
@@ -71,6 +75,9 @@ class Sweep:
     computed: int = 0
     loaded: int = 0
     wall_time: float = 0.0
+
+    def __repr__(self) -> str:
+        return f"<Sweep {self.method.upper()} n={self.n}: {self.summary()}>"
 
     def summary(self) -> str:
         """One line: scenes done (computed, from the store), failed, wall time."""
