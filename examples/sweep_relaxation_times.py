@@ -29,7 +29,7 @@ from mdrvisc import analytic  # noqa: E402
 
 
 def main():
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser = argparse.ArgumentParser(description="A sweep over relaxation times, plotted")
     parser.add_argument("out", nargs="?", default="sweep_relaxation_times.png")
     parser.add_argument("--store", help="folder of finished results")
     parser.add_argument("--scheduler", help="address of a Dask scheduler")
