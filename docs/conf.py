@@ -67,8 +67,8 @@ def _example_arguments(gallery_conf, script_vars):
 
 class _WrittenFigures:
     """sphinx-gallery image scraper for the figures an example saved as PNG files in the
-    gallery folder (the figure scripts save theirs and close them): each is shown once, after
-    the code block that wrote it."""
+    gallery folder, named after the example (the figure scripts save theirs and close them):
+    each is shown once, after the code block that wrote it."""
 
     def __init__(self):
         self.shown = set()
@@ -80,7 +80,8 @@ class _WrittenFigures:
         from sphinx_gallery.scrapers import figure_rst
 
         folder = Path(gallery_conf["src_dir"]) / gallery_conf["gallery_dirs"][0]
-        written = sorted(p for p in folder.glob("*.png") if p not in self.shown)
+        stem = Path(block_vars["src_file"]).stem
+        written = sorted(p for p in folder.glob(f"{stem}*.png") if p not in self.shown)
         self.shown.update(written)
         names = []
         for png, target in zip(written, block_vars["image_path_iterator"]):

@@ -63,6 +63,7 @@ def main():
     ax.legend()
     fig.tight_layout()
     fig.savefig(args.out, dpi=120)
+    plt.close(fig)
     print(f"wrote {args.out}")
 
 
