@@ -28,3 +28,6 @@ if [[ ${#QUICK[@]} -gt 0 ]]; then "$PY" bench_active_set.py --grids 128 256 --re
 echo
 echo "### bench_threads.py"
 if [[ ${#QUICK[@]} -gt 0 ]]; then "$PY" bench_threads.py --quick --rounds 1; else "$PY" bench_threads.py --rounds 3; fi
+echo
+echo "### bench_sweep.py"
+if [[ ${#QUICK[@]} -gt 0 ]]; then "$PY" bench_sweep.py --scenes 40; else "$PY" bench_sweep.py; fi

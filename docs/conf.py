@@ -57,16 +57,18 @@ html_title = f"mdrvisc {release}"
 
 def _example_arguments(gallery_conf, script_vars):
     """Command-line arguments of each example: the quick variant where a script has one, and
-    its output file in the build folder."""
+    its output file in the build folder (figure and sweep scripts)."""
     name = Path(script_vars["src_file"]).stem
     out = Path(gallery_conf["src_dir"]) / gallery_conf["gallery_dirs"][0] / f"{name}.png"
-    return ["--quick", str(out)] if name.startswith("fig") else []
+    if name.startswith("fig"):
+        return ["--quick", str(out)]
+    return [str(out)] if name.startswith("sweep") else []
 
 
 class _WrittenFigures:
     """sphinx-gallery image scraper for the figures an example saved as PNG files in the
-    gallery folder (the figure scripts save theirs and close them): each is shown once, after
-    the code block that wrote it."""
+    gallery folder, named after the example (the figure scripts save theirs and close them):
+    each is shown once, after the code block that wrote it."""
 
     def __init__(self):
         self.shown = set()
@@ -78,7 +80,8 @@ class _WrittenFigures:
         from sphinx_gallery.scrapers import figure_rst
 
         folder = Path(gallery_conf["src_dir"]) / gallery_conf["gallery_dirs"][0]
-        written = sorted(p for p in folder.glob("*.png") if p not in self.shown)
+        stem = Path(block_vars["src_file"]).stem
+        written = sorted(p for p in folder.glob(f"{stem}*.png") if p not in self.shown)
         self.shown.update(written)
         names = []
         for png, target in zip(written, block_vars["image_path_iterator"]):

@@ -42,6 +42,9 @@ EXAMPLES = {
     "ResolutionWarning": (lambda: mv.ResolutionWarning("coarse"), ["coarse"]),
     "SurfaceOperator": (lambda: mv.arrays.SurfaceOperator((8, 16), 0.1), ["8", "16", "0.1"]),
     "ProgressBar": (lambda: ProgressBar(file=io.StringIO(), use_tqdm=False), ["stage"]),
+    "Sweep": (lambda: mv.Sweep([_SCENE, _SCENE], "mdr", 257, [None, None], []), ["MDR", "n=257", "0/2"]),
+    "SceneFailure": (lambda: mv.SceneFailure(3, _SCENE, mv.DomainError("outside")),
+                     ["3", "DomainError", "outside"]),
 }
 
 

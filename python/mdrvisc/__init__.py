@@ -14,10 +14,12 @@ until logging is configured, e.g. ``logging.basicConfig(level=logging.INFO)``.
 
 import logging
 
-from . import analytic, arrays, scenefile
+from . import analytic, arrays, scenefile, store
 from ._core import num_threads, set_num_threads
 from .errors import ConvergenceError, DomainError, InvalidInputError, MdrviscError, ResolutionWarning
 from .geometry import Cone, Indenter, Paraboloid, Rod, Sphere
+from .grids import load_sweep, sweep_scenes, zip_scenes
+from .many import SceneFailure, Sweep, solve_many
 from .media import Elastic, KelvinVoigt, Maxwell, Prony, StandardSolid, Viscous
 from .profiles import Axisymmetric, Profile
 from .result import Fields, Result
@@ -31,6 +33,7 @@ logging.getLogger("mdrvisc").addHandler(logging.NullHandler())
 __all__ = ["Scene", "Result", "Fields", "OUTPUTS", "solve", "set_num_threads", "num_threads",
            "Rod", "Paraboloid", "Cone", "Sphere", "Axisymmetric", "Profile", "Indenter", "Viscous",
            "Elastic", "KelvinVoigt", "Maxwell", "StandardSolid", "Prony", "analytic", "arrays",
-           "scenefile", "MdrviscError", "InvalidInputError", "ConvergenceError", "DomainError",
+           "scenefile", "store", "solve_many", "Sweep", "SceneFailure", "sweep_scenes", "zip_scenes",
+           "load_sweep", "MdrviscError", "InvalidInputError", "ConvergenceError", "DomainError",
            "ResolutionWarning",
            "__version__"]

@@ -1,5 +1,6 @@
 """Command line: ``mdrvisc paper [--out DIR] [--quick] [--no-study] [--json]`` and
-``mdrvisc run SCENE.toml [--json]`` (also ``python -m mdrvisc ...``).
+``mdrvisc run SCENE.toml [--json]`` and ``mdrvisc sweep SWEEP.toml [--scheduler ADDRESS]
+[--store DIR] [--json]`` (also ``python -m mdrvisc ...``).
 
 Results go to stdout (tables, or one JSON document with ``--json``), progress to stderr.
 Bad input exits with status 2 and an ``error: ...`` line on stderr.
@@ -13,6 +14,9 @@ import time
 
 from . import __version__, _core
 from .errors import MdrviscError
+from .formatting import text_table, to_jsonable
+from .grids import load_sweep
+from .many import solve_many
 from .paper import report, studies
 from .progress import ProgressBar
 
@@ -58,6 +62,19 @@ def _parser():
     run.add_argument("--json", action="store_true", help="print the result as JSON")
     run.add_argument("--no-progress", action="store_true",
                      help="no progress bar (by default a bar with the time left on stderr)")
+    sweep = commands.add_parser(
+        "sweep", help="run a sweep file (a scene file plus [sweep.axes]) in parallel, locally "
+                      "or on a Dask cluster")
+    sweep.add_argument("sweep", help="sweep file (TOML), e.g. examples/sweeps/relaxation_times.toml")
+    sweep.add_argument("--scheduler", metavar="ADDRESS",
+                       help="address of a Dask scheduler, e.g. tcp://host:8786 (needs mdrvisc[dask]); "
+                            "default: this machine")
+    sweep.add_argument("--store", metavar="DIR",
+                       help="folder of finished results: each is saved as it arrives, a rerun "
+                            "computes only what is missing")
+    sweep.add_argument("--json", action="store_true", help="print the table as JSON records")
+    sweep.add_argument("--no-progress", action="store_true",
+                       help="no progress bar (by default a bar with the time left on stderr)")
     return parser
 
 
@@ -108,15 +125,50 @@ def _run(args):
         print(report.table(args.scene), end="")
 
 
+def _sweep(args):
+    """Runs a sweep file; prints one row per scene and output time (the scene's parameters and
+    the result's series), and the failed scenes on stderr."""
+    scenes, method, n = load_sweep(args.sweep)
+    _Progress()(f"{args.sweep}: {len(scenes)} scenes, {method.upper()} n={n}")
+    client = None
+    if args.scheduler is not None:
+        try:
+            from distributed import Client
+        except ImportError:
+            raise MdrviscError("--scheduler needs Dask: pip install 'mdrvisc[dask]'") from None
+        client = Client(args.scheduler)
+    try:
+        sweep = solve_many(scenes, method, n, client=client, store=args.store,
+                           progress=not args.no_progress)
+    finally:
+        if client is not None:
+            client.close()
+    for failure in sweep.failures:
+        print(f"scene {failure.index} failed: {type(failure.error).__name__}: {failure.error}",
+              file=sys.stderr)
+    rows = sweep.rows()
+    columns = dict.fromkeys(k for row in rows for k in row)
+    rows = [{k: row.get(k) for k in columns} for row in rows]
+    if args.json:
+        print(json.dumps(to_jsonable(rows)))
+    elif rows:
+        kinds = {k: next((v for row in rows if (v := row[k]) is not None), None) for k in columns}
+        print(text_table([(k, k, "" if isinstance(v, (str, bool)) else ".6g") for k, v in kinds.items()],
+                         rows))
+    return 2 if sweep.failures else 0
+
+
 def main(argv: list[str] | None = None) -> int:
     """Runs the command line with ``argv`` (default ``sys.argv[1:]``); returns the exit status
-    (0 success, 2 bad input or failed solve, 130 interrupted)."""
+    (0 success, 2 bad input or a failed solve or scene, 130 interrupted)."""
     args = _parser().parse_args(argv)
     if args.verbose:
         logging.basicConfig(level=logging.INFO, format="%(name)s: %(message)s")
     try:
         if args.command == "paper":
             _paper(args)
+        elif args.command == "sweep":
+            return _sweep(args)
         else:
             _run(args)
     except (MdrviscError, ValueError, OSError, MemoryError) as exc:

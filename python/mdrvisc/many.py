@@ -1,0 +1,338 @@
+"""``solve_many(scenes, ...)``: many scenes at once, in parallel on this machine or on a Dask
+cluster, each finished result stored at once when a store is given.
+
+On this machine the scenes go in chunks to a pool of worker processes, one per core, each
+solving one scene at a time on ``cores / workers`` threads of the compiled core: a process
+starts once per worker, not once per scene; a worker that dies is replaced and its chunks
+solved again. With a ``dask.distributed.Client`` each chunk of scenes is one task of that
+cluster; Dask reschedules the tasks of a worker that dies. Results are
+gathered (and stored) by the calling process as they finish, so an interrupted sweep keeps
+every scene that finished.
+"""
+
+from __future__ import annotations
+
+import concurrent.futures
+import dataclasses
+import inspect
+import json
+import operator
+import os
+import pickle
+import sys
+import time
+from collections.abc import Iterable
+from typing import TYPE_CHECKING
+
+from . import _core
+from .errors import InvalidInputError, MdrviscError
+from .progress import ProgressBar
+from .result import SERIES, Result
+from .scene import Scene
+from .solve import DEFAULT_N, solve
+from .store import Store, scene_key
+
+if TYPE_CHECKING:
+    import pandas as pd
+
+__all__ = ["solve_many", "Sweep", "SceneFailure"]
+
+#: Options of :func:`mdrvisc.solve` that :func:`solve_many` passes on to every solve, with
+#: their defaults.
+SOLVE_OPTIONS = {name: p.default for name, p in inspect.signature(solve).parameters.items()
+                 if name not in ("scene", "method", "n", "progress")}
+
+
+@dataclasses.dataclass(frozen=True)
+class SceneFailure:
+    """A scene that raised: its position ``index`` in the sweep, the ``scene`` and the
+    exception ``error``."""
+
+    index: int
+    scene: Scene
+    error: BaseException
+
+    def __repr__(self) -> str:
+        message = str(self.error)[:160]
+        return f"SceneFailure(index={self.index}, error={type(self.error).__name__}({message!r}))"
+
+
+@dataclasses.dataclass
+class Sweep:
+    """The outcome of :func:`solve_many`.
+
+    ``results``: one :class:`Result` per scene, in the order of the scenes; None where the
+    scene failed (or was not reached when the sweep was interrupted). ``failures``: a
+    :class:`SceneFailure` per scene that raised. ``computed``, ``loaded``: how many results
+    were solved now and read from the store. ``wall_time``: seconds of the whole sweep.
+    """
+
+    scenes: list[Scene]
+    method: str
+    n: int
+    results: list[Result | None]
+    failures: list[SceneFailure]
+    computed: int = 0
+    loaded: int = 0
+    wall_time: float = 0.0
+
+    def __repr__(self) -> str:
+        return f"<Sweep {self.method.upper()} n={self.n}: {self.summary()}>"
+
+    def summary(self) -> str:
+        """One line: scenes done (computed, from the store), failed, wall time."""
+        done = sum(r is not None for r in self.results)
+        return (f"{done}/{len(self.scenes)} scenes done ({self.computed} computed, {self.loaded} "
+                f"from the store), {len(self.failures)} failed, wall {self.wall_time:.2f} s")
+
+    def rows(self) -> list[dict]:
+        """One dict per scene and output time: ``scene`` (its index), the scene's parameters
+        (every number or string of its model, nested keys joined by ``.``, e.g.
+        ``medium.tau1``), then the result's series at that time (see :class:`Result`).
+        Failed scenes have no rows."""
+        rows = []
+        for index, (scene, result) in enumerate(zip(self.scenes, self.results)):
+            if result is None:
+                continue
+            parameters = {"scene": index, **scene_parameters(scene)}
+            series = {k: getattr(result, k) for k in SERIES if getattr(result, k) is not None}
+            for i in range(len(result.t)):
+                rows.append({**parameters, **{k: v[i].item() for k, v in series.items()}})
+        return rows
+
+    def to_dataframe(self) -> pd.DataFrame:
+        """:meth:`rows` as a pandas DataFrame (needs pandas)."""
+        try:
+            import pandas as pd
+        except ImportError as exc:
+            raise ImportError("Sweep.to_dataframe needs pandas: pip install pandas") from exc
+        return pd.DataFrame(self.rows())
+
+
+def scene_parameters(scene: Scene) -> dict:
+    """The numbers and strings of the scene's model, nested keys joined by ``.``."""
+    out = {}
+
+    def walk(value, prefix):
+        if isinstance(value, dict):
+            for key, item in value.items():
+                walk(item, f"{prefix}.{key}" if prefix else key)
+        elif isinstance(value, (int, float, str)) and not isinstance(value, bool):
+            out[prefix] = value
+
+    walk(json.loads(scene.to_json()), "")
+    return out
+
+
+def _solve_json(text: str, method: str, n: int, options: dict):
+    """(Result, None) of the scene model ``text``, or (None, the exception) when it raised
+    (an exception that cannot be pickled back is replaced by an MdrviscError saying it)."""
+    try:
+        scene = Scene._from_core(_core.Scene.from_json(text))
+        return solve(scene, method, n, **options), None
+    except Exception as exc:  # a failed scene is reported, the sweep goes on
+        try:
+            pickle.dumps(exc)
+        except Exception:
+            return None, MdrviscError(f"{type(exc).__name__}: {exc}")
+        return None, exc
+
+
+def _solve_chunk(chunk):
+    """[(index, Result or None, exception or None)] of a chunk [(index, text, method, n, options)]."""
+    return [(index, *_solve_json(text, method, n, options)) for index, text, method, n, options in chunk]
+
+
+def _start_worker(threads: int) -> None:
+    """A worker process: its solves use ``threads`` threads."""
+    _core.set_num_threads(threads)
+
+
+def _cores() -> int:
+    """Cores this process may run on."""
+    try:
+        return len(os.sched_getaffinity(0))
+    except AttributeError:  # pragma: no cover - not Linux
+        return os.cpu_count() or 1
+
+
+#: Times the local pool is restarted after a worker process died, before the scenes of the
+#: chunks it had not finished are reported failed.
+POOL_RESTARTS = 2
+
+
+def _run_local(tasks, workers: int, advance, collect) -> None:
+    """Solves ``tasks`` [(index, text, method, n, options)] in ``workers`` processes; when a
+    worker dies (killed, out of memory), the chunks not finished go to a new pool, at most
+    :data:`POOL_RESTARTS` times."""
+    if workers <= 1 or len(tasks) <= 1:
+        for task in tasks:
+            for item in _solve_chunk([task]):
+                collect(*item)
+                advance(1)
+        return
+    chunks = _chunks(tasks, workers)
+    threads = max(1, _cores() // workers)
+    for _ in range(POOL_RESTARTS + 1):
+        unfinished = []
+        with concurrent.futures.ProcessPoolExecutor(workers, initializer=_start_worker,
+                                                    initargs=(threads,)) as pool:
+            futures = {pool.submit(_solve_chunk, chunk): chunk for chunk in chunks}
+            try:
+                for future in concurrent.futures.as_completed(futures):
+                    try:
+                        items = future.result()
+                    except concurrent.futures.process.BrokenProcessPool as exc:
+                        unfinished.append((futures[future], exc))
+                        continue
+                    for item in items:
+                        collect(*item)
+                    advance(len(items))
+            except BaseException:
+                for future in futures:
+                    future.cancel()
+                raise
+        if not unfinished:
+            return
+        chunks = [chunk for chunk, _ in unfinished]
+    for chunk, error in unfinished:
+        for index, *_ in chunk:
+            collect(index, None, error)
+        advance(len(chunk))
+
+
+def _chunks(tasks: list, slots: int) -> list:
+    """``tasks`` in chunks of up to 16, at least 16 chunks per slot (worker process or thread)
+    while there are enough tasks: few messages per scene, and slots that finish together (the
+    last chunks, a 16th of each slot's share at most, are what one slot may wait for)."""
+    size = max(1, min(16, len(tasks) // (16 * slots)))
+    return [tasks[i:i + size] for i in range(0, len(tasks), size)]
+
+
+def _run_dask(tasks, client, advance, collect) -> None:
+    """Solves ``tasks`` on ``client``'s cluster, one task per chunk of scenes."""
+    from distributed import as_completed
+
+    slots = max(1, sum(w.get("nthreads", 1) for w in client.scheduler_info()["workers"].values()))
+    futures = {}
+    for chunk in _chunks(tasks, slots):
+        futures[client.submit(_solve_chunk, chunk, pure=False)] = chunk
+    try:
+        for future in as_completed(list(futures)):
+            try:
+                items = future.result()
+            except Exception as exc:  # the task itself failed, e.g. its workers kept dying
+                items = [(index, None, exc) for index, *_ in futures[future]]
+            for item in items:
+                collect(*item)
+            advance(len(items))
+    except BaseException:
+        client.cancel(list(futures))
+        raise
+
+
+def solve_many(scenes: Iterable[Scene], method: str = "bem", n: int | None = None, client=None,
+               store=None, progress: bool = True, workers: int | None = None,
+               **solve_options) -> Sweep:
+    """Solves every scene of ``scenes`` by ``method`` at resolution ``n``, in parallel.
+
+    Parameters
+    ----------
+    scenes : iterable of Scene
+        E.g. from :func:`mdrvisc.sweep_scenes`.
+    method, n :
+        As in :func:`mdrvisc.solve`, the same for every scene.
+    client : dask.distributed.Client, optional
+        Run on that cluster (``pip install 'mdrvisc[dask]'``); default: this machine.
+    store : str or Path, optional
+        A folder of finished results (:class:`mdrvisc.store.Store`): each result is written
+        there as soon as it arrives, and scenes already there are loaded, not solved.
+    progress : bool
+        A progress bar with the time left (:class:`mdrvisc.progress.ProgressBar`: tqdm's, with
+        the rate, when installed) and a closing summary on stderr.
+    workers : int, optional
+        Worker processes on this machine (default: the cores available); ignored with a
+        client.
+    **solve_options :
+        ``tol``, ``max_iter``, ``integrator``, ``step``, ``area_change``, ``dt`` of
+        :func:`mdrvisc.solve`.
+
+    Returns
+    -------
+    Sweep
+        Results in the order of the scenes, bit for bit those of one-at-a-time solves; a
+        scene that raised is a :class:`SceneFailure` in ``failures`` and None in ``results``.
+        Ctrl-C stops the sweep (KeyboardInterrupt) after the stored results are safe.
+
+    Example
+    -------
+    >>> base = mv.Scene(indenter=mv.Paraboloid(c=1.0), force=1.0, duration=5.0,
+    ...                 medium=mv.StandardSolid(G_inf=1.0, G1=1.0, tau1=1.0))
+    >>> sweep = mv.solve_many(mv.sweep_scenes(base, medium__tau1=[0.1, 1, 10]),
+    ...                       method="mdr", n=4001, store="runs")     # doctest: +SKIP
+    >>> sweep.to_dataframe()                                           # doctest: +SKIP
+    """
+    start = time.perf_counter()
+    scenes = list(scenes)
+    for i, scene in enumerate(scenes):
+        if not isinstance(scene, Scene):
+            raise InvalidInputError(f"solve_many: scenes[{i}] must be a Scene, got {scene!r}")
+    if method not in DEFAULT_N:
+        raise InvalidInputError(f"solve_many: method must be 'bem' or 'mdr', got {method!r}")
+    n = DEFAULT_N[method] if n is None else n
+    try:
+        count = -1 if isinstance(n, bool) else operator.index(n)
+    except TypeError:
+        count = -1
+    if count < 1:
+        raise InvalidInputError(f"solve_many: n must be a positive integer, got {n!r}")
+    n = count
+    unknown = set(solve_options) - set(SOLVE_OPTIONS)
+    if unknown:
+        raise InvalidInputError(f"solve_many: unknown solve option(s) {sorted(unknown)}; "
+                                f"known: {list(SOLVE_OPTIONS)}")
+    if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):
+        raise InvalidInputError(f"solve_many: workers must be a positive integer, got {workers!r}")
+    shelf = None if store is None else Store(store)
+    # the key sees every option, so that a default named or not is the same result
+    keys = [scene_key(scene, method, n, {**SOLVE_OPTIONS, **solve_options}) for scene in scenes]
+    sweep = Sweep(scenes, method, n, [None] * len(scenes), [])
+    tasks = []
+    for index, (scene, key) in enumerate(zip(scenes, keys)):
+        if shelf is not None and key in shelf:
+            sweep.results[index] = shelf.load(key)
+            sweep.loaded += 1
+        else:
+            tasks.append((index, scene.to_json(), method, n, solve_options))
+
+    def collect(index: int, result: Result | None, error: BaseException | None) -> None:
+        if error is not None:
+            sweep.failures.append(SceneFailure(index, scenes[index], error))
+            return
+        if shelf is not None:
+            shelf.save(keys[index], result)
+        sweep.results[index] = result
+        sweep.computed += 1
+
+    bar = ProgressBar() if progress and scenes else None
+    done = [sweep.loaded]
+
+    def advance(count: int) -> None:
+        done[0] += count
+        if bar is not None:
+            bar("scenes", done[0], len(scenes))
+
+    advance(0)
+    try:
+        if client is not None:
+            _run_dask(tasks, client, advance, collect)
+        else:
+            _run_local(tasks, min(workers or _cores(), max(1, len(tasks))), advance, collect)
+    finally:
+        if bar is not None:
+            bar.close()
+        sweep.failures.sort(key=lambda f: f.index)
+        sweep.wall_time = time.perf_counter() - start
+        if progress:
+            print(f"sweep: {sweep.summary()}", file=sys.stderr, flush=True)
+    return sweep
