@@ -218,9 +218,9 @@ VISCOUS = mv.Scene(
 )
 def test_solve_options(n, tol, max_iter, step, area_change, dt, integrator, progress, method):
     def run():
-        size = n if isinstance(n, int) and not isinstance(n, bool) and 0 < n < 10**6 else n
-        if isinstance(size, int) and not isinstance(size, bool) and size > 0:
-            size = min(size, 33 if method == "bem" else 2001)
+        # valid sizes are capped to keep the suite quick; anything else goes in as drawn
+        valid = isinstance(n, int) and not isinstance(n, bool) and n > 0
+        size = min(n, 33 if method == "bem" else 2001) if valid else n
         return mv.solve(
             VISCOUS,
             method,
