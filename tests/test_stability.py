@@ -98,16 +98,19 @@ def test_flat_paraboloid_saturates_without_oscillation():
     assert r.velocity[-1] == pytest.approx(rate[late].mean(), rel=1e-9)
 
 
-@pytest.mark.parametrize("c", [1e3, 1e5])
-def test_sharp_indenter_starts_below_one_element_and_recovers(c):
-    times = np.geomspace(1e-3, 5.0, 8)
-    r = mv.solve(paraboloid(c=c, times=times), "bem", 257)
-    assert np.all(np.diff(r.depth) > 0)
+# (c, footprint edge, first time): the contact starts at one element and spans 11 (c = 1e3)
+# and 43 (c = 1e5) by t = 5 s; measured errors once resolved: 8.7e-4 and 2.5e-4
+@pytest.mark.parametrize("c,edge,first", [(1e3, 2.56, 1e-3), (1e5, 0.2, 1e-6)])
+def test_sharp_indenter_starts_below_one_element_and_recovers(c, edge, first):
+    times = np.geomspace(first, 5.0, 10)
+    r = mv.solve(paraboloid(c=c, edge=edge, times=times), "bem", 257)
+    assert np.all(np.diff(r.depth) >= 0)
     assert r.warnings and "fewer than" in r.warnings[0]
+    assert r.contact_length[0] / r.dx < 1.2
     exact = analytic.paraboloid_depth(times, 1.0, c, 1.0)
     resolved = r.contact_length / r.dx >= 10
-    if resolved.any():
-        assert np.max(np.abs(r.depth[resolved] / exact[resolved] - 1)) < 0.01
+    assert resolved.sum() >= 2
+    assert np.max(np.abs(r.depth[resolved] / exact[resolved] - 1)) < 3e-3
 
 
 def test_rod_edge_singularity_is_finite_and_refines():
