@@ -104,7 +104,7 @@ def test_flat_paraboloid_saturates_without_oscillation():
 def test_sharp_indenter_starts_below_one_element_and_recovers(c, edge, first):
     times = np.geomspace(first, 5.0, 10)
     r = mv.solve(paraboloid(c=c, edge=edge, times=times), "bem", 257)
-    assert np.all(np.diff(r.depth) >= 0)
+    assert np.all(np.diff(r.depth) > 0)
     assert r.warnings and "fewer than" in r.warnings[0]
     assert r.contact_length[0] / r.dx < 1.2
     exact = analytic.paraboloid_depth(times, 1.0, c, 1.0)
