@@ -58,3 +58,62 @@ impl ExplicitControl {
         (dt, if dt == remaining { target } else { t + dt })
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Steps grow geometrically by (1 + step) after the first, land exactly on the target, and
+    /// their count is the estimate `validate` bounds, to within the clipped last steps.
+    #[test]
+    fn steps_grow_geometrically_and_land_on_the_target() {
+        let c = ExplicitControl::default();
+        let (t_end, t_first) = (5.0, 5.0 * c.start);
+        let (mut t, mut count, mut last) = (0.0, 0usize, (0.0, 0.0));
+        while t < t_end {
+            let (dt, next) = c.next_step(t, t_first, t_end);
+            // once the previous step started at or past t_first, each is (1 + step) longer
+            if last.0 >= t_first && next < t_end {
+                assert!((dt / last.1 - (1.0 + c.step)).abs() < 1e-9, "t = {t}");
+            }
+            (last, t, count) = ((t, dt), next, count + 1);
+        }
+        assert_eq!(t, t_end);
+        let bound = 1.0 / c.step + (1.0 / c.start).ln() / c.step.ln_1p();
+        assert!(
+            (count as f64) <= bound && (count as f64) > 0.9 * bound,
+            "{count} vs {bound}"
+        );
+    }
+
+    #[test]
+    fn bad_controls_are_refused_by_name() {
+        let bad = |c: ExplicitControl, word: &str| {
+            let e = c.validate().unwrap_err().to_string();
+            assert!(e.contains(word), "{e}");
+        };
+        let base = ExplicitControl::default();
+        bad(ExplicitControl { step: 0.0, ..base }, "explicit step");
+        bad(ExplicitControl { step: 1e-9, ..base }, "steps, more than");
+        bad(
+            ExplicitControl {
+                start: -1.0,
+                ..base
+            },
+            "start fraction",
+        );
+        bad(
+            ExplicitControl {
+                area_change: -0.1,
+                ..base
+            },
+            "area_change",
+        );
+        assert!(ExplicitControl {
+            area_change: 0.0,
+            ..base
+        }
+        .validate()
+        .is_ok());
+    }
+}
