@@ -2,6 +2,10 @@
 written here: elastic x MDR, viscous x BEM x depth control, Kelvin-Voigt x BEM x force,
 Prony x BEM x depth control (paraboloid c = 1 1/m, R = 0.5 m, E* = 4 G)."""
 
+import json
+import subprocess
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -64,3 +68,41 @@ def test_prony_held_depth_by_bem(n, tol):
     r = mv.solve(paraboloid_scene(medium, depth=0.1), "bem", n, dt=0.01)
     modulus = 0.5 + np.exp(-TIMES / 0.1) + 2.0 * np.exp(-TIMES / 2.0)
     assert np.max(np.abs(r.force / (16 / 3 * np.sqrt(R) * modulus * 0.1**1.5) - 1)) < tol
+
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def maxwell_creep_depth(t, g, eta, force=1.0):
+    return (3 * force * (1 / g + t / eta) / (16 * np.sqrt(R))) ** (2 / 3)
+
+
+def kelvin_voigt_creep_depth(t, g, eta, force=1.0):
+    return (3 * force * (1 - np.exp(-t * g / eta)) / (g * 16 * np.sqrt(R))) ** (2 / 3)
+
+
+def prony_held_force(t, depth=0.1):
+    return 16 / 3 * np.sqrt(R) * (0.5 + np.exp(-t / 0.1) + 2.0 * np.exp(-t / 2.0)) * depth**1.5
+
+
+# scene file, quantity, closed form, bound (measured)
+BINARY_SCENES = [
+    ("maxwell_creep.toml", "depth", lambda t: maxwell_creep_depth(t, 2.0, 1.0), 3e-8),  # 8.9e-9
+    ("kelvin_voigt_creep.toml", "depth", lambda t: kelvin_voigt_creep_depth(t, 1.0, 0.5), 3e-3),  # 1.1e-3
+    ("prony_relaxation.toml", "force", prony_held_force, 1e-8),  # 2.8e-9
+]
+
+
+@pytest.mark.parametrize("name,quantity,exact,bound", BINARY_SCENES, ids=[s[0] for s in BINARY_SCENES])
+def test_the_binary_solves_the_maxwell_kelvin_voigt_and_prony_scene_files(name, quantity, exact, bound):
+    subprocess.run(["cargo", "build", "--release", "--quiet", "--bin", "mdrvisc"], cwd=ROOT, check=True)
+    out = subprocess.run(
+        [str(ROOT / "target" / "release" / "mdrvisc"), "run", "--json", "--no-progress", f"examples/{name}"],
+        cwd=ROOT,
+        capture_output=True,
+        text=True,
+        check=True,
+    )
+    result = json.loads(out.stdout)[0]["result"]
+    t = np.array(result["t"])
+    assert np.max(np.abs(np.array(result[quantity]) / exact(t) - 1)) < bound
