@@ -15,8 +15,9 @@ def test_paraboloid_follows_lee_radok(c):
     r = mv.solve(scene, "mdr", 66049)
     d = analytic.paraboloid_depth(r.t, 1.0, c, 1.0)
     l_exact = analytic.paraboloid_contact_length(r.t, 1.0, c, 1.0)
-    assert np.max(np.abs(r.depth / d - 1)) < 1e-6
-    assert np.max(np.abs(r.contact_length / l_exact - 1)) < 5e-4
+    # measured 5.0e-10 and 2.9e-5 for every c (66049 elements)
+    assert np.max(np.abs(r.depth / d - 1)) < 2.5e-9
+    assert np.max(np.abs(r.contact_length / l_exact - 1)) < 1.5e-4
     assert not r.saturated.any()
 
 
@@ -31,15 +32,16 @@ def test_rod_rate_and_inverse_pressure():
     scene = mv.Scene(indenter=mv.Rod(radius=1.0), medium=VISCOUS, force=1.0, duration=1.0,
                      outputs=("depth", "contact_length", "pressure", "surface_velocity"))
     r = mv.solve(scene, "mdr", 66049)
-    assert r.velocity[0] == pytest.approx(analytic.rod_velocity(1.0, 1.0, 1.0), rel=1e-6)
-    assert r.central_pressure[0] == pytest.approx(analytic.rod_central_pressure(1.0, 1.0), rel=1e-3)
+    # MDR is exact for the flat punch: measured 0, 0, 2.2e-16 and 9.3e-13 (66049 elements)
+    assert r.velocity[0] == pytest.approx(analytic.rod_velocity(1.0, 1.0, 1.0), rel=1e-12)
+    assert r.central_pressure[0] == pytest.approx(analytic.rod_central_pressure(1.0, 1.0), rel=1e-12)
     f = r.fields[1.0]
     inside = f.r <= 0.9
     exact = analytic.rod_pressure(f.r[inside], 1.0, 1.0)
-    assert np.max(np.abs(f.pressure[inside] / exact - 1)) < 0.01
+    assert np.max(np.abs(f.pressure[inside] / exact - 1)) < 1e-12
     outside = f.r >= 1.0
     v_exact = analytic.rod_surface_velocity(f.r[outside], 1.0, 1.0, 1.0)
-    assert np.max(np.abs(f.surface_velocity[outside] / v_exact - 1)) < 1e-3
+    assert np.max(np.abs(f.surface_velocity[outside] / v_exact - 1)) < 5e-12
 
 
 def test_saturation_of_the_flat_paraboloid():
