@@ -1,18 +1,8 @@
 //! The binary: paper scenes, scene files, and clear errors with a non-zero exit.
 
-use std::process::Command;
+mod support;
 
-fn mdrvisc(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_mdrvisc"))
-        .args(args)
-        .output()
-        .expect("binary runs");
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
+use support::{mdrvisc, numbers};
 
 fn scene_file(name: &str, text: &str) -> String {
     let path = std::env::temp_dir().join(format!("mdrvisc-cli-{}-{name}.toml", std::process::id()));
@@ -32,17 +22,6 @@ c = 1.0
 type = "viscous"
 eta = 1.0
 "#;
-
-#[test]
-fn quick_paper_prints_json_close_to_the_closed_forms() {
-    let (code, out, err) = mdrvisc(&["paper", "--quick", "--json"]);
-    assert_eq!(code, 0, "{err}");
-    let v: serde_json::Value = serde_json::from_str(&out).expect("JSON");
-    let rod_mdr = &v[1]["result"];
-    assert!((rod_mdr["velocity"][0].as_f64().unwrap() - 0.125).abs() < 1e-12);
-    let rod_bem = &v[0]["result"];
-    assert!((rod_bem["velocity"][0].as_f64().unwrap() / 0.125 - 1.0).abs() < 0.01);
-}
 
 #[test]
 fn scene_file_runs() {
@@ -96,12 +75,7 @@ fn viscoelastic_scene_with_a_depth_history_loads_unloads_and_separates() {
     let (code, out, err) = mdrvisc(&["run", path, "--json"]);
     assert_eq!(code, 0, "{err}");
     let v: serde_json::Value = serde_json::from_str(&out).expect("JSON");
-    let force: Vec<f64> = v[0]["result"]["force"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|x| x.as_f64().unwrap())
-        .collect();
+    let force = numbers(&v[0]["result"], "force");
     // loading raises the force, unloading drops it, and contact is lost before d = 0
     assert!(force[3] > force[2] && force[2] > force[0] && force[0] > 0.0);
     assert!(force[4] < force[3]);
@@ -122,12 +96,7 @@ fn series(path: &str, key: &str) -> Vec<f64> {
     let (code, out, err) = mdrvisc(&["run", path, "--json"]);
     assert_eq!(code, 0, "{err}");
     let v: serde_json::Value = serde_json::from_str(&out).expect("JSON");
-    v[0]["result"][key]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|x| x.as_f64().unwrap())
-        .collect()
+    numbers(&v[0]["result"], key)
 }
 
 /// On a viscous half-space the depth depends on the impulse integral F dt alone: a force
