@@ -48,8 +48,9 @@ def scipy_fit(guess, t, depth, force):
         nonlocal solves
         solves += 1
         medium = _medium(type(guess), {**base, **dict(zip(names, np.exp(x)))})
-        scene = mv.Scene(indenter=mv.Sphere(radius=RADIUS), medium=medium, depth=(np.concatenate([[0.0], t]),
-                         np.concatenate([[0.0], depth])), duration=float(t[-1]), times=t, dt=float(t[1] - t[0]))
+        history = (np.concatenate([[0.0], t]), np.concatenate([[0.0], depth]))
+        scene = mv.Scene(indenter=mv.Sphere(radius=RADIUS), medium=medium, depth=history,
+                         duration=float(t[-1]), times=t, dt=float(t[1] - t[0]))
         return (mv.solve(scene, "mdr", 2 * N).force - force) / force.max()
 
     result = least_squares(residuals, np.log([base[k] for k in names]), method="trf")
@@ -62,7 +63,7 @@ def main(argv=None) -> None:
     args = parser.parse_args(argv)
     cases = [
         ("standard solid", mv.StandardSolid(G_inf=1e3, G1=2e3, tau1=0.2), 0.2),
-        ("Prony, 3 terms", mv.Prony(G_inf=1e3, terms=((2e3, 0.01), (1.5e3, 0.1), (1e3, 1.0))), 1.0),
+        ("Prony, 3 terms", mv.Prony(G_inf=1e3, terms=((2e3, 0.01), (1.5e3, 0.08), (1e3, 0.5))), 1.0),
     ]
     header(f"Fits to a {SAMPLES}-point sphere curve, 1 % noise, MDR n = {2 * N} (best of {args.repeats})")
     rows = []

@@ -61,7 +61,11 @@ TING_MEDIA = [
 ]
 
 
-@pytest.mark.parametrize("true, options", TING_MEDIA, ids=lambda m: type(m).__name__ if not isinstance(m, dict) else "")
+def _name(value):
+    return "" if isinstance(value, dict) else type(value).__name__
+
+
+@pytest.mark.parametrize("true, options", TING_MEDIA, ids=_name)
 def test_noise_free_ting_paraboloid_is_recovered(true, options):
     """From the class alone (initial guess estimated from the data). Measured worst relative
     error with 4 substeps: 3e-6 (Prony, tau1); the bound is 1e-4."""
@@ -75,7 +79,11 @@ def test_noise_free_ting_paraboloid_is_recovered(true, options):
     assert max(abs(e) for e in errors.values()) < 1e-4, errors
 
 
-@pytest.mark.parametrize("true, options", TING_MEDIA, ids=lambda m: type(m).__name__ if not isinstance(m, dict) else "")
+def _name(value):
+    return "" if isinstance(value, dict) else type(value).__name__
+
+
+@pytest.mark.parametrize("true, options", TING_MEDIA, ids=_name)
 def test_noisy_ting_paraboloid_within_three_standard_errors(true, options):
     t, depth = triangle(400)
     force, _, _ = ting_paraboloid_triangle(t, true, R, V, T_PEAK)
@@ -116,8 +124,8 @@ def cone_ramp_hold(t, medium, slope, t_ramp):
     return 16.0 * V**2 / (math.pi * slope) * total
 
 
-@pytest.mark.parametrize("true", [mv.StandardSolid(G_inf=1e3, G1=2e3, tau1=0.2), mv.Maxwell(G=2e3, eta=600.0)],
-                         ids=lambda m: type(m).__name__)
+@pytest.mark.parametrize("true", [mv.StandardSolid(G_inf=1e3, G1=2e3, tau1=0.2),
+                                  mv.Maxwell(G=2e3, eta=600.0)], ids=_name)
 def test_cone_ramp_and_hold(true):
     """Noise-free (measured worst 1e-5 with 4 substeps) and 1 % noise."""
     slope, t = 0.5, np.linspace(0.0, 2.0, 201)[1:]
@@ -126,7 +134,8 @@ def test_cone_ramp_and_hold(true):
     cone = mv.Cone(slope=slope)
     exact = mv.fit(cone, type(true), t, depth=depth, force=force, substeps=4)
     assert max(abs(e) for e in relative_errors(exact, mv.fitting._parameters(true)).values()) < 1e-4
-    check_noisy(mv.fit(cone, type(true), t, depth=depth, force=noisy(force, 11)), mv.fitting._parameters(true))
+    result = mv.fit(cone, type(true), t, depth=depth, force=noisy(force, 11))
+    check_noisy(result, mv.fitting._parameters(true))
 
 
 def power_law_ramp_hold(t, medium, t_ramp):

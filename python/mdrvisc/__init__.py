@@ -16,8 +16,15 @@ import logging
 
 from . import analytic, arrays, scenefile, store
 from ._core import num_threads, set_num_threads
-from .errors import (ConvergenceError, DataError, DomainError, IdentifiabilityWarning, InvalidInputError,
-                     MdrviscError, ResolutionWarning)
+from .errors import (
+    ConvergenceError,
+    DataError,
+    DomainError,
+    IdentifiabilityWarning,
+    InvalidInputError,
+    MdrviscError,
+    ResolutionWarning,
+)
 from .fitting import FitResult, fit
 from .geometry import Cone, Indenter, Paraboloid, Rod, Sphere
 from .grids import load_sweep, sweep_scenes, zip_scenes
@@ -34,7 +41,8 @@ logging.getLogger("mdrvisc").addHandler(logging.NullHandler())
 
 __all__ = ["Scene", "Result", "Fields", "OUTPUTS", "solve", "set_num_threads", "num_threads",
            "Rod", "Paraboloid", "Cone", "Sphere", "Axisymmetric", "Profile", "Indenter", "Viscous",
-           "Elastic", "KelvinVoigt", "Maxwell", "StandardSolid", "Prony", "PowerLaw", "fit", "FitResult", "analytic", "arrays",
+           "Elastic", "KelvinVoigt", "Maxwell", "StandardSolid", "Prony", "PowerLaw", "fit", "FitResult",
+           "analytic", "arrays",
            "scenefile", "store", "solve_many", "Sweep", "SceneFailure", "sweep_scenes", "zip_scenes",
            "load_sweep", "MdrviscError", "InvalidInputError", "ConvergenceError", "DomainError",
            "ResolutionWarning", "DataError", "IdentifiabilityWarning",

@@ -131,9 +131,10 @@ def _fit(args):
         raise InvalidInputError(f"{args.data}: missing columns {missing} (has {list(names)})")
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", IdentifiabilityWarning)
-        result = fit(_indenter(args.indenter), model, np.atleast_1d(data["t"]), depth=np.atleast_1d(data["depth"]),
-                     force=np.atleast_1d(data["force"]), control=args.control, terms=args.terms,
-                     substeps=args.substeps, weights=np.atleast_1d(data["weight"]) if "weight" in names else None)
+        weights = np.atleast_1d(data["weight"]) if "weight" in names else None
+        result = fit(_indenter(args.indenter), model, np.atleast_1d(data["t"]),
+                     depth=np.atleast_1d(data["depth"]), force=np.atleast_1d(data["force"]),
+                     control=args.control, terms=args.terms, substeps=args.substeps, weights=weights)
     for w in caught:
         print(f"warning: {w.message}", file=sys.stderr)
     if args.json:

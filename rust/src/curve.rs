@@ -269,8 +269,8 @@ impl Curve {
                 for i in 0..reach {
                     let qi = &q[i * m..(i + 1) * m];
                     let mut hist = -c.relaxing * w[i];
-                    for k in 0..m {
-                        hist += c.decay[k] * qi[k];
+                    for (e, qk) in c.decay.iter().zip(qi) {
+                        hist += e * qk;
                     }
                     history[i] = hist;
                     relaxed[i] = self.g[i] - hist / c.g_eff;
@@ -319,8 +319,7 @@ impl Curve {
                                 let sum: f64 = in_contact
                                     .iter()
                                     .map(|&i| {
-                                        c.d_g_eff[j] * (depth - self.g[i])
-                                            + d_history[i * p + j]
+                                        c.d_g_eff[j] * (depth - self.g[i]) + d_history[i * p + j]
                                     })
                                     .sum();
                                 *dd = -sum / (c.g_eff * in_contact.len() as f64);
@@ -362,8 +361,8 @@ impl Curve {
                         dw[i * p + j] = dw_new;
                     }
                     let qi = &mut q[i * m..(i + 1) * m];
-                    for k in 0..m {
-                        qi[k] = c.decay[k] * qi[k] + c.gain[k] * dw_step;
+                    for ((qk, e), gain) in qi.iter_mut().zip(&c.decay).zip(&c.gain) {
+                        *qk = e * *qk + gain * dw_step;
                     }
                     w[i] = w_new;
                 }
@@ -462,10 +461,13 @@ mod tests {
         let r = standard_solid(1.0, 2.0, 0.3);
         let times: Vec<f64> = (1..=40).map(|k| 0.05 * k as f64).collect();
         let depth: Vec<f64> = times.iter().map(|&t| 0.2 * t.min(2.0 - t + 0.0)).collect();
-        let force: Vec<f64> = times.iter().map(|&t| 0.3 * (t * 2.0).sin().max(0.0)).collect();
+        let force: Vec<f64> = times
+            .iter()
+            .map(|&t| 0.3 * (t * 2.0).sin().max(0.0))
+            .collect();
         for (control, values) in [(Control::Depth, &depth), (Control::Force, &force)] {
-            let curve = Curve::new(half.clone(), dx, times.clone(), values.clone(), control, 1)
-                .unwrap();
+            let curve =
+                Curve::new(half.clone(), dx, times.clone(), values.clone(), control, 1).unwrap();
             let e = curve.evaluate(&r, &[]).unwrap();
             let mut t_all = vec![0.0];
             t_all.extend_from_slice(&times);
@@ -505,7 +507,10 @@ mod tests {
         let (half, _, dx) = half_parabola(400, 1.0, 1.0);
         let times: Vec<f64> = (1..=30).map(|k| 0.05 * k as f64).collect();
         let depth: Vec<f64> = times.iter().map(|&t| 0.2 * t.min(1.5 - t)).collect();
-        let force: Vec<f64> = times.iter().map(|&t| 0.4 * t.min(1.2 - t).max(0.0)).collect();
+        let force: Vec<f64> = times
+            .iter()
+            .map(|&t| 0.4 * t.min(1.2 - t).max(0.0))
+            .collect();
         type Build = fn(&[f64]) -> Rheology;
         // the media of log-parameters, and their derivatives in each
         let sls: Build = |p| standard_solid(p[0].exp(), p[1].exp(), p[2].exp());
@@ -534,15 +539,15 @@ mod tests {
             t[1].eta = r.eta;
             t
         };
-        let cases: [(Build, Vec<f64>, &dyn Fn(&Rheology) -> Vec<Rheology>); 2] = [
+        type Tangents<'a> = &'a dyn Fn(&Rheology) -> Vec<Rheology>;
+        let cases: [(Build, Vec<f64>, Tangents); 2] = [
             (sls, vec![0.0, 0.7, -1.2], &sls_tangents),
             (kv, vec![0.3, -2.0], &kv_tangents),
         ];
         for (build, params, tangents_of) in cases {
             for (control, values) in [(Control::Depth, &depth), (Control::Force, &force)] {
-                let curve =
-                    Curve::new(half.clone(), dx, times.clone(), values.clone(), control, 2)
-                        .unwrap();
+                let curve = Curve::new(half.clone(), dx, times.clone(), values.clone(), control, 2)
+                    .unwrap();
                 let r = build(&params);
                 let e = curve.evaluate(&r, &tangents_of(&r)).unwrap();
                 let p = params.len();
