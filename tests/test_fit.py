@@ -312,3 +312,22 @@ def test_levenberg_marquardt_matches_scipy():
                            xtol=1e-14, ftol=1e-14, gtol=1e-14)
     assert ours.converged
     assert np.allclose(ours.x, theirs.x, rtol=0, atol=1e-8)
+
+
+def test_command_line_fit(tmp_path, capsys):
+    """``mdrvisc fit`` on a CSV curve: the table, and JSON with the same parameters."""
+    import json
+
+    from mdrvisc.cli import main
+
+    t, depth = triangle(100)
+    force, _, _ = ting_paraboloid_triangle(t, mv.StandardSolid(1e3, 2e3, 0.2), R, V, T_PEAK)
+    path = tmp_path / "curve.csv"
+    np.savetxt(path, np.column_stack([t, depth, force]), delimiter=",", header="t,depth,force", comments="")
+    args = [str(path), "--indenter", f"paraboloid:c={1 / (2 * R)}", "--model", "standardsolid"]
+    assert main(["fit", *args]) == 0
+    assert "StandardSolid" in capsys.readouterr().out
+    assert main(["fit", *args, "--json"]) == 0
+    document = json.loads(capsys.readouterr().out)
+    assert abs(document["parameters"]["tau1"] / 0.2 - 1) < 1e-3
+    assert main(["fit", *args[:2], "blob:r=1", *args[3:]]) == 2

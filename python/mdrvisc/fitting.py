@@ -94,7 +94,7 @@ def _scaled(medium: _Medium, by: float) -> _Medium:
 def _array(name: str, values: ArrayLike) -> np.ndarray:
     """``values`` as a 1D float64 array, or DataError naming the first entry that is not finite."""
     try:
-        a = np.asarray(values, dtype=float)
+        a = np.ascontiguousarray(values, dtype=float)
     except (TypeError, ValueError) as exc:
         raise DataError(f"fit: {name} must be an array of real numbers: {exc}") from None
     if a.ndim != 1:
