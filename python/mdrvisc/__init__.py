@@ -16,11 +16,20 @@ import logging
 
 from . import analytic, arrays, scenefile, store
 from ._core import num_threads, set_num_threads
-from .errors import ConvergenceError, DomainError, InvalidInputError, MdrviscError, ResolutionWarning
+from .errors import (
+    ConvergenceError,
+    DataError,
+    DomainError,
+    IdentifiabilityWarning,
+    InvalidInputError,
+    MdrviscError,
+    ResolutionWarning,
+)
+from .fitting import FitResult, fit
 from .geometry import Cone, Indenter, Paraboloid, Rod, Sphere
 from .grids import load_sweep, sweep_scenes, zip_scenes
 from .many import SceneFailure, Sweep, solve_many
-from .media import Elastic, KelvinVoigt, Maxwell, Prony, StandardSolid, Viscous
+from .media import Elastic, KelvinVoigt, Maxwell, PowerLaw, Prony, StandardSolid, Viscous
 from .profiles import Axisymmetric, Profile
 from .result import Fields, Result
 from .scene import OUTPUTS, Scene
@@ -32,8 +41,9 @@ logging.getLogger("mdrvisc").addHandler(logging.NullHandler())
 
 __all__ = ["Scene", "Result", "Fields", "OUTPUTS", "solve", "set_num_threads", "num_threads",
            "Rod", "Paraboloid", "Cone", "Sphere", "Axisymmetric", "Profile", "Indenter", "Viscous",
-           "Elastic", "KelvinVoigt", "Maxwell", "StandardSolid", "Prony", "analytic", "arrays",
+           "Elastic", "KelvinVoigt", "Maxwell", "StandardSolid", "Prony", "PowerLaw", "fit", "FitResult",
+           "analytic", "arrays",
            "scenefile", "store", "solve_many", "Sweep", "SceneFailure", "sweep_scenes", "zip_scenes",
            "load_sweep", "MdrviscError", "InvalidInputError", "ConvergenceError", "DomainError",
-           "ResolutionWarning",
+           "ResolutionWarning", "DataError", "IdentifiabilityWarning",
            "__version__"]

@@ -9,6 +9,7 @@ from numpy.typing import NDArray
 
 __all__ = [
     "MAGNITUDE",
+    "Curve",
     "FieldSet",
     "Indenter",
     "Report",
@@ -56,6 +57,16 @@ class Indenter:
     def height(self, r: _F64) -> _F64: ...
     def profile_1d(self, x: _F64) -> _F64: ...
     def radius_at_depth(self, d: float) -> float: ...
+
+@final
+class Curve:
+    """An indentation curve prepared once for fits: the half MDR profile, the samples and
+    the prescribed depth or force."""
+    def __new__(cls, profile: _F64, dx: float, times: _F64, values: _F64, control: str,
+                substeps: int = 1) -> Curve: ...
+    def time_range(self) -> tuple[float, float]: ...
+    def evaluate(self, media: list[str], free: list[str]
+                 ) -> list[tuple[_F64, _F64, NDArray[np.uint64]]]: ...
 
 @final
 class FieldSet:

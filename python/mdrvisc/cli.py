@@ -1,6 +1,7 @@
 """Command line: ``mdrvisc paper [--out DIR] [--quick] [--no-study] [--json]`` and
 ``mdrvisc run SCENE.toml [--json]`` and ``mdrvisc sweep SWEEP.toml [--scheduler ADDRESS]
-[--store DIR] [--json]`` (also ``python -m mdrvisc ...``).
+[--store DIR] [--json]`` and ``mdrvisc fit DATA.csv --indenter sphere:radius=5e-6 --model
+standardsolid [--control depth] [--json]`` (also ``python -m mdrvisc ...``).
 
 Results go to stdout (tables, or one JSON document with ``--json``), progress to stderr.
 Bad input exits with status 2 and an ``error: ...`` line on stderr.
@@ -11,9 +12,13 @@ import json
 import logging
 import sys
 import time
+import warnings
 
-from . import __version__, _core
-from .errors import MdrviscError
+import numpy as np
+
+from . import __version__, _core, geometry, media
+from .errors import IdentifiabilityWarning, InvalidInputError, MdrviscError
+from .fitting import fit
 from .formatting import text_table, to_jsonable
 from .grids import load_sweep
 from .many import solve_many
@@ -75,7 +80,72 @@ def _parser():
     sweep.add_argument("--json", action="store_true", help="print the table as JSON records")
     sweep.add_argument("--no-progress", action="store_true",
                        help="no progress bar (by default a bar with the time left on stderr)")
+    fitting = commands.add_parser(
+        "fit", help="fit a medium to an indentation curve: a CSV file with columns t (s), depth (m), "
+                    "force (N) and optionally weight")
+    fitting.add_argument("data", help="CSV file with a header row naming its columns")
+    fitting.add_argument("--indenter", required=True,
+                         help="tip as NAME:KEY=VALUE,..., e.g. sphere:radius=5e-6, paraboloid:c=1e5, "
+                              "cone:slope=0.36, rod:radius=1e-6 (SI units)")
+    fitting.add_argument("--model", required=True,
+                         help="medium: elastic, viscous, kelvinvoigt, maxwell, standardsolid, prony, "
+                              "powerlaw")
+    fitting.add_argument("--control", choices=["depth", "force"], default="depth",
+                         help="what was prescribed (default depth: the forces are fitted)")
+    fitting.add_argument("--terms", type=int, default=2, help="Prony terms (--model prony)")
+    fitting.add_argument("--substeps", type=int, default=1, help="time steps per sample interval")
+    fitting.add_argument("--json", action="store_true", help="print the result as JSON")
     return parser
+
+
+def _indenter(spec):
+    """The indenter of a NAME:KEY=VALUE,... specification."""
+    name, _, rest = spec.partition(":")
+    classes = {cls.__name__.lower(): cls for cls in (geometry.Sphere, geometry.Paraboloid, geometry.Cone,
+                                                      geometry.Rod)}
+    if name.lower() not in classes:
+        raise InvalidInputError(f"--indenter: unknown tip {name!r}; one of {sorted(classes)}")
+    values = {}
+    for item in filter(None, rest.split(",")):
+        key, _, value = item.partition("=")
+        try:
+            values[key.strip()] = float(value)
+        except ValueError:
+            raise InvalidInputError(f"--indenter: {item!r} is not KEY=NUMBER") from None
+    try:
+        return classes[name.lower()](**values)
+    except TypeError as exc:
+        raise InvalidInputError(f"--indenter: {exc}") from None
+
+
+def _fit(args):
+    """Fits the model to the CSV curve; prints the result's table or JSON."""
+    classes = {cls.__name__.lower(): cls for cls in (media.Elastic, media.Viscous) + media.VISCOELASTIC}
+    model = classes.get(args.model.lower())
+    if model is None:
+        raise InvalidInputError(f"--model: unknown medium {args.model!r}; one of {sorted(classes)}")
+    data = np.genfromtxt(args.data, delimiter=",", names=True)
+    names = data.dtype.names or ()
+    missing = [c for c in ("t", "depth", "force") if c not in names]
+    if missing:
+        raise InvalidInputError(f"{args.data}: missing columns {missing} (has {list(names)})")
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", IdentifiabilityWarning)
+        weights = np.atleast_1d(data["weight"]) if "weight" in names else None
+        result = fit(_indenter(args.indenter), model, np.atleast_1d(data["t"]),
+                     depth=np.atleast_1d(data["depth"]), force=np.atleast_1d(data["force"]),
+                     control=args.control, terms=args.terms, substeps=args.substeps, weights=weights)
+    for w in caught:
+        print(f"warning: {w.message}", file=sys.stderr)
+    if args.json:
+        print(json.dumps(to_jsonable({
+            "medium": type(result.medium).__name__, "parameters": result.parameters, "stderr": result.stderr,
+            "free": result.free, "correlation": result.correlation.tolist(), "rms": result.rms,
+            "control": result.control, "solves": result.solves, "iterations": result.iterations,
+            "wall_time": result.wall_time, "converged": result.converged, "message": result.message,
+            "warnings": result.warnings})))
+    else:
+        print(repr(result))
 
 
 def _paper(args):
@@ -169,6 +239,8 @@ def main(argv: list[str] | None = None) -> int:
             _paper(args)
         elif args.command == "sweep":
             return _sweep(args)
+        elif args.command == "fit":
+            _fit(args)
         else:
             _run(args)
     except (MdrviscError, ValueError, OSError, MemoryError) as exc:

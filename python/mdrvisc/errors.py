@@ -2,7 +2,8 @@
 
 Every error raised by the library derives from :class:`MdrviscError`; errors caused by a
 bad argument also derive from :class:`ValueError`, so ``except ValueError`` keeps working.
-Results of limited accuracy are flagged by :class:`ResolutionWarning`.
+Results of limited accuracy are flagged by :class:`ResolutionWarning`, fitted parameters
+the data do not determine by :class:`IdentifiabilityWarning`.
 """
 
 
@@ -40,3 +41,15 @@ class ResolutionWarning(UserWarning):
     """A result whose accuracy is limited by its resolution or by the method's reach (e.g. a
     contact that spans fewer than 10 elements): the message says where and what to change.
     The same messages are kept in ``Result.warnings``."""
+
+
+class DataError(InvalidInputError):
+    """Measured data that cannot be fitted: not finite, times not strictly increasing,
+    arrays of different lengths, no contact at all, fewer usable points than free
+    parameters. The message names the array and the first offending entry."""
+
+
+class IdentifiabilityWarning(UserWarning):
+    """A fitted parameter the data do not determine: its standard error is comparable to
+    its value, or it is almost fully correlated with another. The message names it; the
+    same messages are kept in ``FitResult.warnings``."""

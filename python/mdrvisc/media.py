@@ -2,10 +2,12 @@
 
 Each medium has a shear relaxation modulus G(t) and creep compliance J(t); the
 viscoelastic ones are written as G(t) = G_inf + sum_k G_k exp(-t / tau_k) + eta delta(t)
-(:meth:`rheology`), which is what the solvers step.
+(:meth:`rheology`), which is what the solvers step. The power law has no finite series:
+the solvers step one fitted to it over each run's time range (see :class:`PowerLaw`).
 """
 
 import dataclasses
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -15,7 +17,7 @@ from ._core import MAGNITUDE
 from ._validate import _array, _number, _positive
 from .errors import InvalidInputError
 
-__all__ = ["Viscous", "Elastic", "KelvinVoigt", "Maxwell", "StandardSolid", "Prony"]
+__all__ = ["Viscous", "Elastic", "KelvinVoigt", "Maxwell", "StandardSolid", "Prony", "PowerLaw"]
 
 #: A medium as a Prony series with a dashpot, (G_inf, [(G_k, tau_k), ...], eta) (Pa, s, Pa s).
 Rheology = tuple[float, list[tuple[float, float]], float]
@@ -203,8 +205,49 @@ class Prony(_Medium):
         return self.G_inf, list(self.terms), 0.0
 
 
+@dataclass(frozen=True)
+class PowerLaw(_Medium):
+    """Power-law rheology G(t) = G0 (t / t0)^-beta (Pa, s), 0 < beta < 1: the standard model
+    of cell rheology (a continuous spectrum of relaxation times).
+
+    ``t0`` is a reference time (default 1 s): only G0 t0^beta enters G(t), so a fit holds it.
+    Both methods step the power law as a Prony series with a long-time modulus and a
+    dashpot, built once per run over its time range (from its shortest step to its last
+    output time) by the trapezoid rule of G(t)'s Laplace integral, 3.5 terms per decade:
+    its G(t) there is within 1e-5 of the power law's, relative (measured: 4e-6).
+    """
+
+    G0: float
+    beta: float
+    t0: float = 1.0
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "G0", _positive("PowerLaw", "G0", self.G0))
+        beta = _positive("PowerLaw", "beta", self.beta)
+        if beta >= 1.0:
+            raise InvalidInputError(f"PowerLaw: beta must lie in (0, 1), got {self.beta!r}")
+        object.__setattr__(self, "beta", beta)
+        object.__setattr__(self, "t0", _positive("PowerLaw", "t0", self.t0))
+
+    def rheology(self) -> Rheology:
+        """Refused: the power law has no finite Prony series; the solvers fit one over each
+        run's time range."""
+        raise InvalidInputError(
+            "PowerLaw has no finite Prony series: the solvers step one fitted over each run's time "
+            "range; use relaxation_modulus and creep_compliance for its closed forms")
+
+    def relaxation_modulus(self, t: ArrayLike) -> float | np.ndarray:
+        """G(t) = G0 (t / t0)^-beta (Pa) for t > 0."""
+        return self.G0 * (_times(t) / self.t0) ** -self.beta
+
+    def creep_compliance(self, t: ArrayLike) -> float | np.ndarray:
+        """J(t) = (t / t0)^beta / (G0 Gamma(1 - beta) Gamma(1 + beta)) (1/Pa)."""
+        scale = math.gamma(1.0 - self.beta) * math.gamma(1.0 + self.beta)
+        return (_times(t) / self.t0) ** self.beta / (self.G0 * scale)
+
+
 #: Media solved by the general viscoelastic stepping (not the exact viscous impulse step).
-VISCOELASTIC = (KelvinVoigt, Maxwell, StandardSolid, Prony)
+VISCOELASTIC = (KelvinVoigt, Maxwell, StandardSolid, Prony, PowerLaw)
 
 
 def medium_from_model(model: dict) -> _Medium:

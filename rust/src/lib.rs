@@ -13,6 +13,7 @@
 //! binary, the Python bindings in `python`).
 
 pub mod contact;
+pub mod curve;
 pub mod error;
 pub mod grid;
 pub mod influence;
@@ -24,6 +25,7 @@ pub mod monitor;
 pub mod operator;
 pub mod paper;
 pub mod pool;
+pub mod power_law;
 pub mod precondition;
 #[cfg(feature = "python")]
 mod python;

@@ -4,6 +4,7 @@
 
 mod arrays;
 mod convert;
+mod curve;
 mod monitor;
 mod pool;
 mod report;
@@ -17,6 +18,8 @@ mod core_module {
         bem_punch, bem_viscous, contact_solve, mdr_deflection, mdr_pressure, surface_deflection,
         PySurfaceOperator,
     };
+    #[pymodule_export]
+    use super::curve::PyCurve;
     #[pymodule_export]
     use super::pool::{num_threads, set_num_threads};
     /// Largest magnitude of a physical input (and inverse of the smallest nonzero one).

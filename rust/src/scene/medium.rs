@@ -1,8 +1,10 @@
 //! Half-space media (incompressible: E* = 4 G). Each has a shear relaxation modulus G(t)
-//! (Pa) and creep compliance J(t) (1/Pa); all but the elastic and viscous ones are stepped
-//! as G(t) = G_inf + sum_k G_k exp(-t / tau_k) + eta delta(t) (`Rheology`).
+//! (Pa) and creep compliance J(t) (1/Pa); all are stepped as
+//! G(t) = G_inf + sum_k G_k exp(-t / tau_k) + eta delta(t) (`Rheology`), the power law as
+//! such a series over the time range of a run (`crate::power_law`).
 
 use crate::error::{check_positive, Error, Result};
+use crate::power_law::{check_exponent, ln_gamma, PronyOfPowerLaw};
 use crate::rheology::Rheology;
 use serde::{Deserialize, Serialize};
 
@@ -56,6 +58,18 @@ pub enum Medium {
         /// Terms [G_k (Pa), tau_k (s)].
         terms: Vec<[f64; 2]>,
     },
+    /// Power-law rheology G(t) = G0 (t / t0)^-beta, 0 < beta < 1 (the standard model of
+    /// cell rheology); stepped as a Prony series over the run's time range.
+    #[serde(rename = "powerlaw")]
+    PowerLaw {
+        /// Modulus at the reference time t0 (Pa).
+        #[serde(rename = "G0")]
+        g0: f64,
+        /// Exponent, in (0, 1).
+        beta: f64,
+        /// Reference time (s).
+        t0: f64,
+    },
 }
 
 impl Medium {
@@ -92,10 +106,142 @@ impl Medium {
                 }
                 Ok(())
             }
+            Medium::PowerLaw { g0, beta, t0 } => {
+                ok(&[("G0", *g0), ("t0", *t0)])?;
+                check_exponent(*beta)
+            }
         }
     }
 
-    /// The medium as G_inf + Prony terms + eta delta(t).
+    /// The medium's parameters, named as in the scene model, in a fixed order (a Prony
+    /// series: G_inf, G1, tau1, G2, tau2, ...).
+    pub fn parameters(&self) -> Vec<(String, f64)> {
+        let named = |pairs: &[(&str, f64)]| {
+            pairs
+                .iter()
+                .map(|&(n, v)| (n.to_string(), v))
+                .collect::<Vec<_>>()
+        };
+        match *self {
+            Medium::Elastic { g } => named(&[("G", g)]),
+            Medium::Viscous { eta } => named(&[("eta", eta)]),
+            Medium::KelvinVoigt { g, eta } | Medium::Maxwell { g, eta } => {
+                named(&[("G", g), ("eta", eta)])
+            }
+            Medium::StandardSolid { g_inf, g1, tau1 } => {
+                named(&[("G_inf", g_inf), ("G1", g1), ("tau1", tau1)])
+            }
+            Medium::Prony { g_inf, ref terms } => {
+                let mut out = named(&[("G_inf", g_inf)]);
+                for (k, t) in terms.iter().enumerate() {
+                    out.push((format!("G{}", k + 1), t[0]));
+                    out.push((format!("tau{}", k + 1), t[1]));
+                }
+                out
+            }
+            Medium::PowerLaw { g0, beta, t0 } => named(&[("G0", g0), ("beta", beta), ("t0", t0)]),
+        }
+    }
+
+    /// The medium as G_inf + Prony terms + eta delta(t) over times [t_lo, t_hi] (s): exact
+    /// for every medium but the power law, whose series holds there within
+    /// `power_law::RELATIVE_ERROR`.
+    pub fn rheology_over(&self, t_lo: f64, t_hi: f64) -> Result<Rheology> {
+        match *self {
+            Medium::PowerLaw { g0, beta, t0 } => {
+                Ok(PronyOfPowerLaw::new(g0, beta, t0, t_lo, t_hi)?.rheology)
+            }
+            _ => self.rheology(),
+        }
+    }
+
+    /// The series of `rheology_over` and its derivatives (same shape: d G_inf, d (G_k, tau_k),
+    /// d eta) with respect to the natural logarithm of each parameter of `parameters`.
+    pub fn rheology_tangents(&self, t_lo: f64, t_hi: f64) -> Result<(Rheology, Vec<Rheology>)> {
+        let r = self.rheology_over(t_lo, t_hi)?;
+        let zero = Rheology {
+            g_inf: 0.0,
+            terms: vec![(0.0, 0.0); r.terms.len()],
+            eta: 0.0,
+        };
+        let with = |f: &dyn Fn(&mut Rheology)| {
+            let mut d = zero.clone();
+            f(&mut d);
+            d
+        };
+        let scaled = |by: f64| Rheology {
+            g_inf: by * r.g_inf,
+            terms: r.terms.iter().map(|&(g, _)| (by * g, 0.0)).collect(),
+            eta: by * r.eta,
+        };
+        Ok((
+            r.clone(),
+            match *self {
+                Medium::Elastic { g } => vec![with(&|d| d.g_inf = g)],
+                Medium::Viscous { eta } => vec![with(&|d| d.eta = eta)],
+                Medium::KelvinVoigt { g, eta } => {
+                    vec![with(&|d| d.g_inf = g), with(&|d| d.eta = eta)]
+                }
+                Medium::Maxwell { g, eta } => {
+                    // G1 = G, tau1 = eta / G
+                    let tau = eta / g;
+                    vec![
+                        with(&|d| d.terms[0] = (g, -tau)),
+                        with(&|d| d.terms[0] = (0.0, tau)),
+                    ]
+                }
+                Medium::StandardSolid { g_inf, g1, tau1 } => vec![
+                    with(&|d| d.g_inf = g_inf),
+                    with(&|d| d.terms[0].0 = g1),
+                    with(&|d| d.terms[0].1 = tau1),
+                ],
+                Medium::Prony { g_inf, ref terms } => {
+                    let mut out = vec![with(&|d| d.g_inf = g_inf)];
+                    for (k, t) in terms.iter().enumerate() {
+                        out.push(with(&|d| d.terms[k].0 = t[0]));
+                        out.push(with(&|d| d.terms[k].1 = t[1]));
+                    }
+                    out
+                }
+                Medium::PowerLaw { g0, beta, t0 } => {
+                    let d_beta = PronyOfPowerLaw::new(g0, beta, t0, t_lo, t_hi)?.d_beta();
+                    // the series scales with G0 t0^beta; d/d ln beta = beta d/d beta
+                    let mut d_log_beta = d_beta;
+                    d_log_beta.g_inf *= beta;
+                    d_log_beta.eta *= beta;
+                    for t in &mut d_log_beta.terms {
+                        t.0 *= beta;
+                    }
+                    vec![scaled(1.0), d_log_beta, scaled(beta)]
+                }
+            },
+        ))
+    }
+
+    /// `rheology_tangents` with the derivatives of the parameters named in `names` only, in
+    /// that order; an unknown name is an error that lists the medium's names.
+    pub fn rheology_tangents_of(
+        &self,
+        names: &[String],
+        t_lo: f64,
+        t_hi: f64,
+    ) -> Result<(Rheology, Vec<Rheology>)> {
+        let (r, all) = self.rheology_tangents(t_lo, t_hi)?;
+        let known: Vec<String> = self.parameters().into_iter().map(|(n, _)| n).collect();
+        let picked = names
+            .iter()
+            .map(|name| match known.iter().position(|k| k == name) {
+                Some(j) => Ok(all[j].clone()),
+                None => Err(Error::InvalidInput(format!(
+                    "the medium has no parameter {name:?}; its parameters are {known:?}"
+                ))),
+            })
+            .collect::<Result<Vec<_>>>()?;
+        Ok((r, picked))
+    }
+
+    /// The medium as G_inf + Prony terms + eta delta(t); the power law, which needs a time
+    /// range, is refused (`rheology_over`).
     pub fn rheology(&self) -> Result<Rheology> {
         self.validate()?;
         match self {
@@ -109,11 +255,18 @@ impl Medium {
             Medium::Prony { g_inf, terms } => {
                 Rheology::new(*g_inf, terms.iter().map(|t| (t[0], t[1])).collect(), 0.0)
             }
+            Medium::PowerLaw { .. } => Err(Error::InvalidInput(
+                "a power-law medium is stepped as a Prony series over a time range: use rheology_over".into(),
+            )),
         }
     }
 
     /// Relaxation modulus G(t) (Pa) for t > 0 (a dashpot's delta at t = 0 left out).
     pub fn relaxation_modulus(&self, t: f64) -> Result<f64> {
+        if let Medium::PowerLaw { g0, beta, t0 } = *self {
+            self.validate()?;
+            return Ok(g0 * (t / t0).powf(-beta));
+        }
         let r = self.rheology()?;
         Ok(r.g_inf
             + r.terms
@@ -142,6 +295,10 @@ impl Medium {
                 1.0 / g_inf + (1.0 / g0 - 1.0 / g_inf) * (-g_inf * t / (g0 * tau1)).exp()
             }
             Medium::Prony { .. } => prony_creep(&self.rheology()?, t),
+            // J(t) = (t / t0)^beta / (G0 Gamma(1 - beta) Gamma(1 + beta))
+            Medium::PowerLaw { g0, beta, t0 } => {
+                (t / t0).powf(beta) / g0 / (ln_gamma(1.0 - beta) + ln_gamma(1.0 + beta)).exp()
+            }
         })
     }
 

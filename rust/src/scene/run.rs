@@ -201,7 +201,9 @@ const MDR_BYTES_PER_ELEMENT: f64 = 64.0;
 /// its buffers, 8 bytes per internal variable of the medium and per field array, and 16
 /// bytes per viscoelastic time step.
 fn memory_needed(scene: &Scene, settings: &RunSettings) -> f64 {
-    let internal = scene.medium.rheology().map_or(0, |r| r.internal()) as f64;
+    let internal = step_length(scene, settings)
+        .map_or_else(|| scene.medium.rheology(), |dt| stepped_rheology(scene, dt))
+        .map_or(0, |r| r.internal()) as f64;
     let fields = [
         Output::Pressure,
         Output::SurfaceVelocity,
@@ -222,6 +224,27 @@ fn memory_needed(scene: &Scene, settings: &RunSettings) -> f64 {
         _ => 0.0,
     };
     elements * (per_element + 8.0 * (internal + fields)) + 16.0 * steps
+}
+
+/// The longest viscoelastic time step (s) of a run: the settings', the scene's, or the
+/// duration over `DEFAULT_STEPS`; None without a duration.
+fn step_length(scene: &Scene, settings: &RunSettings) -> Option<f64> {
+    let duration = scene.duration?;
+    Some(settings.dt.or(scene.dt).unwrap_or(duration / DEFAULT_STEPS))
+}
+
+/// The medium's series over the run's time range: from its shortest step (half the longest
+/// step `dt`, or a shorter gap between output times) to the last output time.
+fn stepped_rheology(scene: &Scene, dt: f64) -> Result<crate::rheology::Rheology> {
+    let times = scene.solved_times();
+    let (mut t_lo, mut prev) = (0.5 * dt, 0.0);
+    for &t in &times {
+        if t > prev {
+            t_lo = t_lo.min(t - prev);
+        }
+        prev = t;
+    }
+    scene.medium.rheology_over(t_lo, prev.max(t_lo))
 }
 
 /// Fails when the contact of a sphere covers its whole footprint (its equator): beyond
@@ -521,15 +544,15 @@ fn run_viscoelastic(
         &[Output::StiffnessLength],
         "for a viscoelastic medium: F / (4 eta dd/dt) needs a purely viscous one",
     )?;
-    let rheology = scene.medium.rheology()?;
     let loading: Loading = scene.loading()?;
     let times = scene.solved_times();
     let steps = scene.field_steps();
     let field_times = scene.field_times();
-    let duration = scene.duration.expect("validated: a duration");
+    let dt = step_length(scene, settings).expect("validated: a duration");
+    let rheology = stepped_rheology(scene, dt)?;
     let request = viscoelastic::Request {
         times: &times,
-        dt: settings.dt.or(scene.dt).unwrap_or(duration / DEFAULT_STEPS),
+        dt,
         fields_at: &steps,
         field_rates: scene.wants(Output::SurfaceVelocity),
     };

@@ -1,0 +1,115 @@
+//! The fit's forward model: a prepared indentation curve (`crate::curve::Curve`) evaluated
+//! for media given as the scene model's JSON, with derivatives in the logarithms of the
+//! named parameters; the media of one call run in parallel with the GIL released.
+
+use super::convert::slice1;
+use super::monitor::{in_pool, to_pyerr};
+use crate::curve::{Control, Curve};
+use crate::error::Error;
+use crate::scene::Medium;
+use numpy::{IntoPyArray, PyArray1, PyArray2, PyReadonlyArray1};
+use pyo3::prelude::*;
+use rayon::prelude::*;
+
+/// One evaluation: the computed values at the samples, their derivatives (samples x
+/// parameters), the elements in contact.
+type Evaluated<'py> = (
+    Bound<'py, PyArray1<f64>>,
+    Bound<'py, PyArray2<f64>>,
+    Bound<'py, PyArray1<u64>>,
+);
+
+/// An indentation curve prepared once: the half MDR profile (m, at x = (i + 1/2) dx), the
+/// samples (s) and the prescribed depth (m, control "depth") or force (N, "force").
+#[pyclass(name = "Curve", module = "mdrvisc._core", frozen)]
+pub(crate) struct PyCurve {
+    inner: Curve,
+}
+
+#[pymethods]
+impl PyCurve {
+    #[new]
+    #[pyo3(signature = (profile, dx, times, values, control, substeps=1))]
+    fn new(
+        py: Python<'_>,
+        profile: PyReadonlyArray1<'_, f64>,
+        dx: f64,
+        times: PyReadonlyArray1<'_, f64>,
+        values: PyReadonlyArray1<'_, f64>,
+        control: &str,
+        substeps: usize,
+    ) -> PyResult<Self> {
+        let control = match control {
+            "depth" => Control::Depth,
+            "force" => Control::Force,
+            other => {
+                return Err(to_pyerr(
+                    py,
+                    Error::InvalidInput(format!(
+                        "control must be \"depth\" or \"force\", got {other:?}"
+                    )),
+                ))
+            }
+        };
+        let inner = Curve::new(
+            slice1(py, &profile, "profile")?,
+            dx,
+            slice1(py, &times, "times")?,
+            slice1(py, &values, "values")?,
+            control,
+            substeps,
+        )
+        .map_err(|e| to_pyerr(py, e))?;
+        Ok(PyCurve { inner })
+    }
+
+    /// The shortest step and the last sample time (s): the range a power law's series holds.
+    fn time_range(&self) -> (f64, f64) {
+        self.inner.time_range()
+    }
+
+    /// For each medium (JSON of a scene's medium table): the force (N, depth control) or
+    /// depth (m, force control) at the samples, its derivatives with respect to the natural
+    /// logarithms of the parameters named in `free` (samples x parameters), and the
+    /// elements of the half profile in contact.
+    fn evaluate<'py>(
+        &self,
+        py: Python<'py>,
+        media: Vec<String>,
+        free: Vec<String>,
+    ) -> PyResult<Vec<Evaluated<'py>>> {
+        let (t_lo, t_hi) = self.inner.time_range();
+        let parsed = media
+            .iter()
+            .map(|text| {
+                let m: Medium = serde_json::from_str(text)
+                    .map_err(|e| Error::InvalidInput(format!("medium: {e}")))?;
+                m.validate()?;
+                m.rheology_tangents_of(&free, t_lo, t_hi)
+            })
+            .collect::<crate::Result<Vec<_>>>()
+            .map_err(|e| to_pyerr(py, e))?;
+        let curve = &self.inner;
+        let results = in_pool(py, || {
+            parsed
+                .par_iter()
+                .map(|(r, tangents)| curve.evaluate(r, tangents))
+                .collect::<crate::Result<Vec<_>>>()
+        })?
+        .map_err(|e| to_pyerr(py, e))?;
+        let (k, p) = (curve.len(), free.len());
+        results
+            .into_iter()
+            .map(|e| {
+                let jacobian = numpy::ndarray::Array2::from_shape_vec((k, p), e.jacobian)
+                    .map_err(|err| to_pyerr(py, Error::InvalidInput(err.to_string())))?;
+                let contact: Vec<u64> = e.contact.iter().map(|&c| c as u64).collect();
+                Ok((
+                    e.values.into_pyarray(py),
+                    jacobian.into_pyarray(py),
+                    contact.into_pyarray(py),
+                ))
+            })
+            .collect()
+    }
+}

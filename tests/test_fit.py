@@ -1,0 +1,333 @@
+"""Fits of media to indentation curves made by methods independent of the fit's forward
+model (MDR stepping of `_core.Curve`): Ting's closed form for the paraboloid
+(`analytic.ting_paraboloid_triangle`, Prony integrals in closed form and roots by bisection,
+no stepping), Lee-Radok hereditary integrals written here for the cone and the power law,
+and BEM for the sphere. Noise-free data: the parameters to 1e-4 where the data's own error
+allows; 1 % Gaussian noise with fixed seeds: within 3 standard errors and 3 %."""
+
+import math
+import warnings
+
+import numpy as np
+import pytest
+from scipy import integrate, special
+
+import mdrvisc as mv
+from mdrvisc._least_squares import levenberg_marquardt
+from mdrvisc.analytic import ting_paraboloid_triangle
+
+R = 5e-6  # tip radius (m)
+V = 1e-6  # indentation rate (m/s)
+T_PEAK = 1.0  # s
+
+
+def triangle(samples=200):
+    """Sample times and depths of an approach and retract at rate V."""
+    t = np.linspace(0.0, 2.0 * T_PEAK, samples + 1)[1:]
+    return t, np.where(t <= T_PEAK, V * t, V * (2.0 * T_PEAK - t))
+
+
+def relative_errors(result, true):
+    return {name: result.parameters[name] / value - 1.0 for name, value in true.items()}
+
+
+def noisy(values, seed, level=0.01):
+    """``values`` plus Gaussian noise of ``level`` times their largest magnitude."""
+    rng = np.random.default_rng(seed)
+    return values + level * np.max(np.abs(values)) * rng.standard_normal(values.shape)
+
+
+def check_noisy(result, true, percent=True):
+    """Within 3 standard errors and (``percent``) within 3 % (each parameter)."""
+    for name, value in true.items():
+        fitted, err = result.parameters[name], result.stderr[name]
+        assert abs(fitted - value) <= 3.0 * err, f"{name}: {fitted} vs {value} +- {err}"
+        assert not percent or abs(fitted / value - 1.0) <= 0.03, f"{name}: {fitted} vs {value}"
+
+
+# Ting's paraboloid: media whose G(t) is a Prony series with a dashpot
+# A two-term Prony series is identified (noise-free: to 3e-6), but not to 3 % at 1 % noise
+# from a 2 s triangle: the relative standard errors are 5-19 % (tau1 worst); its noisy fit
+# is held to 3 standard errors only.
+# (a dashpot's force follows the contact's growth within each step, a first-order error in
+# the step: 40 substeps for 1e-4, measured 3e-5)
+TING_MEDIA = [
+    (mv.Elastic(G=2e3), {}),
+    (mv.Viscous(eta=500.0), {"substeps": 40}),
+    (mv.KelvinVoigt(G=1e3, eta=300.0), {"substeps": 40}),
+    (mv.Maxwell(G=2e3, eta=600.0), {}),
+    (mv.StandardSolid(G_inf=1e3, G1=2e3, tau1=0.2), {}),
+    (mv.Prony(G_inf=1e3, terms=((2e3, 0.03), (1.5e3, 0.5))), {"terms": 2, "percent": False}),
+]
+
+
+def _name(value):
+    return "" if isinstance(value, dict) else type(value).__name__
+
+
+@pytest.mark.parametrize("true, options", TING_MEDIA, ids=_name)
+def test_noise_free_ting_paraboloid_is_recovered(true, options):
+    """From the class alone (initial guess estimated from the data). Measured worst relative
+    error with 4 substeps: 3e-6 (Prony, tau1); the bound is 1e-4."""
+    t, depth = triangle()
+    force, _, _ = ting_paraboloid_triangle(t, true, R, V, T_PEAK)
+    options = {k: v for k, v in options.items() if k != "percent"}
+    result = mv.fit(mv.Paraboloid(c=1 / (2 * R)), type(true), t, depth=depth, force=force,
+                    **{"substeps": 4, **options})
+    errors = relative_errors(result, mv.fitting._parameters(true))
+    assert result.converged, result.message
+    assert max(abs(e) for e in errors.values()) < 1e-4, errors
+
+
+def _name(value):
+    return "" if isinstance(value, dict) else type(value).__name__
+
+
+@pytest.mark.parametrize("true, options", TING_MEDIA, ids=_name)
+def test_noisy_ting_paraboloid_within_three_standard_errors(true, options):
+    t, depth = triangle(400)
+    force, _, _ = ting_paraboloid_triangle(t, true, R, V, T_PEAK)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", mv.IdentifiabilityWarning)
+        result = mv.fit(mv.Paraboloid(c=1 / (2 * R)), type(true), t, depth=depth, force=noisy(force, 7),
+                        **{k: v for k, v in options.items() if k not in ("substeps", "percent")})
+    check_noisy(result, mv.fitting._parameters(true), options.get("percent", True))
+
+
+def test_standard_solid_fit_recovers_the_separation_time():
+    """Ting's separation time of the fitted medium against the true one (1 % noise; measured
+    0.24 % off), and the fitted MDR curve's force is zero from the first sample after it."""
+    true = mv.StandardSolid(G_inf=1e3, G1=2e3, tau1=0.2)
+    t, depth = triangle(400)
+    force, _, t_sep = ting_paraboloid_triangle(t, true, R, V, T_PEAK)
+    result = mv.fit(mv.Paraboloid(c=1 / (2 * R)), mv.StandardSolid, t, depth=depth, force=noisy(force, 3))
+    _, _, fitted_sep = ting_paraboloid_triangle(t, result.medium, R, V, T_PEAK)
+    assert T_PEAK < t_sep < 2 * T_PEAK
+    assert abs(fitted_sep / t_sep - 1.0) < 0.01, (fitted_sep, t_sep)
+    first_zero = t[np.flatnonzero((result.model <= 0) & (t > T_PEAK))[0]]
+    assert 0.0 <= first_zero - fitted_sep <= t[1] - t[0]
+
+
+def cone_ramp_hold(t, medium, slope, t_ramp):
+    """Lee-Radok for a cone pressed at rate V to t_ramp and held: the contact never shrinks,
+    so F(t) = int_0^min(t, t_ramp) G(t - s) dF_e/ds ds with F_e = 8 G d^2 / (pi slope):
+    dF_e/ds = 16 V^2 s / (pi slope) per unit G; Prony terms integrated in closed form."""
+    g_inf, terms, eta = medium.rheology()
+    top = np.minimum(t, t_ramp)
+
+    def integral(g, tau):
+        # int_0^top exp(-(t - s)/tau) s ds
+        return tau * (top * np.exp(-(t - top) / tau) - tau * (np.exp(-(t - top) / tau) - np.exp(-t / tau)))
+
+    total = g_inf * 0.5 * top**2 + sum(g * integral(g, tau) for g, tau in terms)
+    total = total + eta * np.where(t <= t_ramp, t, 0.0)
+    return 16.0 * V**2 / (math.pi * slope) * total
+
+
+@pytest.mark.parametrize("true", [mv.StandardSolid(G_inf=1e3, G1=2e3, tau1=0.2),
+                                  mv.Maxwell(G=2e3, eta=600.0)], ids=_name)
+def test_cone_ramp_and_hold(true):
+    """Noise-free (measured worst 1e-5 with 4 substeps) and 1 % noise."""
+    slope, t = 0.5, np.linspace(0.0, 2.0, 201)[1:]
+    depth = V * np.minimum(t, 1.0)
+    force = cone_ramp_hold(t, true, slope, 1.0)
+    cone = mv.Cone(slope=slope)
+    exact = mv.fit(cone, type(true), t, depth=depth, force=force, substeps=4)
+    assert max(abs(e) for e in relative_errors(exact, mv.fitting._parameters(true)).values()) < 1e-4
+    result = mv.fit(cone, type(true), t, depth=depth, force=noisy(force, 11))
+    check_noisy(result, mv.fitting._parameters(true))
+
+
+def power_law_ramp_hold(t, medium, t_ramp):
+    """Lee-Radok for a paraboloid pressed at rate V to t_ramp and held, G = G0 (t/t0)^-beta:
+    F = 8 sqrt(R) V^1.5 G0 t0^beta int_0^min(t,t_ramp) (t - s)^-beta s^(1/2) ds; during the
+    ramp t^(3/2-beta) B(1 - beta, 3/2), on the hold by quadrature with the algebraic weight."""
+    g0, beta, t0 = medium.G0, medium.beta, medium.t0
+    scale = 8.0 * math.sqrt(R) * V**1.5 * g0 * t0**beta
+    out = []
+    for now in t:
+        if now <= t_ramp:
+            out.append(now ** (1.5 - beta) * special.beta(1.0 - beta, 1.5))
+        else:
+            value, _ = integrate.quad(lambda s, now=now: (now - s) ** -beta, 0.0, t_ramp, weight="alg",
+                                      wvar=(0.5, 0.0), epsabs=0.0, epsrel=1e-12)
+            out.append(value)
+    return scale * np.array(out)
+
+
+def test_power_law_held_depth_is_the_closed_form():
+    """A paraboloid jumped... pressed quickly and held: F = 16/3 sqrt(R) G(t) d^1.5 only for a
+    step; for a ramp of length r the hereditary integral, which this checks the Scene's MDR
+    and BEM against (Prony series of the power law over the run's range; measured 2e-4 MDR
+    n = 8000 from its step error)."""
+    true = mv.PowerLaw(G0=1e3, beta=0.2, t0=1.0)
+    t_ramp = 0.1
+    times = np.linspace(0.1, 2.0, 20)
+    scene = mv.Scene(indenter=mv.Paraboloid(c=1 / (2 * R)), medium=true,
+                     depth=([0.0, t_ramp, 2.0], [0.0, V * t_ramp, V * t_ramp]), duration=2.0, times=times,
+                     dt=1e-3)
+    exact = power_law_ramp_hold(times, true, t_ramp)
+    mdr = mv.solve(scene, "mdr", 4000)
+    assert np.max(np.abs(mdr.force / exact - 1.0)) < 1e-3
+
+
+def test_power_law_step_is_exact_relaxation():
+    """Depth held from t = 0 (a jump): F(t) = 16/3 sqrt(R) G(t) d^1.5 exactly; what is left
+    is the series' error (bound 1e-5) and MDR's element count's."""
+    true = mv.PowerLaw(G0=1e3, beta=0.3, t0=1.0)
+    d = 1e-7
+    times = np.geomspace(0.01, 1.0, 9)
+    scene = mv.Scene(indenter=mv.Paraboloid(c=1 / (2 * R)), medium=true, depth=d, duration=1.0, times=times,
+                     dt=1e-2)
+    exact = 16.0 / 3.0 * math.sqrt(R) * true.relaxation_modulus(times) * d**1.5
+    mdr = mv.solve(scene, "mdr", 20000)
+    assert np.max(np.abs(mdr.force / exact - 1.0)) < 3e-4
+
+
+def test_power_law_fit():
+    """Noise-free (t0 held; measured 1e-5) and 1 % noise."""
+    true = mv.PowerLaw(G0=1e3, beta=0.2, t0=1.0)
+    t = np.linspace(0.0, 1.0, 101)[1:]
+    force = power_law_ramp_hold(t, true, 0.5)
+    depth = V * np.minimum(t, 0.5)
+    tip = mv.Paraboloid(c=1 / (2 * R))
+    exact = mv.fit(tip, mv.PowerLaw, t, depth=depth, force=force, substeps=4)
+    assert "t0" not in exact.free
+    for name in ("G0", "beta"):
+        assert abs(exact.parameters[name] / getattr(true, name) - 1.0) < 1e-4
+    result = mv.fit(tip, mv.PowerLaw, t, depth=depth, force=noisy(force, 5))
+    check_noisy(result, {"G0": 1e3, "beta": 0.2})
+
+
+@pytest.fixture(scope="module")
+def bem_sphere():
+    """A sphere pressed into a standard solid and pulled back, by BEM (n = 129) and by fine
+    MDR (n = 20000): the BEM data and their discretisation error."""
+    true = mv.StandardSolid(G_inf=1e3, G1=2e3, tau1=0.2)
+    radius, t = 5e-6, np.linspace(0.05, 1.0, 20)
+    scene = mv.Scene(indenter=mv.Sphere(radius=radius), medium=true,
+                     depth=([0.0, 0.5, 1.0], [0.0, 5e-7, 2e-7]), duration=1.0, times=t, dt=5e-3)
+    bem = mv.solve(scene, "bem", 129)
+    mdr = mv.solve(scene, "mdr", 20000)
+    return true, scene, bem, mdr
+
+
+def test_bem_sphere_is_recovered_to_its_discretisation_error(bem_sphere):
+    """The BEM forces differ from MDR's by up to 6e-3 (measured 3.7e-3, largest at the first,
+    shallowest samples); the fitted parameters inherit errors of that size (measured 2.8e-3)."""
+    true, scene, bem, mdr = bem_sphere
+    data_error = np.max(np.abs(bem.force / mdr.force - 1.0))
+    assert data_error < 6e-3
+    result = mv.fit(mv.Sphere(radius=5e-6), mv.StandardSolid, bem.t, depth=bem.depth, force=bem.force,
+                    substeps=8)
+    for name, e in relative_errors(result, mv.fitting._parameters(true)).items():
+        assert abs(e) < 2 * data_error, (name, e)
+
+
+def test_bem_sphere_with_noise(bem_sphere):
+    true, _, bem, _ = bem_sphere
+    result = mv.fit(mv.Sphere(radius=5e-6), mv.StandardSolid, bem.t, depth=bem.depth,
+                    force=noisy(bem.force, 13), substeps=8)
+    check_noisy(result, mv.fitting._parameters(true))
+
+
+def test_creep_fit_under_force_control():
+    """A paraboloid under a ramped force on a standard solid: depth from the closed-form
+    creep compliance (Lee-Radok, contact growing: d^1.5 = 3/(16 sqrt R) int J(t-s) dF(s))."""
+    true = mv.StandardSolid(G_inf=1e3, G1=2e3, tau1=0.2)
+    t = np.linspace(0.0, 1.0, 201)[1:]
+    rate = 1e-9  # N/s, F = rate * s
+    s = np.linspace(0.0, 1.0, 20001)
+    jt = true.creep_compliance(s)
+    # int_0^t J(t - s) rate ds = rate int_0^t J(u) du
+    cumulative = integrate.cumulative_trapezoid(jt, s, initial=0.0)
+    depth = (3.0 / (16.0 * math.sqrt(R)) * rate * np.interp(t, s, cumulative)) ** (2.0 / 3.0)
+    force = rate * t
+    result = mv.fit(mv.Paraboloid(c=1 / (2 * R)), mv.StandardSolid, t, depth=depth, force=force,
+                    control="force", substeps=4)
+    assert max(abs(e) for e in relative_errors(result, mv.fitting._parameters(true)).values()) < 1e-4
+
+
+def test_result_table_and_held_parameters():
+    true = mv.StandardSolid(G_inf=1e3, G1=2e3, tau1=0.2)
+    t, depth = triangle()
+    force, _, _ = ting_paraboloid_triangle(t, true, R, V, T_PEAK)
+    result = mv.fit(mv.Paraboloid(c=1 / (2 * R)), mv.StandardSolid(1.5e3, 1e3, 0.2), t, depth=depth,
+                    force=force, fixed=("tau1",))
+    assert result.tau1 == 0.2 and result.stderr["tau1"] == 0.0 and result.free == ["G_inf", "G1"]
+    assert isinstance(result.medium, mv.StandardSolid)
+    text = repr(result)
+    assert "held" in text and "G_inf" in text and "StandardSolid" in text
+    mv.Scene(indenter=mv.Paraboloid(c=1 / (2 * R)), medium=result.medium, force=1e-9, duration=1.0)
+
+
+def test_unidentified_parameters_warn_by_name():
+    """A standard solid fitted to an elastic curve: the relaxing part is not determined."""
+    t, depth = triangle()
+    force, _, _ = ting_paraboloid_triangle(t, mv.Elastic(G=2e3), R, V, T_PEAK)
+    with pytest.warns(mv.IdentifiabilityWarning, match="tau1|G1"):
+        mv.fit(mv.Paraboloid(c=1 / (2 * R)), mv.StandardSolid, t, depth=depth, force=noisy(force, 1))
+
+
+@pytest.mark.parametrize("change, match", [
+    (lambda t, d, f: (t, d, np.where(np.arange(t.size) == 5, np.nan, f)), "force must be finite.*index 5"),
+    (lambda t, d, f: (t[::-1].copy(), d, f), "unsorted"),
+    (lambda t, d, f: (np.concatenate([t[:3], t[2:-1]]), d, f), "duplicate"),
+    (lambda t, d, f: (t, -d, f), "no contact"),
+    (lambda t, d, f: (t, d[:-1], f), "depth has"),
+    (lambda t, d, f: (t[:3], d[:3], f[:3]), "3 samples with positive weight for 3 free"),
+])
+def test_bad_data_is_refused_by_name(change, match):
+    t, depth = triangle(50)
+    force, _, _ = ting_paraboloid_triangle(t, mv.Elastic(G=2e3), R, V, T_PEAK)
+    t, depth, force = change(t, depth, force)
+    with pytest.raises(mv.DataError, match=match):
+        mv.fit(mv.Paraboloid(c=1 / (2 * R)), mv.StandardSolid, t, depth=depth, force=force)
+
+
+def test_unknown_fixed_names_are_refused():
+    t, depth = triangle(50)
+    force, _, _ = ting_paraboloid_triangle(t, mv.Elastic(G=2e3), R, V, T_PEAK)
+    with pytest.raises(mv.InvalidInputError, match="tau9"):
+        mv.fit(mv.Paraboloid(c=1 / (2 * R)), mv.StandardSolid(1.0, 1.0, 1.0), t, depth=depth, force=force,
+               fixed=("tau9",))
+
+
+def test_levenberg_marquardt_matches_scipy():
+    """An exponential decay with offset, from a poor start: the same minimum as scipy's
+    trust-region least squares (to 1e-8)."""
+    from scipy.optimize import least_squares
+
+    x = np.linspace(0.0, 4.0, 50)
+    y = 2.0 + 3.0 * np.exp(-x / 0.7) + 0.01 * np.random.default_rng(0).standard_normal(x.size)
+
+    def residuals(p):
+        a, b, tau = np.exp(p)
+        e = np.exp(-x / tau)
+        r = a + b * e - y
+        return r, np.column_stack([a * np.ones_like(x), b * e, b * e * x / tau])
+
+    ours = levenberg_marquardt(residuals, np.log([0.5, 0.5, 5.0]))
+    theirs = least_squares(lambda p: residuals(p)[0], np.log([0.5, 0.5, 5.0]), jac=lambda p: residuals(p)[1],
+                           xtol=1e-14, ftol=1e-14, gtol=1e-14)
+    assert ours.converged
+    assert np.allclose(ours.x, theirs.x, rtol=0, atol=1e-8)
+
+
+def test_command_line_fit(tmp_path, capsys):
+    """``mdrvisc fit`` on a CSV curve: the table, and JSON with the same parameters."""
+    import json
+
+    from mdrvisc.cli import main
+
+    t, depth = triangle(100)
+    force, _, _ = ting_paraboloid_triangle(t, mv.StandardSolid(1e3, 2e3, 0.2), R, V, T_PEAK)
+    path = tmp_path / "curve.csv"
+    np.savetxt(path, np.column_stack([t, depth, force]), delimiter=",", header="t,depth,force", comments="")
+    args = [str(path), "--indenter", f"paraboloid:c={1 / (2 * R)}", "--model", "standardsolid"]
+    assert main(["fit", *args]) == 0
+    assert "StandardSolid" in capsys.readouterr().out
+    assert main(["fit", *args, "--json"]) == 0
+    document = json.loads(capsys.readouterr().out)
+    assert abs(document["parameters"]["tau1"] / 0.2 - 1) < 1e-3
+    assert main(["fit", *args[:2], "blob:r=1", *args[3:]]) == 2
