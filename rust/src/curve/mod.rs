@@ -14,6 +14,8 @@
 use crate::error::{check_finite, check_positive, Error, Result};
 use crate::rheology::Rheology;
 
+mod depth_control;
+
 /// What the curve prescribes (the other quantity is computed).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Control {
@@ -188,10 +190,48 @@ impl Curve {
         self.times.is_empty()
     }
 
+    /// The steps (end time in s, prescribed value at it) from the sample `from` to the
+    /// sample `to`, both (time, value): `substeps` equal steps, or at t = 0 one step of
+    /// length zero to a value already there (none for a medium with a dashpot under force
+    /// control, which takes a step force without moving; an error under depth control).
+    fn substeps_to(
+        &self,
+        r: &Rheology,
+        from: (f64, f64),
+        to: (f64, f64),
+    ) -> Result<Vec<(f64, f64)>> {
+        let ((t_prev, value_prev), (t_sample, v_sample)) = (from, to);
+        if t_sample == 0.0 {
+            if v_sample == 0.0 {
+                return Ok(vec![]);
+            }
+            if r.eta == 0.0 {
+                return Ok(vec![(0.0, v_sample)]);
+            }
+            if self.control == Control::Depth {
+                return Err(Error::InvalidInput(
+                    "a depth already there at t = 0 needs an infinite force on a medium with a dashpot: start the samples from depth 0 or after t = 0".into(),
+                ));
+            }
+            return Ok(vec![]);
+        }
+        Ok((1..=self.substeps)
+            .map(|j| {
+                let f = j as f64 / self.substeps as f64;
+                let t = if j == self.substeps {
+                    t_sample
+                } else {
+                    t_prev + f * (t_sample - t_prev)
+                };
+                (t, value_prev + f * (v_sample - value_prev))
+            })
+            .collect())
+    }
+
     /// The computed quantity at the sample times for the medium `r`, and its derivatives
     /// along each of `tangents` (derivatives of r's coefficients, same shape as r).
     pub fn evaluate(&self, r: &Rheology, tangents: &[Rheology]) -> Result<Evaluation> {
-        let (n, m, p) = (self.g.len(), r.terms.len(), tangents.len());
+        let m = r.terms.len();
         for t in tangents {
             if t.terms.len() != m {
                 return Err(Error::InvalidInput(format!(
@@ -200,6 +240,16 @@ impl Curve {
                 )));
             }
         }
+        match self.control {
+            Control::Depth => self.evaluate_depth_control(r, tangents),
+            Control::Force => self.evaluate_force_control(r, tangents),
+        }
+    }
+
+    /// `evaluate` under force control: the depth of each step balances the prescribed force
+    /// over all elements, so the elements are stepped together, one step at a time.
+    fn evaluate_force_control(&self, r: &Rheology, tangents: &[Rheology]) -> Result<Evaluation> {
+        let (n, m, p) = (self.g.len(), r.terms.len(), tangents.len());
         let k_out = self.times.len();
         let mut out = Evaluation {
             values: Vec::with_capacity(k_out),
@@ -218,7 +268,7 @@ impl Curve {
         let mut reach = 1;
         let mut d_history = vec![0.0; n * p];
         let mut d_value = vec![0.0; p];
-        let (mut d_depth, mut d_force) = (vec![0.0; p], vec![0.0; p]);
+        let mut d_depth = vec![0.0; p];
         let mut in_contact = Vec::with_capacity(n);
         // each element stands for itself and its mirror image
         let weight = 8.0 * self.dx;
@@ -227,35 +277,9 @@ impl Curve {
         let mut value_prev = 0.0;
         let mut coefficients: Option<(f64, StepCoefficients)> = None;
         for (&t_sample, &v_sample) in self.times.iter().zip(&self.values) {
-            let mut substeps: Vec<(f64, f64)> = Vec::with_capacity(self.substeps);
-            if t_sample == 0.0 {
-                if v_sample != 0.0 {
-                    if r.eta > 0.0 {
-                        if self.control == Control::Depth {
-                            return Err(Error::InvalidInput(
-                                "a depth already there at t = 0 needs an infinite force on a medium with a dashpot: start the samples from depth 0 or after t = 0".into(),
-                            ));
-                        }
-                    } else {
-                        substeps.push((0.0, v_sample));
-                    }
-                }
-            } else {
-                for j in 1..=self.substeps {
-                    let f = j as f64 / self.substeps as f64;
-                    let t = if j == self.substeps {
-                        t_sample
-                    } else {
-                        t_prev + f * (t_sample - t_prev)
-                    };
-                    substeps.push((t, value_prev + f * (v_sample - value_prev)));
-                }
-            }
+            let substeps = self.substeps_to(r, (t_prev, value_prev), (t_sample, v_sample))?;
             let mut count = 0;
-            let mut value = match self.control {
-                Control::Depth => 0.0,
-                Control::Force => self.g.iter().copied().fold(f64::INFINITY, f64::min),
-            };
+            let mut value = self.g.iter().copied().fold(f64::INFINITY, f64::min);
             d_value.iter_mut().for_each(|v| *v = 0.0);
             let mut clock = t_prev;
             for (t, prescribed) in substeps {
@@ -283,57 +307,40 @@ impl Curve {
                         d_history[i * p + j] = dh;
                     }
                 }
-                // the depth, and its derivative (zero under depth control)
-                d_depth.iter_mut().for_each(|v| *v = 0.0);
-                d_force.iter_mut().for_each(|v| *v = 0.0);
-                match self.control {
-                    Control::Depth => {
-                        depth = prescribed;
-                        while reach < n && lowest_from[reach] < depth {
-                            reach += 1;
-                        }
+                // the depth that balances the force, and its derivatives
+                let target = prescribed / (weight * c.g_eff);
+                loop {
+                    depth = depth_for(&relaxed[..reach], target, depth);
+                    if reach == n || lowest_from[reach] >= depth {
+                        break;
                     }
-                    Control::Force => {
-                        let target = prescribed / (weight * c.g_eff);
-                        loop {
-                            depth = depth_for(&relaxed[..reach], target, depth);
-                            if reach == n || lowest_from[reach] >= depth {
-                                break;
-                            }
-                            while reach < n && lowest_from[reach] < depth {
-                                reach += 1;
-                            }
-                        }
-                        in_contact.clear();
-                        in_contact.extend((0..reach).filter(|&i| relaxed[i] < depth));
-                        if in_contact.is_empty() {
-                            // the indenter rests on the lowest relaxed point
-                            let i = argmin(&relaxed[..reach]);
-                            for j in 0..p {
-                                d_depth[j] = -(d_history[i * p + j] * c.g_eff
-                                    - history[i] * c.d_g_eff[j])
-                                    / (c.g_eff * c.g_eff);
-                            }
-                        } else {
-                            for (j, dd) in d_depth.iter_mut().enumerate() {
-                                let sum: f64 = in_contact
-                                    .iter()
-                                    .map(|&i| {
-                                        c.d_g_eff[j] * (depth - self.g[i]) + d_history[i * p + j]
-                                    })
-                                    .sum();
-                                *dd = -sum / (c.g_eff * in_contact.len() as f64);
-                            }
-                        }
+                    while reach < n && lowest_from[reach] < depth {
+                        reach += 1;
                     }
                 }
-                let mut force = 0.0;
+                in_contact.clear();
+                in_contact.extend((0..reach).filter(|&i| relaxed[i] < depth));
+                if in_contact.is_empty() {
+                    // the indenter rests on the lowest relaxed point
+                    let i = argmin(&relaxed[..reach]);
+                    for j in 0..p {
+                        d_depth[j] = -(d_history[i * p + j] * c.g_eff - history[i] * c.d_g_eff[j])
+                            / (c.g_eff * c.g_eff);
+                    }
+                } else {
+                    for (j, dd) in d_depth.iter_mut().enumerate() {
+                        let sum: f64 = in_contact
+                            .iter()
+                            .map(|&i| c.d_g_eff[j] * (depth - self.g[i]) + d_history[i * p + j])
+                            .sum();
+                        *dd = -sum / (c.g_eff * in_contact.len() as f64);
+                    }
+                }
                 count = 0;
                 for i in 0..reach {
                     let touching = relaxed[i] < depth;
                     let w_new = if touching {
                         count += 1;
-                        force += c.g_eff * (depth - self.g[i]) + history[i];
                         depth - self.g[i]
                     } else {
                         relaxed[i] - self.g[i]
@@ -341,9 +348,6 @@ impl Curve {
                     let dw_step = w_new - w[i];
                     for j in 0..p {
                         let dw_new = if touching {
-                            d_force[j] += c.d_g_eff[j] * (depth - self.g[i])
-                                + c.g_eff * d_depth[j]
-                                + d_history[i * p + j];
                             d_depth[j]
                         } else {
                             -(d_history[i * p + j] * c.g_eff - history[i] * c.d_g_eff[j])
@@ -366,18 +370,8 @@ impl Curve {
                     }
                     w[i] = w_new;
                 }
-                match self.control {
-                    Control::Depth => {
-                        value = weight * force;
-                        for j in 0..p {
-                            d_value[j] = weight * d_force[j];
-                        }
-                    }
-                    Control::Force => {
-                        value = depth;
-                        d_value.copy_from_slice(&d_depth);
-                    }
-                }
+                value = depth;
+                d_value.copy_from_slice(&d_depth);
             }
             out.values.push(value);
             out.jacobian.extend_from_slice(&d_value);
@@ -430,145 +424,4 @@ fn depth_for(relaxed: &[f64], target: f64, guess: f64) -> f64 {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::loading::{DepthHistory, ForceHistory, Loading};
-    use crate::monitor::Silent;
-    use crate::viscoelastic::{run_mdr, Request};
-
-    fn half_parabola(n: usize, c: f64, half: f64) -> (Vec<f64>, Vec<f64>, f64) {
-        let dx = half / n as f64;
-        let g: Vec<f64> = (0..n)
-            .map(|i| {
-                let x = (i as f64 + 0.5) * dx;
-                2.0 * c * x * x
-            })
-            .collect();
-        let mut full: Vec<f64> = g.iter().rev().copied().collect();
-        full.extend_from_slice(&g);
-        (g, full, dx)
-    }
-
-    fn standard_solid(g_inf: f64, g1: f64, tau: f64) -> Rheology {
-        Rheology::new(g_inf, vec![(g1, tau)], 0.0).unwrap()
-    }
-
-    /// The curve equals `run_mdr` on the full profile with the same steps, under depth and
-    /// under force control (the same stepping, halved by symmetry): agreement to round-off.
-    #[test]
-    fn curve_equals_the_full_profile_stepping() {
-        let (half, full, dx) = half_parabola(500, 1.0, 1.0);
-        let r = standard_solid(1.0, 2.0, 0.3);
-        let times: Vec<f64> = (1..=40).map(|k| 0.05 * k as f64).collect();
-        let depth: Vec<f64> = times.iter().map(|&t| 0.2 * t.min(2.0 - t + 0.0)).collect();
-        let force: Vec<f64> = times
-            .iter()
-            .map(|&t| 0.3 * (t * 2.0).sin().max(0.0))
-            .collect();
-        for (control, values) in [(Control::Depth, &depth), (Control::Force, &force)] {
-            let curve =
-                Curve::new(half.clone(), dx, times.clone(), values.clone(), control, 1).unwrap();
-            let e = curve.evaluate(&r, &[]).unwrap();
-            let mut t_all = vec![0.0];
-            t_all.extend_from_slice(&times);
-            let mut v_all = vec![0.0];
-            v_all.extend_from_slice(values);
-            let loading = match control {
-                Control::Depth => {
-                    Loading::Depth(DepthHistory::piecewise_linear(t_all, v_all).unwrap())
-                }
-                Control::Force => {
-                    Loading::Force(ForceHistory::piecewise_linear(t_all, v_all).unwrap())
-                }
-            };
-            let request = Request {
-                times: &times,
-                dt: 1.0,
-                fields_at: &[],
-                field_rates: false,
-            };
-            let (s, _) = run_mdr(&full, dx, &r, &loading, &request, &mut Silent).unwrap();
-            let reference = match control {
-                Control::Depth => &s.force,
-                Control::Force => &s.depth,
-            };
-            let scale = reference.iter().fold(0.0f64, |a, b| a.max(b.abs()));
-            for (a, b) in e.values.iter().zip(reference) {
-                assert!((a - b).abs() <= 1e-12 * scale, "{control:?}: {a} vs {b}");
-            }
-        }
-    }
-
-    /// Forward-mode derivatives against central differences of the curve itself in each
-    /// log-parameter (step 1e-6: truncation and round-off ~1e-9 relative to the largest
-    /// derivative), under depth and force control, standard solid and Kelvin-Voigt.
-    #[test]
-    fn derivatives_match_central_differences() {
-        let (half, _, dx) = half_parabola(400, 1.0, 1.0);
-        let times: Vec<f64> = (1..=30).map(|k| 0.05 * k as f64).collect();
-        let depth: Vec<f64> = times.iter().map(|&t| 0.2 * t.min(1.5 - t)).collect();
-        let force: Vec<f64> = times
-            .iter()
-            .map(|&t| 0.4 * t.min(1.2 - t).max(0.0))
-            .collect();
-        type Build = fn(&[f64]) -> Rheology;
-        // the media of log-parameters, and their derivatives in each
-        let sls: Build = |p| standard_solid(p[0].exp(), p[1].exp(), p[2].exp());
-        let kv: Build = |p| Rheology::new(p[0].exp(), vec![], p[1].exp()).unwrap();
-        let sls_tangents = |r: &Rheology| {
-            let (g, tau) = r.terms[0];
-            let zero = Rheology {
-                g_inf: 0.0,
-                terms: vec![(0.0, 0.0)],
-                eta: 0.0,
-            };
-            let mut t = vec![zero.clone(), zero.clone(), zero];
-            t[0].g_inf = r.g_inf;
-            t[1].terms[0].0 = g;
-            t[2].terms[0].1 = tau;
-            t
-        };
-        let kv_tangents = |r: &Rheology| {
-            let zero = Rheology {
-                g_inf: 0.0,
-                terms: vec![],
-                eta: 0.0,
-            };
-            let mut t = vec![zero.clone(), zero];
-            t[0].g_inf = r.g_inf;
-            t[1].eta = r.eta;
-            t
-        };
-        type Tangents<'a> = &'a dyn Fn(&Rheology) -> Vec<Rheology>;
-        let cases: [(Build, Vec<f64>, Tangents); 2] = [
-            (sls, vec![0.0, 0.7, -1.2], &sls_tangents),
-            (kv, vec![0.3, -2.0], &kv_tangents),
-        ];
-        for (build, params, tangents_of) in cases {
-            for (control, values) in [(Control::Depth, &depth), (Control::Force, &force)] {
-                let curve = Curve::new(half.clone(), dx, times.clone(), values.clone(), control, 2)
-                    .unwrap();
-                let r = build(&params);
-                let e = curve.evaluate(&r, &tangents_of(&r)).unwrap();
-                let p = params.len();
-                let biggest = e.jacobian.iter().fold(0.0f64, |a, b| a.max(b.abs()));
-                for j in 0..p {
-                    let h = 1e-6;
-                    let (mut up, mut down) = (params.clone(), params.clone());
-                    up[j] += h;
-                    down[j] -= h;
-                    let fu = curve.evaluate(&build(&up), &[]).unwrap().values;
-                    let fd = curve.evaluate(&build(&down), &[]).unwrap().values;
-                    for k in 0..times.len() {
-                        let numeric = (fu[k] - fd[k]) / (2.0 * h);
-                        let analytic = e.jacobian[k * p + j];
-                        assert!(
-                            (numeric - analytic).abs() <= 1e-6 * biggest,
-                            "{control:?} param {j} sample {k}: {analytic} vs {numeric}"
-                        );
-                    }
-                }
-            }
-        }
-    }
-}
+mod tests;

@@ -1,0 +1,138 @@
+//! The prepared curve against `run_mdr`, and its derivatives against differences.
+
+use super::*;
+use crate::loading::{DepthHistory, ForceHistory, Loading};
+use crate::monitor::Silent;
+use crate::viscoelastic::{run_mdr, Request};
+
+fn half_parabola(n: usize, c: f64, half: f64) -> (Vec<f64>, Vec<f64>, f64) {
+    let dx = half / n as f64;
+    let g: Vec<f64> = (0..n)
+        .map(|i| {
+            let x = (i as f64 + 0.5) * dx;
+            2.0 * c * x * x
+        })
+        .collect();
+    let mut full: Vec<f64> = g.iter().rev().copied().collect();
+    full.extend_from_slice(&g);
+    (g, full, dx)
+}
+
+fn standard_solid(g_inf: f64, g1: f64, tau: f64) -> Rheology {
+    Rheology::new(g_inf, vec![(g1, tau)], 0.0).unwrap()
+}
+
+/// The curve equals `run_mdr` on the full profile with the same steps, under depth and
+/// under force control (the same stepping, halved by symmetry): agreement to round-off.
+#[test]
+fn curve_equals_the_full_profile_stepping() {
+    let (half, full, dx) = half_parabola(500, 1.0, 1.0);
+    let r = standard_solid(1.0, 2.0, 0.3);
+    let times: Vec<f64> = (1..=40).map(|k| 0.05 * k as f64).collect();
+    let depth: Vec<f64> = times.iter().map(|&t| 0.2 * t.min(2.0 - t + 0.0)).collect();
+    let force: Vec<f64> = times
+        .iter()
+        .map(|&t| 0.3 * (t * 2.0).sin().max(0.0))
+        .collect();
+    for (control, values) in [(Control::Depth, &depth), (Control::Force, &force)] {
+        let curve =
+            Curve::new(half.clone(), dx, times.clone(), values.clone(), control, 1).unwrap();
+        let e = curve.evaluate(&r, &[]).unwrap();
+        let mut t_all = vec![0.0];
+        t_all.extend_from_slice(&times);
+        let mut v_all = vec![0.0];
+        v_all.extend_from_slice(values);
+        let loading = match control {
+            Control::Depth => Loading::Depth(DepthHistory::piecewise_linear(t_all, v_all).unwrap()),
+            Control::Force => Loading::Force(ForceHistory::piecewise_linear(t_all, v_all).unwrap()),
+        };
+        let request = Request {
+            times: &times,
+            dt: 1.0,
+            fields_at: &[],
+            field_rates: false,
+        };
+        let (s, _) = run_mdr(&full, dx, &r, &loading, &request, &mut Silent).unwrap();
+        let reference = match control {
+            Control::Depth => &s.force,
+            Control::Force => &s.depth,
+        };
+        let scale = reference.iter().fold(0.0f64, |a, b| a.max(b.abs()));
+        for (a, b) in e.values.iter().zip(reference) {
+            assert!((a - b).abs() <= 1e-12 * scale, "{control:?}: {a} vs {b}");
+        }
+    }
+}
+
+/// Forward-mode derivatives against central differences of the curve itself in each
+/// log-parameter (step 1e-6: truncation and round-off ~1e-9 relative to the largest
+/// derivative), under depth and force control, standard solid and Kelvin-Voigt.
+#[test]
+fn derivatives_match_central_differences() {
+    let (half, _, dx) = half_parabola(400, 1.0, 1.0);
+    let times: Vec<f64> = (1..=30).map(|k| 0.05 * k as f64).collect();
+    let depth: Vec<f64> = times.iter().map(|&t| 0.2 * t.min(1.5 - t)).collect();
+    let force: Vec<f64> = times
+        .iter()
+        .map(|&t| 0.4 * t.min(1.2 - t).max(0.0))
+        .collect();
+    type Build = fn(&[f64]) -> Rheology;
+    // the media of log-parameters, and their derivatives in each
+    let sls: Build = |p| standard_solid(p[0].exp(), p[1].exp(), p[2].exp());
+    let kv: Build = |p| Rheology::new(p[0].exp(), vec![], p[1].exp()).unwrap();
+    let sls_tangents = |r: &Rheology| {
+        let (g, tau) = r.terms[0];
+        let zero = Rheology {
+            g_inf: 0.0,
+            terms: vec![(0.0, 0.0)],
+            eta: 0.0,
+        };
+        let mut t = vec![zero.clone(), zero.clone(), zero];
+        t[0].g_inf = r.g_inf;
+        t[1].terms[0].0 = g;
+        t[2].terms[0].1 = tau;
+        t
+    };
+    let kv_tangents = |r: &Rheology| {
+        let zero = Rheology {
+            g_inf: 0.0,
+            terms: vec![],
+            eta: 0.0,
+        };
+        let mut t = vec![zero.clone(), zero];
+        t[0].g_inf = r.g_inf;
+        t[1].eta = r.eta;
+        t
+    };
+    type Tangents<'a> = &'a dyn Fn(&Rheology) -> Vec<Rheology>;
+    let cases: [(Build, Vec<f64>, Tangents); 2] = [
+        (sls, vec![0.0, 0.7, -1.2], &sls_tangents),
+        (kv, vec![0.3, -2.0], &kv_tangents),
+    ];
+    for (build, params, tangents_of) in cases {
+        for (control, values) in [(Control::Depth, &depth), (Control::Force, &force)] {
+            let curve =
+                Curve::new(half.clone(), dx, times.clone(), values.clone(), control, 2).unwrap();
+            let r = build(&params);
+            let e = curve.evaluate(&r, &tangents_of(&r)).unwrap();
+            let p = params.len();
+            let biggest = e.jacobian.iter().fold(0.0f64, |a, b| a.max(b.abs()));
+            for j in 0..p {
+                let h = 1e-6;
+                let (mut up, mut down) = (params.clone(), params.clone());
+                up[j] += h;
+                down[j] -= h;
+                let fu = curve.evaluate(&build(&up), &[]).unwrap().values;
+                let fd = curve.evaluate(&build(&down), &[]).unwrap().values;
+                for k in 0..times.len() {
+                    let numeric = (fu[k] - fd[k]) / (2.0 * h);
+                    let analytic = e.jacobian[k * p + j];
+                    assert!(
+                        (numeric - analytic).abs() <= 1e-6 * biggest,
+                        "{control:?} param {j} sample {k}: {analytic} vs {numeric}"
+                    );
+                }
+            }
+        }
+    }
+}
