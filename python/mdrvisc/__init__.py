@@ -19,6 +19,7 @@ from ._core import num_threads, set_num_threads
 from .errors import ConvergenceError, DomainError, InvalidInputError, MdrviscError, ResolutionWarning
 from .geometry import Cone, Indenter, Paraboloid, Rod, Sphere
 from .grids import load_sweep, sweep_scenes, zip_scenes
+from .heightmap import HeightMap
 from .many import SceneFailure, Sweep, solve_many
 from .media import Elastic, KelvinVoigt, Maxwell, Prony, StandardSolid, Viscous
 from .profiles import Axisymmetric, Profile
@@ -31,8 +32,8 @@ __version__ = "0.1.0"
 logging.getLogger("mdrvisc").addHandler(logging.NullHandler())
 
 __all__ = ["Scene", "Result", "Fields", "OUTPUTS", "solve", "set_num_threads", "num_threads",
-           "Rod", "Paraboloid", "Cone", "Sphere", "Axisymmetric", "Profile", "Indenter", "Viscous",
-           "Elastic", "KelvinVoigt", "Maxwell", "StandardSolid", "Prony", "analytic", "arrays",
+           "Rod", "Paraboloid", "Cone", "Sphere", "Axisymmetric", "Profile", "Indenter", "HeightMap",
+           "Viscous", "Elastic", "KelvinVoigt", "Maxwell", "StandardSolid", "Prony", "analytic", "arrays",
            "scenefile", "store", "solve_many", "Sweep", "SceneFailure", "sweep_scenes", "zip_scenes",
            "load_sweep", "MdrviscError", "InvalidInputError", "ConvergenceError", "DomainError",
            "ResolutionWarning",

@@ -21,6 +21,7 @@ pub mod loading;
 pub mod mdr;
 pub mod memory;
 pub mod monitor;
+pub mod npy;
 pub mod operator;
 pub mod paper;
 pub mod pool;

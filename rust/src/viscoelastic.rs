@@ -32,6 +32,12 @@ pub struct Series {
     pub force: Vec<f64>,
     /// Contact length: BEM 2 sqrt(A / pi), MDR elements in contact times dx (m).
     pub contact_length: Vec<f64>,
+    /// Contact area (m^2) (BEM).
+    pub area: Vec<f64>,
+    /// Contact patches, 4-connected components of the contact (BEM).
+    pub patches: Vec<usize>,
+    /// Mean surface deflection over the grid (m) (BEM).
+    pub mean_deflection: Vec<f64>,
     /// Penetration rate dd/dt (m/s): the second-order backward difference of the depth over
     /// the last three step times (first order on the first two steps, where the state at
     /// t = 0 may precede a jump of the load).
@@ -423,6 +429,8 @@ pub fn run_bem(
             out.residual.push(residual);
             let contact: Vec<bool> = p.iter().map(|&v| v > 0.0).collect();
             out.at_edge.push(grid.touches_edge(&contact));
+            out.area.push(area);
+            out.patches.push(grid.patches(&contact));
             (iterations, residual) = (0, 0.0);
             if request.fields_at.contains(&k) {
                 let pressure = p.to_vec();
@@ -440,6 +448,9 @@ pub fn run_bem(
                     deflection,
                 });
             }
+            solver.operator().apply(&x, &mut k_hist);
+            out.mean_deflection
+                .push(k_hist.iter().sum::<f64>() / n as f64);
         }
         if t > t_prev {
             depths.push(t, &[depth]);

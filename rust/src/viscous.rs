@@ -66,6 +66,10 @@ pub struct ViscousSeries {
     pub residual: Vec<f64>,
     /// Whether the contact reached the outermost ring of the grid.
     pub at_edge: Vec<bool>,
+    /// Contact patches (4-connected components of the contact).
+    pub patches: Vec<usize>,
+    /// Mean surface deflection over the grid (m).
+    pub mean_deflection: Vec<f64>,
     /// Fields at the requested steps.
     pub fields: Vec<Fields>,
     /// Contact solves performed (time steps plus rate solves).
@@ -153,7 +157,7 @@ impl Punch {
 }
 
 impl ViscousSeries {
-    /// Appends one output time.
+    /// Appends one output time (`deflection` in m on the grid).
     #[allow(clippy::too_many_arguments)]
     fn record(
         &mut self,
@@ -161,6 +165,7 @@ impl ViscousSeries {
         t: f64,
         depth: f64,
         contact: &[bool],
+        deflection: &[f64],
         rate: Option<(f64, f64)>,
         iterations: usize,
         residual: f64,
@@ -176,6 +181,9 @@ impl ViscousSeries {
         self.iterations.push(iterations);
         self.residual.push(residual);
         self.at_edge.push(grid.touches_edge(contact));
+        self.patches.push(grid.patches(contact));
+        self.mean_deflection
+            .push(deflection.iter().sum::<f64>() / deflection.len() as f64);
     }
 }
 
@@ -304,7 +312,7 @@ pub fn run_implicit(
                 });
             }
         }
-        out.record(grid, t, depth, &contact, rate, iterations, residual);
+        out.record(grid, t, depth, &contact, &u_acc, rate, iterations, residual);
         out.steps += 1;
         t_prev = t;
         monitor.progress("time steps", k + 1, total)?;
@@ -389,7 +397,16 @@ pub fn run_explicit(
             });
         }
         let rate = (force / (eta * punch.k_unit), punch.k_unit / 4.0);
-        out.record(grid, t, depth, &contact, Some(rate), iterations, residual);
+        out.record(
+            grid,
+            t,
+            depth,
+            &contact,
+            &u,
+            Some(rate),
+            iterations,
+            residual,
+        );
         (iterations, residual) = (0, 0.0);
         monitor.progress("time steps", k + 1, request.times.len())?;
     }

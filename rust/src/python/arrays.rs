@@ -110,6 +110,7 @@ pub(crate) fn bem_viscous(
         pressure: all,
         surface_velocity: all,
         deflection: all,
+        ..Wanted::default()
     };
     let fields: Vec<(f64, usize)> = fields_at.iter().map(|&k| (times[k], k)).collect();
     let mut inner = bem_viscous_report(&settings, &grid, forces, s, wanted, &fields);

@@ -5,6 +5,7 @@
 
 pub mod assemble;
 pub mod file;
+pub mod heightmap;
 pub mod indenter;
 pub mod medium;
 pub mod profile;
@@ -13,6 +14,7 @@ pub mod run;
 pub mod sizing;
 
 pub use file::SceneFile;
+pub use heightmap::{HeightMap, HeightMapTable};
 pub use indenter::{Footprint, Indenter};
 pub use medium::Medium;
 pub use profile::{Profile, ProfileTable};
@@ -98,6 +100,16 @@ pub enum Output {
     SurfaceVelocity,
     /// Surface deflection field (m) at the field times.
     Deflection,
+    /// Real contact area over the area of a height map (1); always computed for one.
+    ContactFraction,
+    /// Number of contact patches of a height map; always computed for one.
+    Patches,
+    /// Mean gap (m) between a height map and the deformed surface, over the map; always
+    /// computed for one.
+    MeanGap,
+    /// Gap field (m) of a height map at the field times: height below the highest point
+    /// plus deflection minus depth, zero in contact.
+    Gap,
 }
 
 impl Output {
@@ -105,7 +117,15 @@ impl Output {
     pub fn is_field(self) -> bool {
         matches!(
             self,
-            Output::Pressure | Output::SurfaceVelocity | Output::Deflection
+            Output::Pressure | Output::SurfaceVelocity | Output::Deflection | Output::Gap
+        )
+    }
+
+    /// Whether the output belongs to height maps only.
+    pub fn is_height_map(self) -> bool {
+        matches!(
+            self,
+            Output::ContactFraction | Output::Patches | Output::MeanGap | Output::Gap
         )
     }
 }

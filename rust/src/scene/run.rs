@@ -2,12 +2,12 @@
 //! viscous impulse engine, the paper's explicit loop, viscoelastic stepping) and the report.
 
 use super::assemble::{
-    bem_fields, bem_static_report, bem_viscous_report, central_value, centres, covers, mdr_fields,
-    report, Wanted,
+    bem_fields, bem_static_report, bem_viscous_report, central_value, centres, covers,
+    height_map_series, mdr_fields, report, Wanted,
 };
 use super::report::{FieldSet, Report};
 use super::sizing::{bem_grid, depth_bounds, mdr_foundation, mdr_half_length, DEPTH_BOUND_FACTOR};
-use super::{Output, Scene};
+use super::{Indenter, Output, Scene};
 use crate::contact::{SolverOptions, Target};
 use crate::error::{check_positive, Error, Result};
 use crate::grid::Grid;
@@ -154,6 +154,26 @@ pub fn run(scene: &Scene, settings: &RunSettings, monitor: &mut dyn Monitor) -> 
     if let (Some(duration), Some(dt)) = (scene.duration, settings.dt) {
         viscoelastic::check_steps(dt, duration, duration / dt)?;
     }
+    if let Indenter::HeightMap(map) = &scene.indenter {
+        map.check_run(settings.method, settings.n)?;
+        if map.periodic() {
+            return Err(Error::InvalidInput(
+                "a periodic height map needs the periodic half-space, which this build lacks"
+                    .into(),
+            ));
+        }
+    } else {
+        let only_maps: Vec<Output> = scene
+            .outputs()
+            .into_iter()
+            .filter(|o| o.is_height_map())
+            .collect();
+        refuse(
+            scene,
+            &only_maps,
+            "for an axisymmetric indenter, only for a height map",
+        )?;
+    }
     crate::memory::check(
         &format!(
             "{} n = {}",
@@ -206,6 +226,7 @@ fn memory_needed(scene: &Scene, settings: &RunSettings) -> f64 {
         Output::Pressure,
         Output::SurfaceVelocity,
         Output::Deflection,
+        Output::Gap,
     ]
     .iter()
     .filter(|&&o| scene.wants(o))
@@ -287,22 +308,17 @@ fn run_static(scene: &Scene, settings: &RunSettings, monitor: &mut dyn Monitor) 
                 .ok()
                 .flatten()
                 .map(|d| DEPTH_BOUND_FACTOR * d);
+            let wanted = Wanted::of(scene);
             let r = static_contact::solve(
                 &grid,
                 1.0 / g,
                 Target::Force(force),
                 bound,
-                scene.wants(Output::Deflection),
+                wanted.deflection || wanted.height_map,
                 &settings.solver,
                 monitor,
             )?;
-            Ok(bem_static_report(
-                settings,
-                &grid,
-                force,
-                r,
-                Wanted::of(scene),
-            ))
+            Ok(bem_static_report(settings, &grid, force, r, wanted))
         }
         Method::Mdr => {
             let f = mdr_foundation(scene, n)?;
@@ -580,7 +596,19 @@ fn run_viscoelastic(
             );
             out.solves = s.steps;
             let at: Vec<(f64, usize)> = field_times.iter().copied().zip(steps.clone()).collect();
-            out.fields = bem_fields(&grid, &fields, Wanted::of(scene), &at);
+            let wanted = Wanted::of(scene);
+            out.fields = bem_fields(&grid, &fields, wanted, &at, &s.depth);
+            if wanted.height_map {
+                out.depth.clone_from(&s.depth);
+                height_map_series(
+                    &mut out,
+                    &grid,
+                    &s.area,
+                    s.patches.clone(),
+                    &s.mean_deflection,
+                );
+            }
+            out.area = Some(s.area.clone());
             (s, out)
         }
     };
