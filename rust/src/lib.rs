@@ -6,7 +6,7 @@
 
 //!
 //! Layers, from the bottom: the half-space's influence coefficients (`influence`) and
-//! surface operator (`operator`, `precondition`); contact solvers (`contact`,
+//! surface operators (`operator`, `periodic`, `precondition`); contact solvers (`contact`,
 //! `static_contact`, `window`, `grid`); time stepping (`viscous`, `viscoelastic`, `mdr`,
 //! `rheology`, `integrator`, `loading`, `transforms`); the scene model (`scene`), which
 //! sizes grids, dispatches to the solvers and reports; and its applications (`paper`, the
@@ -24,6 +24,7 @@ pub mod monitor;
 pub mod npy;
 pub mod operator;
 pub mod paper;
+pub mod periodic;
 pub mod pool;
 pub mod precondition;
 #[cfg(feature = "python")]

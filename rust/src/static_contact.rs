@@ -6,6 +6,8 @@
 //! bound above the depth (e.g. from MDR), u_low a lower bound of the deflection under the
 //! force (`Window::around_contact`). The windowed solution is then the full grid's, exactly.
 //! A bound the solve exceeds is widened and the solve repeated.
+//!
+//! A periodic cell has no window: [`solve_periodic`] solves the whole cell.
 
 use crate::contact::{ContactSolver, ContactSummary, SolverOptions, Target};
 use crate::error::{check_len, Error, Result};
@@ -13,6 +15,7 @@ use crate::grid::Grid;
 use crate::influence::KernelTable;
 use crate::monitor::Monitor;
 use crate::operator::{FftOperator, FftPlans, SurfaceOperator};
+use crate::periodic::{self, PeriodicOperator};
 use crate::window::Window;
 
 /// The result of [`solve`] on the whole grid.
@@ -113,6 +116,56 @@ pub fn solve(
             solves,
         });
     }
+}
+
+/// Solves the static contact of a periodic cell: `grid` is one period (its heights the
+/// separation h before loading, m; the whole cell is solved, `allowed` still masks elements
+/// out), `compliance` multiplies the G = 1 periodic operator (`PeriodicOperator`; 1/G for
+/// an elastic body, m/Pa). `Target::Force` is the total force on the cell (N: mean
+/// pressure times the cell area nx ny dx^2); `Target::Depth(d)` is the rigid-body approach
+/// from the mean plane of the deflected surface, so that the mean separation is
+/// mean(h) - d (`periodic::depth_at_mean_separation` converts a mean separation; it must
+/// be > 0, since full contact takes an unbounded force in depth control). The summary's
+/// depth is that approach; the window is the whole cell and `solves` 1. Polonsky–Keer runs
+/// on the whole cell; the dense active set applies as for a non-periodic grid (with the
+/// periodic operator's matrix), and declines full contact, where that matrix is singular.
+pub fn solve_periodic(
+    grid: &Grid,
+    compliance: f64,
+    target: Target,
+    deflection: bool,
+    opts: &SolverOptions,
+    monitor: &mut dyn Monitor,
+) -> Result<StaticContact> {
+    let (nx, ny) = (grid.nx, grid.ny);
+    check_len("height", grid.height.len(), nx * ny)?;
+    if let Target::Depth(d) = target {
+        let separation = periodic::mean_separation(&grid.height, d);
+        if separation.is_nan() || separation <= 0.0 {
+            return Err(Error::InvalidInput(format!(
+                "the mean separation of a periodic cell must be > 0 m, got {separation:e} m \
+                 (depth {d:e} m)"
+            )));
+        }
+    }
+    let mut solver = ContactSolver::new(PeriodicOperator::new(nx, ny, grid.dx)?);
+    let summary = solver.solve(
+        &grid.height,
+        &grid.allowed,
+        compliance,
+        target,
+        false,
+        0.0,
+        opts,
+        monitor,
+    )?;
+    Ok(StaticContact {
+        summary,
+        pressure: solver.pressure().to_vec(),
+        deflection: deflection.then(|| solver.deflection().to_vec()),
+        window: Window::full(nx, ny),
+        solves: 1,
+    })
 }
 
 #[cfg(test)]

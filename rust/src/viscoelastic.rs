@@ -320,6 +320,34 @@ pub fn run_bem(
     opts: &SolverOptions,
     monitor: &mut dyn Monitor,
 ) -> Result<(Series, Vec<Fields>)> {
+    let op = FftOperator::new(grid.nx, grid.ny, grid.dx)?;
+    run_bem_on(op, grid, medium, loading, request, opts, monitor)
+}
+
+/// `run_bem` with the surface operator `op` of `grid` (same size and element side): the
+/// non-periodic `FftOperator`, or a `PeriodicOperator` for a periodic cell, where the depth
+/// is the approach from the deflected surface's mean plane (mean separation
+/// mean(h) - depth, `periodic::mean_separation`) and a force is the total on the cell.
+pub fn run_bem_on<O: SurfaceOperator>(
+    op: O,
+    grid: &Grid,
+    medium: &Rheology,
+    loading: &Loading,
+    request: &Request,
+    opts: &SolverOptions,
+    monitor: &mut dyn Monitor,
+) -> Result<(Series, Vec<Fields>)> {
+    if (op.nx(), op.ny()) != (grid.nx, grid.ny) || op.dx() != grid.dx {
+        return Err(Error::InvalidInput(format!(
+            "the operator's {} x {} grid of side {} m differs from the {} x {} grid of side {} m",
+            op.nx(),
+            op.ny(),
+            op.dx(),
+            grid.nx,
+            grid.ny,
+            grid.dx
+        )));
+    }
     request.check()?;
     let steps = step_times(request.times, request.dt, jumps_at_start(loading, medium))?;
     let n = grid.nx * grid.ny;
@@ -335,7 +363,7 @@ pub fn run_bem(
     let mut strains = field_rates.then(|| Trail::new(vec![0.0; n]));
     let mut fields = vec![];
     let m = medium.internal();
-    let mut solver = ContactSolver::new(FftOperator::new(grid.nx, grid.ny, grid.dx)?);
+    let mut solver = ContactSolver::new(op);
     let (mut x, mut q) = (vec![0.0; n], vec![0.0; n * m]);
     let (mut hist, mut k_hist, mut sep) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
     let mut out = Series::default();

@@ -13,7 +13,8 @@ use crate::integrator::ExplicitControl;
 use crate::loading::{check_output_times, ForceHistory};
 use crate::monitor::Monitor;
 use crate::operator::{FftOperator, SurfaceOperator};
-use crate::window::{SolverPool, Window};
+use crate::periodic::PeriodicCell;
+use crate::window::{SolverPool, StepSolvers};
 
 /// Surface fields at one output time.
 #[derive(Debug, Clone, PartialEq)]
@@ -120,9 +121,9 @@ impl Punch {
     /// Solves the unit punch on `set` (started from the current solution when `warm` and
     /// it has the set's length), reusing this punch's buffer; returns (iterations,
     /// residual).
-    fn solve(
+    fn solve<O: SurfaceOperator>(
         &mut self,
-        solver: &mut ContactSolver<FftOperator>,
+        solver: &mut ContactSolver<O>,
         set: &[bool],
         warm: bool,
         opts: &SolverOptions,
@@ -138,9 +139,9 @@ impl Punch {
     }
 
     /// Pressure (Pa) and surface velocity (m/s) under `force` (N) on a body of viscosity eta.
-    fn fields(
+    fn fields<O: SurfaceOperator>(
         &self,
-        solver: &mut ContactSolver<FftOperator>,
+        solver: &mut ContactSolver<O>,
         force: f64,
         eta: f64,
     ) -> (Vec<f64>, Vec<f64>) {
@@ -207,10 +208,39 @@ pub fn run_implicit(
     monitor: &mut dyn Monitor,
 ) -> Result<ViscousSeries> {
     check_request(request, eta)?;
-    let (nx, ny) = (grid.nx, grid.ny);
-    let n = nx * ny;
-    let mut pool = SolverPool::new(nx, ny, grid.dx)?;
-    let mut full = ContactSolver::new(pool.operator(nx, ny)?);
+    let pool = SolverPool::new(grid.nx, grid.ny, grid.dx)?;
+    run_implicit_in(pool, grid, eta, history, request, opts, monitor)
+}
+
+/// `run_implicit` on a periodic cell (`grid` one period): every step solves the whole cell
+/// with the periodic operator (`PeriodicOperator`), the force is the total on the cell (N),
+/// and depths are approaches from the deflected surface's mean plane (mean separation
+/// mean(h) - depth); depth bounds are not used.
+pub fn run_implicit_periodic(
+    grid: &Grid,
+    eta: f64,
+    history: &ForceHistory,
+    request: &ViscousRequest,
+    opts: &SolverOptions,
+    monitor: &mut dyn Monitor,
+) -> Result<ViscousSeries> {
+    check_request(request, eta)?;
+    let cell = PeriodicCell::new(grid.nx, grid.ny, grid.dx)?;
+    run_implicit_in(cell, grid, eta, history, request, opts, monitor)
+}
+
+/// The implicit stepping of `run_implicit`, each step's solve where `pool` puts it.
+fn run_implicit_in<S: StepSolvers>(
+    mut pool: S,
+    grid: &Grid,
+    eta: f64,
+    history: &ForceHistory,
+    request: &ViscousRequest,
+    opts: &SolverOptions,
+    monitor: &mut dyn Monitor,
+) -> Result<ViscousSeries> {
+    let n = grid.nx * grid.ny;
+    let mut full = ContactSolver::new(pool.whole()?);
     let mut sep = grid.height.clone();
     let mut u_acc = vec![0.0; n];
     let mut u_inc = vec![0.0; n];
@@ -239,15 +269,7 @@ pub fn run_implicit(
                 extrapolated
             };
             let (window, s) = loop {
-                let win = Window::around_contact(
-                    nx,
-                    ny,
-                    &sep,
-                    &grid.allowed,
-                    bound,
-                    impulse / eta,
-                    pool.kernel(),
-                );
+                let win = pool.contact_window(&sep, &grid.allowed, bound, impulse / eta);
                 win.gather(&sep, &mut sep_w);
                 win.gather(&grid.allowed, &mut allowed_w);
                 let solver = pool.get(win.wx, win.wy)?;
@@ -288,7 +310,7 @@ pub fn run_implicit(
         let force = history.force(t);
         let mut rate = None;
         if (request.rates || want_fields) && contact.iter().any(|&c| c) {
-            let win = Window::around(nx, ny, 0, |i| contact[i]);
+            let win = pool.set_window(&contact);
             win.gather(&contact, &mut allowed_w);
             let (its, res) =
                 punch.solve(pool.get(win.wx, win.wy)?, &allowed_w, false, opts, monitor)?;
