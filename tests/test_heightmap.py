@@ -271,3 +271,71 @@ def test_surface_topography_when_installed():
     hm = mv.HeightMap(topo)
     assert hm.shape == (6, 8) and hm.dx == 0.5 and hm.periodic
     np.testing.assert_array_equal(hm.heights, h_xy.T)
+
+
+# ---------------------------------------------------------------------- periodic cells
+def _corner_paraboloid(n, dx, shift):
+    """Heights -c r^2 of a paraboloid apex, r the periodic distance to the element ``shift``
+    (its apex on that element), on an n x n periodic cell."""
+    i = np.arange(n)
+    d = np.minimum((i - shift) % n, (shift - i) % n) * dx
+    return mv.HeightMap(-C * (d[np.newaxis, :] ** 2 + d[:, np.newaxis] ** 2), dx, periodic=True)
+
+
+def test_a_periodic_cell_is_translation_invariant_and_joins_patches_across_its_edges():
+    """The same periodic surface with its apex at the centre and at the corner: the same
+    depth, area and mean gap, the pressure moved with it; one patch in both, where the
+    cell cut open counts four."""
+    n, dx, force = 64, 1.0 / 64, 0.02
+    centre, corner = _corner_paraboloid(n, dx, n // 2), _corner_paraboloid(n, dx, 0)
+    np.testing.assert_array_equal(np.roll(corner.heights, n // 2, axis=(0, 1)), centre.heights)
+    run = {}
+    for name, hm in (("centre", centre), ("corner", corner)):
+        run[name] = mv.solve(mv.Scene(indenter=hm, medium=mv.Elastic(G=1.0), force=force,
+                                      outputs=("depth", "pressure", "gap")), tol=1e-12)
+    a, b = run["centre"], run["corner"]
+    assert a.patches[0] == b.patches[0] == 1 and a.at_edge is None
+    # measured: depth 9e-16 relative, pressure 1.1e-14 of the peak
+    assert b.depth[0] == pytest.approx(a.depth[0], rel=5e-15)
+    assert b.area[0] == a.area[0]
+    pa, pb = a.fields[0.0].pressure, b.fields[0.0].pressure
+    assert np.abs(np.roll(pb, n // 2, axis=(0, 1)) - pa).max() < 5e-14 * pa.max()
+    _check_contact(b, b.fields[0.0], corner.heights, force, tol=1e-14)
+    # zero-mean deflection: the mean gap is the mean height below the apex minus the depth
+    assert b.mean_gap[0] == pytest.approx(corner.heights.max() - corner.heights.mean() - b.depth[0],
+                                          rel=1e-12)
+    assert b.mean_gap[0] == pytest.approx(b.fields[0.0].gap.mean(), rel=1e-12)
+    cut = mv.solve(mv.Scene(indenter=mv.HeightMap(corner.heights, dx), medium=mv.Elastic(G=1.0),
+                            force=force))
+    assert cut.patches[0] == 4
+
+
+def test_a_periodic_wavy_surface_follows_westergaard():
+    """h = g cos(2 pi x / lambda), uniform in y, at mean pressure pbar below full contact:
+    the contact fraction 2a / lambda with pbar = p* sin^2(pi a / lambda), p* = pi E* g /
+    lambda, E* = 4 G."""
+    nx, ny, wavelength, g, G = 256, 4, 1.0, 1e-3, 1.0
+    dx = wavelength / nx
+    x = (np.arange(nx) - 0.5 * (nx - 1)) * dx
+    heights = np.tile(g * np.cos(2 * np.pi * x / wavelength), (ny, 1))
+    p_star = np.pi * 4 * G * g / wavelength
+    pbar = 0.3 * p_star
+    hm = mv.HeightMap(heights, dx, periodic=True)
+    r = mv.solve(mv.Scene(indenter=hm, medium=mv.Elastic(G=G), force=pbar * nx * ny * dx * dx), tol=1e-12)
+    a = wavelength / np.pi * np.arcsin(np.sqrt(pbar / p_star))
+    # measured 0.47 elements off the contact width 2a (the width is sampled by elements)
+    assert r.contact_fraction[0] == pytest.approx(2 * a / wavelength, abs=1.5 / nx)
+    assert r.patches[0] == 1
+
+
+def test_periodic_creep_on_a_standard_solid_ends_in_the_relaxed_periodic_contact():
+    n, dx, force = 64, 1.0 / 64, 4e-3
+    hm = _rough_map(n, dx, seed=7, rms=1e-3)
+    cell = mv.HeightMap(hm.heights, dx, periodic=True)
+    creep = mv.solve(mv.Scene(indenter=cell, medium=mv.StandardSolid(1.0, 3.0, 0.1), force=force,
+                              duration=6.0, times=np.linspace(0.15, 6.0, 40), dt=0.01), tol=1e-12)
+    relaxed = mv.solve(mv.Scene(indenter=cell, medium=mv.Elastic(G=1.0), force=force), tol=1e-12)
+    assert np.all(np.diff(creep.area) >= 0.0) and np.all(np.diff(creep.mean_gap) < 0.0)
+    # as in the non-periodic test: complete to exp(-15); measured 7e-8 relative
+    assert creep.mean_gap[-1] == pytest.approx(relaxed.mean_gap[0], rel=1e-6)
+    assert creep.area[-1] == relaxed.area[0] and creep.patches[-1] == relaxed.patches[0]

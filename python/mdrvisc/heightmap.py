@@ -61,8 +61,13 @@ class HeightMap:
         size when given.
     periodic : bool, optional
         Whether the map is one cell of a periodic surface (default False, or the
-        topography's). On a periodic cell ``force`` is the total force on the cell, the mean
-        pressure times the cell's area.
+        topography's), solved with the periodic half-space. On a periodic cell ``force`` is
+        the total force on the cell, the mean pressure times the cell's area; deflections
+        have zero mean over the cell, and the depth is the approach of the highest point
+        from the deflected surface's mean plane, so that the mean gap (the mean separation)
+        is the mean height below the highest point minus the depth: to hold a mean
+        separation g, prescribe the depth ``heights.max() - heights.mean() - g``. Contact
+        patches join across opposite edges.
 
     The map fixes the BEM grid: ``solve(scene, "bem")`` needs no ``n`` (given, it must be
     the longer side, :attr:`n`); MDR cannot solve a height map. Besides the depth and the

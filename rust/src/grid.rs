@@ -16,6 +16,8 @@ pub struct Grid {
     pub height: Vec<f64>,
     /// Elements the indenter covers (where contact is possible).
     pub allowed: Vec<bool>,
+    /// Whether the grid is one cell of a periodic surface (its opposite edges meet).
+    pub periodic: bool,
 }
 
 impl Grid {
@@ -57,13 +59,14 @@ impl Grid {
             dx,
             height,
             allowed,
+            periodic: false,
         })
     }
 
     /// Number of contact patches of `set`: its connected components, elements joined
-    /// through their edges (4-connectivity).
+    /// through their edges (4-connectivity), across opposite edges on a periodic cell.
     pub fn patches(&self, set: &[bool]) -> usize {
-        count_patches(self.nx, self.ny, set, false)
+        count_patches(self.nx, self.ny, set, self.periodic)
     }
 
     /// Whether any element of `set` lies on the outermost ring of the grid.

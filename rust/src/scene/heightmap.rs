@@ -5,6 +5,12 @@
 //! Heights are the rigid surface's (m, any sign, row-major (ny, nx)): the highest point
 //! touches first, and depths are measured from there. Element centres lie symmetric about
 //! the origin, x_i = (i - (nx - 1) / 2) dx.
+//!
+//! A periodic map is one cell of a periodic surface, solved with the periodic half-space
+//! (`periodic.rs`): a force is the total on the cell (mean pressure times the cell area),
+//! deflections have zero mean over the cell, and the depth is the approach of the highest
+//! point from the deflected surface's mean plane, so that the mean gap (the mean
+//! separation) is the mean height below the highest point minus the depth.
 
 use super::run::Method;
 use crate::error::{check_finite, check_positive, Error, Result};
@@ -139,16 +145,18 @@ impl HeightMap {
     }
 
     /// The BEM grid: the map's elements, every one allowed to touch, with heights measured
-    /// down from the highest point (m, >= 0).
+    /// down from the highest point (m, >= 0); a periodic cell for a periodic map.
     pub fn grid(&self) -> Result<Grid> {
         let top = self.top();
-        Grid::new(
+        let mut grid = Grid::new(
             self.nx,
             self.ny,
             self.dx,
             self.heights.iter().map(|h| top - h).collect(),
             vec![true; self.nx * self.ny],
-        )
+        )?;
+        grid.periodic = self.periodic;
+        Ok(grid)
     }
 
     /// The highest height (m).

@@ -15,6 +15,7 @@ use crate::integrator::ExplicitControl;
 use crate::loading::{ForceHistory, Loading};
 use crate::mdr;
 use crate::monitor::Monitor;
+use crate::periodic::PeriodicOperator;
 use crate::static_contact;
 use crate::transforms;
 use crate::viscoelastic;
@@ -63,8 +64,9 @@ impl Integrator {
     }
 }
 
-/// Runs a viscous BEM request on `grid` with the integrator and solver options of
-/// `settings` (eta in Pa s, the force history in N over s).
+/// Runs a viscous BEM request on `grid` (a periodic cell: the implicit stepping only) with
+/// the integrator and solver options of `settings` (eta in Pa s, the force history in N
+/// over s).
 pub fn viscous_bem(
     grid: &Grid,
     eta: f64,
@@ -73,13 +75,20 @@ pub fn viscous_bem(
     settings: &RunSettings,
     monitor: &mut dyn Monitor,
 ) -> Result<ViscousSeries> {
-    match &settings.integrator {
-        Integrator::Implicit => {
+    match (&settings.integrator, grid.periodic) {
+        (Integrator::Implicit, false) => {
             viscous::run_implicit(grid, eta, history, request, &settings.solver, monitor)
         }
-        Integrator::Explicit(c) => {
+        (Integrator::Implicit, true) => {
+            viscous::run_implicit_periodic(grid, eta, history, request, &settings.solver, monitor)
+        }
+        (Integrator::Explicit(c), false) => {
             viscous::run_explicit(grid, eta, history, request, c, &settings.solver, monitor)
         }
+        (Integrator::Explicit(_), true) => Err(Error::InvalidInput(
+            "the explicit integrator runs on non-periodic grids; a periodic cell steps implicitly"
+                .into(),
+        )),
     }
 }
 
@@ -156,12 +165,6 @@ pub fn run(scene: &Scene, settings: &RunSettings, monitor: &mut dyn Monitor) -> 
     }
     if let Indenter::HeightMap(map) = &scene.indenter {
         map.check_run(settings.method, settings.n)?;
-        if map.periodic() {
-            return Err(Error::InvalidInput(
-                "a periodic height map needs the periodic half-space, which this build lacks"
-                    .into(),
-            ));
-        }
     } else {
         let only_maps: Vec<Output> = scene
             .outputs()
@@ -200,6 +203,10 @@ pub fn run(scene: &Scene, settings: &RunSettings, monitor: &mut dyn Monitor) -> 
         run_viscoelastic(scene, settings, monitor)?
     };
     beyond_the_equator(scene, &report)?;
+    if matches!(&scene.indenter, Indenter::HeightMap(map) if map.periodic()) {
+        // a periodic cell has no edge
+        report.at_edge = None;
+    }
     let from = scene.solved_from();
     if from.len() != report.t.len() {
         report.expand(scene.output_times(), &from);
@@ -309,15 +316,28 @@ fn run_static(scene: &Scene, settings: &RunSettings, monitor: &mut dyn Monitor) 
                 .flatten()
                 .map(|d| DEPTH_BOUND_FACTOR * d);
             let wanted = Wanted::of(scene);
-            let r = static_contact::solve(
-                &grid,
-                1.0 / g,
-                Target::Force(force),
-                bound,
-                wanted.deflection || wanted.height_map,
-                &settings.solver,
-                monitor,
-            )?;
+            let deflection = wanted.deflection || wanted.height_map;
+            let target = Target::Force(force);
+            let r = if grid.periodic {
+                static_contact::solve_periodic(
+                    &grid,
+                    1.0 / g,
+                    target,
+                    deflection,
+                    &settings.solver,
+                    monitor,
+                )?
+            } else {
+                static_contact::solve(
+                    &grid,
+                    1.0 / g,
+                    target,
+                    bound,
+                    deflection,
+                    &settings.solver,
+                    monitor,
+                )?
+            };
             Ok(bem_static_report(settings, &grid, force, r, wanted))
         }
         Method::Mdr => {
@@ -575,14 +595,27 @@ fn run_viscoelastic(
         }
         Method::Bem => {
             let grid = bem_grid(scene, settings.n)?;
-            let (s, fields) = viscoelastic::run_bem(
-                &grid,
-                &rheology,
-                &loading,
-                &request,
-                &settings.solver,
-                monitor,
-            )?;
+            let (s, fields) = if grid.periodic {
+                let op = PeriodicOperator::new(grid.nx, grid.ny, grid.dx)?;
+                viscoelastic::run_bem_on(
+                    op,
+                    &grid,
+                    &rheology,
+                    &loading,
+                    &request,
+                    &settings.solver,
+                    monitor,
+                )?
+            } else {
+                viscoelastic::run_bem(
+                    &grid,
+                    &rheology,
+                    &loading,
+                    &request,
+                    &settings.solver,
+                    monitor,
+                )?
+            };
             unbounded_inside(scene, &s.at_edge, &s.t)?;
             let mut out = report(settings, grid.dx, "viscoelastic", s.t.clone());
             out.grid_shape = Some([grid.ny, grid.nx]);
