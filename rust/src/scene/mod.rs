@@ -484,6 +484,29 @@ mod tests {
         refused(s, "duration");
     }
 
+    /// A height map's scene file names the .npy written beside it, and reads back the same
+    /// scene, n included; inline heights read back too.
+    #[test]
+    fn height_map_scene_files_round_trip_through_their_npy() {
+        let heights = vec![0.1, -0.25, 1.0 / 3.0, 2e-7, 0.0, -1.5];
+        let map = HeightMap::new(2, 3, heights, 0.5, true).unwrap();
+        let mut scene = viscous(Indenter::HeightMap(Box::new(map)));
+        scene.medium = Medium::Elastic { g: 1.0 };
+        scene.duration = None;
+        let dir = std::env::temp_dir().join(format!("mdrvisc-scene-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("cell.toml");
+        let text = file::write(&scene, Some((Method::Bem, 3)), &path).unwrap();
+        assert!(text.contains("heights = \"cell.npy\""), "{text}");
+        let back = SceneFile::load(path.to_str().unwrap()).unwrap();
+        assert_eq!((back.scene.clone(), back.settings.n), (scene.clone(), 3));
+        let inline =
+            file::to_toml(&scene, None).replace("[indenter]", "method = \"bem\"\n[indenter]");
+        let parsed = SceneFile::parse(&inline, "inline").unwrap();
+        assert_eq!((parsed.scene, parsed.settings.n), (scene, 3));
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
     #[test]
     fn scene_files_round_trip_through_toml() {
         let mut s = viscous(Indenter::Sphere { radius: 2.0 });
