@@ -69,7 +69,9 @@ class HeightMap:
         separation g, prescribe the depth ``heights.max() - heights.mean() - g``. Contact
         patches join across opposite edges.
 
-    The map fixes the BEM grid: ``solve(scene, "bem")`` needs no ``n`` (given, it must be
+    Notes
+    -----
+    The map fixes the BEM grid, so ``solve(scene, "bem")`` needs no ``n`` (given, it must be
     the longer side, :attr:`n`); MDR cannot solve a height map. Besides the depth and the
     contact area a solve reports the contact fraction, the number of contact patches and the
     mean gap at every output time, and ``"gap"`` fields when asked for.
