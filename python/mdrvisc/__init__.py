@@ -14,7 +14,7 @@ until logging is configured, e.g. ``logging.basicConfig(level=logging.INFO)``.
 
 import logging
 
-from . import analytic, arrays, scenefile, store
+from . import analytic, arrays, scenefile, store, surfaces
 from ._core import num_threads, set_num_threads
 from .errors import ConvergenceError, DomainError, InvalidInputError, MdrviscError, ResolutionWarning
 from .geometry import Cone, Indenter, Paraboloid, Rod, Sphere
@@ -34,7 +34,7 @@ logging.getLogger("mdrvisc").addHandler(logging.NullHandler())
 __all__ = ["Scene", "Result", "Fields", "OUTPUTS", "solve", "set_num_threads", "num_threads",
            "Rod", "Paraboloid", "Cone", "Sphere", "Axisymmetric", "Profile", "Indenter", "HeightMap",
            "Viscous", "Elastic", "KelvinVoigt", "Maxwell", "StandardSolid", "Prony", "analytic", "arrays",
-           "scenefile", "store", "solve_many", "Sweep", "SceneFailure", "sweep_scenes", "zip_scenes",
-           "load_sweep", "MdrviscError", "InvalidInputError", "ConvergenceError", "DomainError",
+           "scenefile", "store", "surfaces", "solve_many", "Sweep", "SceneFailure", "sweep_scenes",
+           "zip_scenes", "load_sweep", "MdrviscError", "InvalidInputError", "ConvergenceError", "DomainError",
            "ResolutionWarning",
            "__version__"]

@@ -25,6 +25,7 @@ __all__ = [
     "parse_scene_file",
     "parse_scene_table",
     "run_scene",
+    "self_affine",
     "set_num_threads",
     "surface_deflection",
 ]
@@ -228,3 +229,14 @@ def bem_punch(
 def mdr_pressure(q: _F64, dx: float, r: _F64) -> _F64: ...
 def mdr_deflection(w: _F64, dx: float, r: _F64) -> _F64: ...
 def surface_deflection(p: _F64, dx: float, dense: bool = False) -> _F64: ...
+def self_affine(
+    nx: int,
+    ny: int,
+    dx: float,
+    hurst: float,
+    rms_height: float | None = None,
+    rms_slope: float | None = None,
+    rolloff: float | None = None,
+    short_cutoff: float | None = None,
+    seed: int = 0,
+) -> _F64: ...

@@ -10,7 +10,7 @@
 //! `static_contact`, `window`, `grid`); time stepping (`viscous`, `viscoelastic`, `mdr`,
 //! `rheology`, `integrator`, `loading`, `transforms`); the scene model (`scene`), which
 //! sizes grids, dispatches to the solvers and reports; and its applications (`paper`, the
-//! binary, the Python bindings in `python`).
+//! binary, the Python bindings in `python`); random rough surfaces (`surfaces`).
 
 pub mod contact;
 pub mod error;
@@ -32,6 +32,7 @@ mod python;
 pub mod rheology;
 pub mod scene;
 pub mod static_contact;
+pub mod surfaces;
 pub mod transforms;
 pub mod viscoelastic;
 pub mod viscous;

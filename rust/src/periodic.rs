@@ -195,6 +195,7 @@ impl StepSolvers for PeriodicCell {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::grid::Grid;
     use std::f64::consts::PI;
 
     fn pseudo_random(n: usize, seed: u64) -> Vec<f64> {
@@ -210,8 +211,9 @@ mod tests {
     }
 
     /// A single harmonic pressure cos(q . x) (any direction, odd and even cells, up to the
-    /// Nyquist wavevector) gives u = cos(q . x) / (2 |q|) at G = 1 to round-off, written from
-    /// the wavevector alone; a uniform pressure gives u = 0 (to round-off).
+    /// Nyquist wavevector) gives u = cos(q . x) / (2 |q|) at G = 1 to round-off (measured
+    /// 1.2e-14 of the amplitude), written from the wavevector alone; a uniform pressure gives
+    /// u = 0 (measured 3.7e-17 of the longest wave's response).
     #[test]
     fn a_harmonic_pressure_gives_the_half_space_response() {
         for (nx, ny, dx) in [(32, 24, 0.1), (27, 15, 2.0), (64, 64, 1e-6)] {
@@ -230,7 +232,7 @@ mod tests {
                 for (i, v) in u.iter().enumerate() {
                     let exact = amp * phase(i).cos();
                     assert!(
-                        (v - exact).abs() < 2e-14 * amp,
+                        (v - exact).abs() < 5e-14 * amp,
                         "{nx}x{ny} ({kx},{ky}): {v} vs {exact}"
                     );
                 }
@@ -239,7 +241,7 @@ mod tests {
             op.apply(&vec![3.0; nx * ny], &mut u);
             // against the longest wave's response 3 lx / (4 pi)
             let worst = u.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-            assert!(worst < 1e-14 * 3.0 * lx, "mean mode: {worst}");
+            assert!(worst < 2e-16 * 3.0 * lx, "mean mode: {worst}");
         }
     }
 
@@ -257,11 +259,9 @@ mod tests {
         op.apply(&q, &mut kq);
         let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
         let (pkq, qkp) = (dot(&p, &kq), dot(&q, &kp));
-        assert!(
-            (pkq - qkp).abs() < 1e-13 * pkq.abs().max(1e-3),
-            "{pkq} vs {qkp}"
-        );
-        assert!(mean(&kp).abs() < 1e-15 && mean(&kq).abs() < 1e-15);
+        assert!((pkq - qkp).abs() < 1e-14 * pkq.abs(), "{pkq} vs {qkp}");
+        // measured: p . K q = q . K p to 2.0e-15 relative, mean(K p) = 4.6e-18 (K p ~ 0.05)
+        assert!(mean(&kp).abs() < 3e-17 && mean(&kq).abs() < 3e-17);
         let pbar = mean(&p);
         let zero_mean: Vec<f64> = p.iter().map(|v| v - pbar).collect();
         let mut k0 = vec![0.0; n];
@@ -294,5 +294,101 @@ mod tests {
         assert!(PeriodicOperator::new(0, 4, 1.0).is_err());
         assert!(PeriodicOperator::new(4, 4, -1.0).is_err());
         assert!(PeriodicOperator::new(5000, 5000, 1.0).is_err());
+    }
+
+    /// A wavy surface h = g (1 - cos(2 pi x / lambda)) on an n x 4 cell of one wavelength
+    /// (1 m, g = 0.01 m): the grid and the element centres' x.
+    fn wavy(n: usize) -> (Grid, Vec<f64>) {
+        let (g, ny, dx) = (0.01, 4, 1.0 / n as f64);
+        let x: Vec<f64> = (0..n * ny)
+            .map(|i| ((i % n) as f64 - (n / 2) as f64 + 0.5) * dx)
+            .collect();
+        let h = x.iter().map(|x| g * (1.0 - (2.0 * PI * x).cos())).collect();
+        (Grid::new(n, ny, dx, h, vec![true; n * ny]).unwrap(), x)
+    }
+
+    /// Westergaard's mean separation (m) of the wavy surface (g = 0.01 m, lambda = 1 m) at
+    /// mean pressure pbar on a body of shear creep compliance j (1/Pa) under a step load
+    /// (Lee–Radok: the elastic solution with E* = 4 / j while the contact grows):
+    /// g (1 - P (1 - ln P)), P = pbar / p*, p* = pi E* g / lambda.
+    fn westergaard_separation(pbar: f64, j: f64) -> f64 {
+        let ratio = pbar / (PI * 4.0 / j * 0.01);
+        0.01 * (1.0 - ratio * (1.0 - ratio.ln()))
+    }
+
+    /// Creep of the wavy surface on a standard solid (G_inf = 1 Pa, G_1 = 3 Pa, tau = 0.5 s)
+    /// under a constant mean pressure on the periodic cell: the mean separation follows
+    /// Westergaard's with the creep compliance J(t) (the contact fraction grows from 0.23
+    /// to 0.5). Measured relative errors 1.7e-5 .. 4.8e-5 (dt = 0.005 s, n = 256).
+    #[test]
+    fn viscoelastic_creep_of_a_wavy_surface_follows_westergaard() {
+        use crate::loading::{ForceHistory, Loading};
+        use crate::monitor::Silent;
+        use crate::rheology::Rheology;
+        use crate::viscoelastic::{run_bem_on, Request};
+        let (g_inf, g1, tau) = (1.0, 3.0, 0.5);
+        let j = |t: f64| {
+            1.0 / g_inf
+                + (1.0 / (g_inf + g1) - 1.0 / g_inf) * (-g_inf * t / ((g_inf + g1) * tau)).exp()
+        };
+        let (grid, _) = wavy(256);
+        let pbar = 0.5 * PI * 4.0 * g_inf * 0.01;
+        let force = pbar * 4.0 / 256.0;
+        let medium = Rheology::new(g_inf, vec![(g1, tau)], 0.0).unwrap();
+        let loading = Loading::Force(ForceHistory::constant(force).unwrap());
+        let times = [0.01, 0.1, 0.5, 1.0, 2.0, 5.0];
+        let request = Request {
+            times: &times,
+            dt: 0.005,
+            fields_at: &[],
+            field_rates: false,
+        };
+        let op = PeriodicOperator::new(grid.nx, grid.ny, grid.dx).unwrap();
+        let opts = crate::contact::SolverOptions::default();
+        let (s, _) =
+            run_bem_on(op, &grid, &medium, &loading, &request, &opts, &mut Silent).unwrap();
+        for (k, &t) in s.t.iter().enumerate() {
+            let sep = mean_separation(&grid.height, s.depth[k]);
+            let exact = westergaard_separation(pbar, j(t));
+            assert!(
+                (sep / exact - 1.0).abs() < 2e-4,
+                "t = {t}: {sep} vs {exact}"
+            );
+            assert!((s.force[k] / force - 1.0).abs() < 1e-12);
+        }
+    }
+
+    /// A viscous body (eta = 2 Pa s) under a constant mean pressure on the periodic cell, by
+    /// the implicit impulse stepping on the whole cell: the mean separation follows
+    /// Westergaard's with J(t) = t / eta, the stepping having no time-discretisation error
+    /// while the contact grows (fraction 0.20 to 0.56). Measured relative errors 1.2e-5 ..
+    /// 8.5e-5, growing as the mean separation shrinks (to 0.1 g).
+    #[test]
+    fn viscous_creep_of_a_wavy_surface_follows_westergaard() {
+        use crate::loading::ForceHistory;
+        use crate::monitor::Silent;
+        use crate::viscous::{run_implicit_periodic, ViscousRequest};
+        let eta = 2.0;
+        let (grid, _) = wavy(256);
+        let pbar = 0.05;
+        let force = pbar * 4.0 / 256.0;
+        let times: Vec<f64> = vec![0.5, 1.0, 2.0, 3.0];
+        let request = ViscousRequest {
+            times: times.clone(),
+            rates: false,
+            fields_at: vec![],
+            depth_bounds: vec![],
+        };
+        let history = ForceHistory::constant(force).unwrap();
+        let opts = crate::contact::SolverOptions::default();
+        let s = run_implicit_periodic(&grid, eta, &history, &request, &opts, &mut Silent).unwrap();
+        for (k, &t) in times.iter().enumerate() {
+            let sep = mean_separation(&grid.height, s.depth[k]);
+            let exact = westergaard_separation(pbar, t / eta);
+            assert!(
+                (sep / exact - 1.0).abs() < 3e-4,
+                "t = {t}: {sep} vs {exact}"
+            );
+        }
     }
 }
