@@ -57,12 +57,12 @@ html_title = f"mdrvisc {release}"
 
 def _example_arguments(gallery_conf, script_vars):
     """Command-line arguments of each example: the quick variant where a script has one, and
-    its output file in the build folder (figure and sweep scripts)."""
+    its output file in the build folder (figure, sweep and rough-surface scripts)."""
     name = Path(script_vars["src_file"]).stem
     out = Path(gallery_conf["src_dir"]) / gallery_conf["gallery_dirs"][0] / f"{name}.png"
     if name.startswith("fig"):
         return ["--quick", str(out)]
-    return [str(out)] if name.startswith("sweep") else []
+    return [str(out)] if name.startswith(("sweep", "rough")) else []
 
 
 class _WrittenFigures:

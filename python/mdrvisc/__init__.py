@@ -14,7 +14,7 @@ until logging is configured, e.g. ``logging.basicConfig(level=logging.INFO)``.
 
 import logging
 
-from . import analytic, arrays, scenefile, store
+from . import analytic, arrays, scenefile, store, surfaces
 from ._core import num_threads, set_num_threads
 from .errors import (
     ConvergenceError,
@@ -28,6 +28,7 @@ from .errors import (
 from .fitting import FitResult, fit
 from .geometry import Cone, Indenter, Paraboloid, Rod, Sphere
 from .grids import load_sweep, sweep_scenes, zip_scenes
+from .heightmap import HeightMap
 from .many import SceneFailure, Sweep, solve_many
 from .media import Elastic, KelvinVoigt, Maxwell, PowerLaw, Prony, StandardSolid, Viscous
 from .profiles import Axisymmetric, Profile
@@ -40,10 +41,9 @@ __version__ = "0.1.0"
 logging.getLogger("mdrvisc").addHandler(logging.NullHandler())
 
 __all__ = ["Scene", "Result", "Fields", "OUTPUTS", "solve", "set_num_threads", "num_threads",
-           "Rod", "Paraboloid", "Cone", "Sphere", "Axisymmetric", "Profile", "Indenter", "Viscous",
-           "Elastic", "KelvinVoigt", "Maxwell", "StandardSolid", "Prony", "PowerLaw", "fit", "FitResult",
-           "analytic", "arrays",
-           "scenefile", "store", "solve_many", "Sweep", "SceneFailure", "sweep_scenes", "zip_scenes",
-           "load_sweep", "MdrviscError", "InvalidInputError", "ConvergenceError", "DomainError",
-           "ResolutionWarning", "DataError", "IdentifiabilityWarning",
+           "Rod", "Paraboloid", "Cone", "Sphere", "Axisymmetric", "Profile", "Indenter", "HeightMap",
+           "Viscous", "Elastic", "KelvinVoigt", "Maxwell", "StandardSolid", "Prony", "PowerLaw", "fit",
+           "FitResult", "analytic", "arrays", "scenefile", "store", "surfaces", "solve_many", "Sweep",
+           "SceneFailure", "sweep_scenes", "zip_scenes", "load_sweep", "MdrviscError", "InvalidInputError",
+           "ConvergenceError", "DomainError", "ResolutionWarning", "DataError", "IdentifiabilityWarning",
            "__version__"]

@@ -36,13 +36,19 @@ def _grid(name, a):
 
 
 class SurfaceOperator:
-    """The surface operator of a non-periodic half-space on a grid, built once, applied many
-    times: element pressures (Pa) to element-centre deflections (m) of an incompressible
-    half-space with G = 1 Pa (Love's coefficients, zero-padded FFT convolution in Rust, GIL
-    released). Divide by the shear modulus G for an elastic body, or by eta for the surface
-    velocity of a viscous one. One operator may be shared between threads: its buffers are
-    behind a lock, so calls from different threads run one after the other (build one
-    operator per thread to apply in parallel).
+    """The surface operator of a half-space on a grid, built once, applied many times:
+    element pressures (Pa) to element-centre deflections (m) of an incompressible
+    half-space with G = 1 Pa (FFTs in Rust, GIL released). Divide by the shear modulus G for
+    an elastic body, or by eta for the surface velocity of a viscous one. One operator may be
+    shared between threads: its buffers are behind a lock, so calls from different threads
+    run one after the other (build one operator per thread to apply in parallel).
+
+    Non-periodic (default): Love's coefficients of uniformly loaded squares, by zero-padded
+    FFT convolution. ``periodic=True``: the grid is one period of a periodic cell, and the
+    kernel is the half-space's spectral response u_q = p_q / (2 G abs(q)) at the cell's
+    discrete wavevectors (E* = 4 G), with the mean mode set to zero: deflections have zero
+    mean over the cell (a uniform pressure gives none), which makes the rigid-body approach
+    of a contact the approach from the deflected surface's mean plane.
 
     Parameters
     ----------
@@ -50,18 +56,22 @@ class SurfaceOperator:
         Grid shape (ny, nx), >= 1 each.
     dx : float
         Element side (m), > 0.
+    periodic : bool
+        Whether the grid is a periodic cell.
 
-    Attributes ``shape``, ``dx`` and ``padded`` (the FFT sizes (y, x)).
+    Attributes ``shape``, ``dx``, ``periodic`` and ``padded`` (the FFT sizes (y, x): the
+    grid's own for a periodic cell).
     """
 
-    def __init__(self, shape: tuple[int, int], dx: float) -> None:
+    def __init__(self, shape: tuple[int, int], dx: float, periodic: bool = False) -> None:
         try:
             ny, nx = shape
         except (TypeError, ValueError):
             raise InvalidInputError(f"SurfaceOperator: shape must be (ny, nx), got {shape!r:.200}") from None
         ny = _integer("SurfaceOperator", "shape[0]", ny, 1)
         nx = _integer("SurfaceOperator", "shape[1]", nx, 1)
-        self._op = _core.SurfaceOperator(nx, ny, _positive("SurfaceOperator", "dx", dx))
+        self._op = _core.SurfaceOperator(nx, ny, _positive("SurfaceOperator", "dx", dx),
+                                         periodic=_flag("SurfaceOperator", "periodic", periodic))
 
     @property
     def shape(self) -> tuple[int, int]:
@@ -75,8 +85,13 @@ class SurfaceOperator:
 
     @property
     def padded(self) -> tuple[int, int]:
-        """Zero-padded FFT sizes (y, x)."""
+        """FFT sizes (y, x): zero-padded, or the grid's own for a periodic cell."""
         return self._op.padded
+
+    @property
+    def periodic(self) -> bool:
+        """Whether the grid is a periodic cell."""
+        return self._op.periodic
 
     def apply(self, p: ArrayLike, out: np.ndarray | None = None) -> np.ndarray:
         """Deflection (m, shape (ny, nx)) under pressures ``p`` (Pa, shape (ny, nx), any real
@@ -93,7 +108,7 @@ class SurfaceOperator:
         return self._op.apply(np.ascontiguousarray(arr, dtype=np.float64), out)
 
     def __repr__(self) -> str:
-        return f"SurfaceOperator(shape={self.shape}, dx={self.dx!r})"
+        return f"SurfaceOperator(shape={self.shape}, dx={self.dx!r}, periodic={self.periodic})"
 
 
 def _mask(mask, shape):
@@ -108,9 +123,18 @@ def _mask(mask, shape):
 def contact(height: ArrayLike, dx: float, G: float, force: float | None = None,
             depth: float | None = None, mask: ArrayLike | None = None, tol: float = 1e-10,
             max_iter: int = 5000, active_limit: int | None = None, precondition: bool = True,
-            depth_bound: float | None = None, deflection: bool = True) -> Result:
+            depth_bound: float | None = None, deflection: bool = True, periodic: bool = False,
+            mean_separation: float | None = None) -> Result:
     """Static elastic contact of a rigid indenter on an incompressible half-space of shear
     modulus ``G`` (Pa) under ``force`` (N) or at ``depth`` (m).
+
+    ``periodic=True`` makes the map one period of a periodic cell (the periodic operator of
+    :class:`SurfaceOperator`), solved whole: ``force`` is the total force on the cell (mean
+    pressure times the cell area), ``depth`` the rigid-body approach from the mean plane of
+    the deflected surface, and ``mean_separation`` (m, > 0; periodic only) the mean gap
+    mean(height) - depth to hold instead; give exactly one of the three. The result's depth
+    is that approach (mean separation = mean(height) - depth); ``depth_bound`` does not
+    apply and ``at_edge`` is False.
 
     The solver is Polonsky–Keer (FFT conjugate gradients, relative tolerance ``tol``) or,
     while the contact set stays small, a dense primal-dual active-set solve (faer Cholesky on
@@ -136,11 +160,21 @@ def contact(height: ArrayLike, dx: float, G: float, force: float | None = None,
     h = _grid("height", height)
     dx = _positive("contact", "dx", dx)
     G = _positive("contact", "G", G)
+    periodic = _flag("contact", "periodic", periodic)
+    if mean_separation is not None:
+        if not periodic:
+            raise InvalidInputError("contact: mean_separation needs periodic=True")
+        if depth is not None:
+            raise InvalidInputError("contact: give exactly one of force, depth and mean_separation")
+        depth = float(np.mean(h)) - _positive("contact", "mean_separation", mean_separation)
     if (force is None) == (depth is None):
-        raise InvalidInputError("contact: give exactly one of force and depth")
+        which = "force, depth and mean_separation" if periodic else "force and depth"
+        raise InvalidInputError(f"contact: give exactly one of {which}")
     if force is not None:
         force = _positive("contact", "force", force)
     if depth_bound is not None:
+        if periodic:
+            raise InvalidInputError("contact: depth_bound sizes windows, which a periodic cell does not have")
         depth_bound = _positive("contact", "depth_bound", depth_bound)
     r = _core.contact_solve(h, _mask(mask, h.shape), dx, 1.0 / G, force=force,
                             depth=None if depth is None else _number("contact", "depth", depth),
@@ -149,7 +183,8 @@ def contact(height: ArrayLike, dx: float, G: float, force: float | None = None,
                             active_limit=None if active_limit is None
                             else _integer("contact", "active_limit", active_limit, 0),
                             precondition=_flag("contact", "precondition", precondition),
-                            depth_bound=depth_bound, deflection=_flag("contact", "deflection", deflection))
+                            depth_bound=depth_bound, deflection=_flag("contact", "deflection", deflection),
+                            periodic=periodic)
     return Result._from_report(r)
 
 

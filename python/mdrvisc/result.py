@@ -20,13 +20,13 @@ __all__ = ["Result", "Fields", "UNITS"]
 
 #: Units of the quantities of a result (SI).
 UNITS = {"t": "s", "depth": "m", "contact_length": "m", "area": "m^2", "force": "N", "velocity": "m/s",
-         "stiffness_length": "m", "central_pressure": "Pa", "dx": "m", "wall_time": "s",
-         "pressure": "Pa", "surface_velocity": "m/s", "deflection": "m", "x": "m", "y": "m", "r": "m",
-         "x_extended": "m"}
+         "stiffness_length": "m", "central_pressure": "Pa", "contact_fraction": "1", "patches": "1",
+         "mean_gap": "m", "dx": "m", "wall_time": "s", "pressure": "Pa", "surface_velocity": "m/s",
+         "deflection": "m", "gap": "m", "x": "m", "y": "m", "r": "m", "x_extended": "m"}
 
 #: Series: one entry per output time (None where not computed).
 SERIES = ("t", "depth", "contact_length", "force", "area", "velocity", "stiffness_length",
-          "central_pressure", "saturated", "at_edge")
+          "central_pressure", "contact_fraction", "patches", "mean_gap", "saturated", "at_edge")
 #: The run's own numbers and labels.
 SCALARS = ("method", "n", "dx", "integrator", "steps", "solves", "iterations", "residual", "wall_time",
            "solver")
@@ -39,7 +39,9 @@ class Fields:
     """Fields at one time ``t`` (s). BEM: maps of shape (ny, nx) over element centres ``x``,
     ``y`` (m); a flat punch's surface velocity and deflection over ``x_extended`` on both
     axes. MDR: radial profiles over radii ``r`` (m), from the inverse transforms. Pressure in
-    Pa, surface velocity in m/s, deflection in m; None where not asked for."""
+    Pa, surface velocity in m/s, deflection in m; the gap of a height map (m: height below
+    its highest point plus deflection minus depth, zero in contact); None where not asked
+    for."""
 
     t: float
     x: np.ndarray | None = None
@@ -49,6 +51,7 @@ class Fields:
     pressure: np.ndarray | None = None
     surface_velocity: np.ndarray | None = None
     deflection: np.ndarray | None = None
+    gap: np.ndarray | None = None
 
     def __repr__(self) -> str:
         held = [f.name for f in dataclasses.fields(self)[1:] if getattr(self, f.name) is not None]
@@ -65,7 +68,9 @@ class Result:
     ``contact_length`` (m), ``force`` (N), and where computed ``area`` (m^2), ``velocity``
     (penetration rate, m/s), ``stiffness_length`` (F / (4 eta dd/dt), m),
     ``central_pressure`` (Pa), ``saturated`` (the contact covers the whole indenter),
-    ``at_edge`` (it reached the outermost ring of the BEM grid); None elsewhere.
+    ``at_edge`` (it reached the outermost ring of the BEM grid); for a height map
+    ``contact_fraction`` (real contact area over the map's), ``patches`` (number of contact
+    patches, edge-connected, integers) and ``mean_gap`` (m, over the map); None elsewhere.
     ``fields``: {t: :class:`Fields`} at the field times (t = 0 for a static solve).
 
     The run: ``method`` ("bem"/"mdr"), ``n``, ``dx`` (m), ``grid_shape`` (BEM), ``integrator``,
@@ -76,16 +81,19 @@ class Result:
     units = UNITS
 
     def __init__(self, *, method: str, n: int, dx: float, t, depth, contact_length, force,
-                 area=None, velocity=None, stiffness_length=None, central_pressure=None, saturated=None,
-                 at_edge=None, fields=None, grid_shape=None, integrator: str = "implicit",
+                 area=None, velocity=None, stiffness_length=None, central_pressure=None,
+                 contact_fraction=None, patches=None, mean_gap=None, saturated=None, at_edge=None,
+                 fields=None, grid_shape=None, integrator: str = "implicit",
                  solver: str | None = None, window=None, steps: int = 0, solves: int = 0,
                  iterations: int = 0, residual: float = 0.0, wall_time: float = 0.0,
                  warnings=()) -> None:
         self.method, self.n, self.dx = str(method), int(n), float(dx)
         for name, value in (("t", t), ("depth", depth), ("contact_length", contact_length),
                             ("force", force), ("area", area), ("velocity", velocity),
-                            ("stiffness_length", stiffness_length), ("central_pressure", central_pressure)):
+                            ("stiffness_length", stiffness_length), ("central_pressure", central_pressure),
+                            ("contact_fraction", contact_fraction), ("mean_gap", mean_gap)):
             setattr(self, name, None if value is None else np.asarray(value, dtype=np.float64))
+        self.patches = None if patches is None else np.asarray(patches, dtype=np.int64)
         for name, value in (("saturated", saturated), ("at_edge", at_edge)):
             setattr(self, name, None if value is None else np.asarray(value, dtype=bool))
         self.fields = None if not fields else dict(fields)

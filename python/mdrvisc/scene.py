@@ -14,6 +14,7 @@ from . import _core
 from ._validate import _array, _number, _positive
 from .errors import DomainError, InvalidInputError
 from .geometry import Cone, Indenter, Paraboloid, Rod, Sphere
+from .heightmap import HeightMap
 from .media import Elastic, _Medium, medium_from_model
 from .profiles import Axisymmetric, Profile
 
@@ -24,9 +25,11 @@ __all__ = ["Scene", "OUTPUTS"]
 #: one, a second-order backward difference over the steps for the others);
 #: ``stiffness_length`` (F / (4 eta dd/dt), m) is a series of a purely viscous medium;
 #: ``pressure`` (Pa), ``surface_velocity`` (m/s) and ``deflection`` (m) are fields at
-#: ``field_times``.
+#: ``field_times``. A :class:`~mdrvisc.HeightMap` always reports ``contact_fraction`` (real
+#: contact area over the map's), ``patches`` (connected contact patches) and ``mean_gap`` (m),
+#: and ``gap`` (m) fields when named; other indenters refuse these four.
 OUTPUTS = ("depth", "contact_length", "velocity", "stiffness_length", "pressure",
-           "surface_velocity", "deflection")
+           "surface_velocity", "deflection", "contact_fraction", "patches", "mean_gap", "gap")
 #: Outputs of a scene that names none.
 DEFAULT_OUTPUTS = ("depth", "contact_length")
 #: Samples taken of a loading history given as a callable.
@@ -79,10 +82,12 @@ def _json(model):
     return json.dumps(model)
 
 
-def indenter_from_model(model: dict) -> Indenter:
+def indenter_from_model(model: dict) -> Indenter | HeightMap:
     """The indenter of a scene model's ``[indenter]`` table."""
     kind = model["type"]
     args = {k: v for k, v in model.items() if k != "type"}
+    if kind == "heightmap":
+        return HeightMap(np.asarray(args.pop("heights"), dtype=np.float64), **args)
     classes = {"rod": Rod, "paraboloid": Paraboloid, "cone": Cone, "sphere": Sphere,
                "profile": Profile}
     return classes[kind](**args)
@@ -94,9 +99,10 @@ class Scene:
 
     Parameters
     ----------
-    indenter : Indenter
+    indenter : Indenter or HeightMap
         Rod, Paraboloid, Cone, Sphere, Profile or Axisymmetric (see :mod:`mdrvisc.geometry`);
-        an Axisymmetric profile is sampled into a tabulated profile.
+        an Axisymmetric profile is sampled into a tabulated profile. Or a
+        :class:`~mdrvisc.HeightMap`, solved by BEM on its own grid.
     medium : Elastic, Viscous, KelvinVoigt, Maxwell, StandardSolid or Prony
     force : float, (array, array) or callable
         Constant force (N) from t = 0, or a piecewise-linear history (times in s from 0,
@@ -125,7 +131,7 @@ class Scene:
     scene model; errors name the bad value. ``to_toml``/``from_toml`` round-trip the scene.
     """
 
-    indenter: Indenter
+    indenter: Indenter | HeightMap
     medium: _Medium
     force: object = None
     duration: float | None = None
@@ -137,8 +143,9 @@ class Scene:
     _model: object = dataclasses.field(init=False, repr=False)
 
     def __post_init__(self):
-        if not isinstance(self.indenter, Indenter):
-            raise InvalidInputError(f"Scene: indenter must be an mdrvisc indenter, got {self.indenter!r}")
+        if not isinstance(self.indenter, (Indenter, HeightMap)):
+            raise InvalidInputError(
+                f"Scene: indenter must be an mdrvisc indenter or HeightMap, got {self.indenter!r:.200}")
         if not isinstance(self.medium, _Medium):
             raise InvalidInputError(f"Scene: medium must be an mdrvisc medium, got {self.medium!r}")
         if self.outputs is None:
@@ -207,9 +214,12 @@ class Scene:
         """The scene model as JSON text."""
         return self._model.to_json()
 
-    def to_toml(self, method: str | None = None, n: int | None = None) -> str:
-        """The scene as a scene file (TOML), with ``method`` and ``n`` when given."""
-        return self._model.to_toml(method, n)
+    def to_toml(self, method: str | None = None, n: int | None = None, path=None) -> str:
+        """The scene as a scene file (TOML), with ``method`` and ``n`` when given. With
+        ``path`` the file is also written there, and a height map's heights go to a ``.npy``
+        file beside it (``scene.toml``: ``scene.npy``), which the file names; without, they
+        are inline."""
+        return self._model.to_toml(method, n, None if path is None else str(path))
 
     @classmethod
     def from_toml(cls, path) -> Scene:

@@ -13,6 +13,7 @@ from collections.abc import Callable
 from . import _core
 from ._validate import _callback, _finite_positive, _integer, _number, _positive
 from .errors import InvalidInputError
+from .heightmap import HeightMap
 from .progress import ProgressBar
 from .result import Result
 from .scene import Scene
@@ -38,7 +39,9 @@ def solve(scene: Scene, method: str = "bem", n: int | None = None, tol: float = 
     method : {"bem", "mdr"}
     n : int, optional
         BEM: elements across the footprint (n x n grid, at most 4096); MDR: elements of the
-        1D indenter. Default 257 (BEM) or 66049 (MDR), the paper's resolutions.
+        1D indenter. Default 257 (BEM) or 66049 (MDR), the paper's resolutions. A
+        :class:`~mdrvisc.HeightMap` fixes the grid: its ``n`` (the longer side) by default,
+        and any other is refused.
     tol : float
         Relative tolerance of the BEM contact solver (sum ``|dp|`` / sum p); MDR is exact.
     max_iter : int
@@ -67,7 +70,9 @@ def solve(scene: Scene, method: str = "bem", n: int | None = None, tol: float = 
         raise InvalidInputError(f"solve: scene must be a Scene, got {scene!r}")
     if method not in DEFAULT_N:
         raise InvalidInputError(f"solve: method must be 'bem' or 'mdr', got {method!r}")
-    n = _integer("solve", "n", DEFAULT_N[method] if n is None else n, 1)
+    if n is None:
+        n = scene.indenter.n if isinstance(scene.indenter, HeightMap) else DEFAULT_N[method]
+    n = _integer("solve", "n", n, 1)
     if integrator not in ("implicit", "explicit"):
         raise InvalidInputError(f"solve: integrator must be 'implicit' or 'explicit', got {integrator!r}")
     # every option is checked, whether or not this scene and method use it

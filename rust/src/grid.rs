@@ -16,6 +16,8 @@ pub struct Grid {
     pub height: Vec<f64>,
     /// Elements the indenter covers (where contact is possible).
     pub allowed: Vec<bool>,
+    /// Whether the grid is one cell of a periodic surface (its opposite edges meet).
+    pub periodic: bool,
 }
 
 impl Grid {
@@ -57,7 +59,14 @@ impl Grid {
             dx,
             height,
             allowed,
+            periodic: false,
         })
+    }
+
+    /// Number of contact patches of `set`: its connected components, elements joined
+    /// through their edges (4-connectivity), across opposite edges on a periodic cell.
+    pub fn patches(&self, set: &[bool]) -> usize {
+        count_patches(self.nx, self.ny, set, self.periodic)
     }
 
     /// Whether any element of `set` lies on the outermost ring of the grid.
@@ -67,5 +76,68 @@ impl Grid {
             let (ix, iy) = (i % nx, i / nx);
             set[i] && (ix == 0 || iy == 0 || ix + 1 == nx || iy + 1 == ny)
         })
+    }
+}
+
+/// Connected components of `set` on an `nx` x `ny` grid (row-major), elements joined
+/// through their edges (4-connectivity); with `wrap` the grid is a periodic cell and
+/// elements on opposite edges are neighbours.
+pub fn count_patches(nx: usize, ny: usize, set: &[bool], wrap: bool) -> usize {
+    let mut seen = vec![false; nx * ny];
+    let mut stack = vec![];
+    let mut patches = 0;
+    for start in 0..nx * ny {
+        if !set[start] || seen[start] {
+            continue;
+        }
+        patches += 1;
+        seen[start] = true;
+        stack.push(start);
+        while let Some(i) = stack.pop() {
+            let (ix, iy) = (i % nx, i / nx);
+            let step = |v: usize, n: usize, up: bool| -> Option<usize> {
+                match (up, wrap) {
+                    (true, _) if v + 1 < n => Some(v + 1),
+                    (true, true) => Some(0),
+                    (false, _) if v > 0 => Some(v - 1),
+                    (false, true) => Some(n - 1),
+                    _ => None,
+                }
+            };
+            let neighbours = [
+                step(ix, nx, true).map(|x| iy * nx + x),
+                step(ix, nx, false).map(|x| iy * nx + x),
+                step(iy, ny, true).map(|y| y * nx + ix),
+                step(iy, ny, false).map(|y| y * nx + ix),
+            ];
+            for j in neighbours.into_iter().flatten() {
+                if set[j] && !seen[j] {
+                    seen[j] = true;
+                    stack.push(j);
+                }
+            }
+        }
+    }
+    patches
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Patches of a drawn set: diagonal neighbours stay apart; on a periodic cell the
+    /// patches touching opposite edges join.
+    #[test]
+    fn patches_join_through_edges_and_wrap_on_a_cell() {
+        let rows = ["#..#", "....", "#.#.", ".#.#"];
+        let set: Vec<bool> = rows
+            .iter()
+            .flat_map(|r| r.chars().map(|c| c == '#'))
+            .collect();
+        assert_eq!(count_patches(4, 4, &set, false), 6);
+        // wrapped: (0, 0), (3, 0) and (3, 3) join across both edges; the other three stay
+        assert_eq!(count_patches(4, 4, &set, true), 4);
+        assert_eq!(count_patches(4, 4, &[false; 16], true), 0);
+        assert_eq!(count_patches(4, 4, &[true; 16], false), 1);
     }
 }

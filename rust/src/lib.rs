@@ -6,11 +6,11 @@
 
 //!
 //! Layers, from the bottom: the half-space's influence coefficients (`influence`) and
-//! surface operator (`operator`, `precondition`); contact solvers (`contact`,
+//! surface operators (`operator`, `periodic`, `precondition`); contact solvers (`contact`,
 //! `static_contact`, `window`, `grid`); time stepping (`viscous`, `viscoelastic`, `mdr`,
 //! `rheology`, `integrator`, `loading`, `transforms`); the scene model (`scene`), which
 //! sizes grids, dispatches to the solvers and reports; and its applications (`paper`, the
-//! binary, the Python bindings in `python`).
+//! binary, the Python bindings in `python`); random rough surfaces (`surfaces`).
 
 pub mod contact;
 pub mod curve;
@@ -22,8 +22,10 @@ pub mod loading;
 pub mod mdr;
 pub mod memory;
 pub mod monitor;
+pub mod npy;
 pub mod operator;
 pub mod paper;
+pub mod periodic;
 pub mod pool;
 pub mod power_law;
 pub mod precondition;
@@ -32,6 +34,7 @@ mod python;
 pub mod rheology;
 pub mod scene;
 pub mod static_contact;
+pub mod surfaces;
 pub mod transforms;
 pub mod viscoelastic;
 pub mod viscous;

@@ -25,6 +25,9 @@ pub trait SurfaceOperator {
     fn dx(&self) -> f64;
     /// Writes K[p] into `u` (both nx * ny long).
     fn apply(&mut self, p: &[f64], u: &mut [f64]);
+    /// The operator's matrix (m/Pa at G = 1) among the elements `idx` (grid indices), for
+    /// dense solves on a contact set.
+    fn submatrix(&mut self, idx: &[usize]) -> Result<Mat<f64>>;
 }
 
 /// Smallest even m >= n of the form 2^a 3^b 5^c with c <= 1 (n itself when n <= 1): the
@@ -164,8 +167,48 @@ impl FftOperator {
                 "the kernel table does not cover a {nx} x {ny} grid"
             )));
         }
-        let dx = table.dx();
-        let (mx, my) = (padded_size(nx), padded_size(ny));
+        let mut op = Self::unfilled(
+            nx,
+            ny,
+            table.dx(),
+            (padded_size(nx), padded_size(ny)),
+            plans,
+        );
+        op.covered = table.extent();
+        op.spectrum = op.kernel_spectrum(table);
+        Ok(op)
+    }
+
+    /// The circular convolution of period `mx` x `my` (>= nx, ny) on an `nx` x `ny` grid
+    /// whose kernel has the real, even spectrum `symbol(kx, ky)` (m/Pa at G = 1; kx in
+    /// 0..=mx/2, ky in 0..my, unnormalised DFT indices). With (mx, my) = (nx, ny) it is the
+    /// operator of a periodic cell.
+    pub(crate) fn with_symbol(
+        nx: usize,
+        ny: usize,
+        dx: f64,
+        (mx, my): (usize, usize),
+        symbol: impl Fn(usize, usize) -> f64,
+        plans: &mut FftPlans,
+    ) -> Self {
+        let mut op = Self::unfilled(nx, ny, dx, (mx, my), plans);
+        let norm = 1.0 / (mx * my) as f64;
+        for kx in 0..op.half {
+            for ky in 0..my {
+                op.spectrum[kx * my + ky] = symbol(kx, ky) * norm;
+            }
+        }
+        op
+    }
+
+    /// Plans, buffers and a zero spectrum for an `nx` x `ny` grid in the period `mx` x `my`.
+    fn unfilled(
+        nx: usize,
+        ny: usize,
+        dx: f64,
+        (mx, my): (usize, usize),
+        plans: &mut FftPlans,
+    ) -> Self {
         let half = mx / 2 + 1;
         let r2c = plans.real.plan_fft_forward(mx);
         let c2r = plans.real.plan_fft_inverse(mx);
@@ -181,7 +224,7 @@ impl FftOperator {
                 col_scratch: vec![Complex::default(); col_fwd.get_inplace_scratch_len()],
             })
             .collect();
-        let mut op = FftOperator {
+        FftOperator {
             nx,
             ny,
             dx,
@@ -193,12 +236,10 @@ impl FftOperator {
             col_fwd,
             col_inv,
             spectrum: vec![0.0; half * my],
-            covered: table.extent(),
+            covered: (nx, ny),
             cols: vec![Complex::default(); half * my],
             workers,
-        };
-        op.spectrum = op.kernel_spectrum(table);
-        Ok(op)
+        }
     }
 
     /// Padded FFT sizes (x, y).
@@ -422,6 +463,12 @@ impl SurfaceOperator for FftOperator {
         self.columns(Columns::Convolve { nrows: self.ny });
         self.rows_inverse(u);
     }
+
+    /// Love's coefficients among `idx` (`DenseOperator::subset_matrix`); for an operator
+    /// built by `with_symbol`, the caller's type supplies its own.
+    fn submatrix(&mut self, idx: &[usize]) -> Result<Mat<f64>> {
+        DenseOperator::subset_matrix(self.nx, self.dx, idx)
+    }
 }
 
 /// Dense influence matrix between chosen elements of a grid (faer), for small grids, for
@@ -482,6 +529,11 @@ impl SurfaceOperator for DenseOperator {
             1.0,
             Par::rayon(0),
         );
+    }
+    fn submatrix(&mut self, idx: &[usize]) -> Result<Mat<f64>> {
+        Ok(Mat::from_fn(idx.len(), idx.len(), |i, j| {
+            self.matrix[(idx[i], idx[j])]
+        }))
     }
 }
 

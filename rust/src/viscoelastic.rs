@@ -32,6 +32,12 @@ pub struct Series {
     pub force: Vec<f64>,
     /// Contact length: BEM 2 sqrt(A / pi), MDR elements in contact times dx (m).
     pub contact_length: Vec<f64>,
+    /// Contact area (m^2) (BEM).
+    pub area: Vec<f64>,
+    /// Contact patches, 4-connected components of the contact (BEM).
+    pub patches: Vec<usize>,
+    /// Mean surface deflection over the grid (m) (BEM).
+    pub mean_deflection: Vec<f64>,
     /// Penetration rate dd/dt (m/s): the second-order backward difference of the depth over
     /// the last three step times (first order on the first two steps, where the state at
     /// t = 0 may precede a jump of the load).
@@ -314,6 +320,34 @@ pub fn run_bem(
     opts: &SolverOptions,
     monitor: &mut dyn Monitor,
 ) -> Result<(Series, Vec<Fields>)> {
+    let op = FftOperator::new(grid.nx, grid.ny, grid.dx)?;
+    run_bem_on(op, grid, medium, loading, request, opts, monitor)
+}
+
+/// `run_bem` with the surface operator `op` of `grid` (same size and element side): the
+/// non-periodic `FftOperator`, or a `PeriodicOperator` for a periodic cell, where the depth
+/// is the approach from the deflected surface's mean plane (mean separation
+/// mean(h) - depth, `periodic::mean_separation`) and a force is the total on the cell.
+pub fn run_bem_on<O: SurfaceOperator>(
+    op: O,
+    grid: &Grid,
+    medium: &Rheology,
+    loading: &Loading,
+    request: &Request,
+    opts: &SolverOptions,
+    monitor: &mut dyn Monitor,
+) -> Result<(Series, Vec<Fields>)> {
+    if (op.nx(), op.ny()) != (grid.nx, grid.ny) || op.dx() != grid.dx {
+        return Err(Error::InvalidInput(format!(
+            "the operator's {} x {} grid of side {} m differs from the {} x {} grid of side {} m",
+            op.nx(),
+            op.ny(),
+            op.dx(),
+            grid.nx,
+            grid.ny,
+            grid.dx
+        )));
+    }
     request.check()?;
     let steps = step_times(request.times, request.dt, jumps_at_start(loading, medium))?;
     let n = grid.nx * grid.ny;
@@ -329,7 +363,7 @@ pub fn run_bem(
     let mut strains = field_rates.then(|| Trail::new(vec![0.0; n]));
     let mut fields = vec![];
     let m = medium.internal();
-    let mut solver = ContactSolver::new(FftOperator::new(grid.nx, grid.ny, grid.dx)?);
+    let mut solver = ContactSolver::new(op);
     let (mut x, mut q) = (vec![0.0; n], vec![0.0; n * m]);
     let (mut hist, mut k_hist, mut sep) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
     let mut out = Series::default();
@@ -423,6 +457,8 @@ pub fn run_bem(
             out.residual.push(residual);
             let contact: Vec<bool> = p.iter().map(|&v| v > 0.0).collect();
             out.at_edge.push(grid.touches_edge(&contact));
+            out.area.push(area);
+            out.patches.push(grid.patches(&contact));
             (iterations, residual) = (0, 0.0);
             if request.fields_at.contains(&k) {
                 let pressure = p.to_vec();
@@ -440,6 +476,9 @@ pub fn run_bem(
                     deflection,
                 });
             }
+            solver.operator().apply(&x, &mut k_hist);
+            out.mean_deflection
+                .push(k_hist.iter().sum::<f64>() / n as f64);
         }
         if t > t_prev {
             depths.push(t, &[depth]);

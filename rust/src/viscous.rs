@@ -13,7 +13,8 @@ use crate::integrator::ExplicitControl;
 use crate::loading::{check_output_times, ForceHistory};
 use crate::monitor::Monitor;
 use crate::operator::{FftOperator, SurfaceOperator};
-use crate::window::{SolverPool, Window};
+use crate::periodic::PeriodicCell;
+use crate::window::{SolverPool, StepSolvers};
 
 /// Surface fields at one output time.
 #[derive(Debug, Clone, PartialEq)]
@@ -66,6 +67,10 @@ pub struct ViscousSeries {
     pub residual: Vec<f64>,
     /// Whether the contact reached the outermost ring of the grid.
     pub at_edge: Vec<bool>,
+    /// Contact patches (4-connected components of the contact).
+    pub patches: Vec<usize>,
+    /// Mean surface deflection over the grid (m).
+    pub mean_deflection: Vec<f64>,
     /// Fields at the requested steps.
     pub fields: Vec<Fields>,
     /// Contact solves performed (time steps plus rate solves).
@@ -116,9 +121,9 @@ impl Punch {
     /// Solves the unit punch on `set` (started from the current solution when `warm` and
     /// it has the set's length), reusing this punch's buffer; returns (iterations,
     /// residual).
-    fn solve(
+    fn solve<O: SurfaceOperator>(
         &mut self,
-        solver: &mut ContactSolver<FftOperator>,
+        solver: &mut ContactSolver<O>,
         set: &[bool],
         warm: bool,
         opts: &SolverOptions,
@@ -134,9 +139,9 @@ impl Punch {
     }
 
     /// Pressure (Pa) and surface velocity (m/s) under `force` (N) on a body of viscosity eta.
-    fn fields(
+    fn fields<O: SurfaceOperator>(
         &self,
-        solver: &mut ContactSolver<FftOperator>,
+        solver: &mut ContactSolver<O>,
         force: f64,
         eta: f64,
     ) -> (Vec<f64>, Vec<f64>) {
@@ -153,7 +158,7 @@ impl Punch {
 }
 
 impl ViscousSeries {
-    /// Appends one output time.
+    /// Appends one output time (`deflection` in m on the grid).
     #[allow(clippy::too_many_arguments)]
     fn record(
         &mut self,
@@ -161,6 +166,7 @@ impl ViscousSeries {
         t: f64,
         depth: f64,
         contact: &[bool],
+        deflection: &[f64],
         rate: Option<(f64, f64)>,
         iterations: usize,
         residual: f64,
@@ -176,6 +182,9 @@ impl ViscousSeries {
         self.iterations.push(iterations);
         self.residual.push(residual);
         self.at_edge.push(grid.touches_edge(contact));
+        self.patches.push(grid.patches(contact));
+        self.mean_deflection
+            .push(deflection.iter().sum::<f64>() / deflection.len() as f64);
     }
 }
 
@@ -199,10 +208,39 @@ pub fn run_implicit(
     monitor: &mut dyn Monitor,
 ) -> Result<ViscousSeries> {
     check_request(request, eta)?;
-    let (nx, ny) = (grid.nx, grid.ny);
-    let n = nx * ny;
-    let mut pool = SolverPool::new(nx, ny, grid.dx)?;
-    let mut full = ContactSolver::new(pool.operator(nx, ny)?);
+    let pool = SolverPool::new(grid.nx, grid.ny, grid.dx)?;
+    run_implicit_in(pool, grid, eta, history, request, opts, monitor)
+}
+
+/// `run_implicit` on a periodic cell (`grid` one period): every step solves the whole cell
+/// with the periodic operator (`PeriodicOperator`), the force is the total on the cell (N),
+/// and depths are approaches from the deflected surface's mean plane (mean separation
+/// mean(h) - depth); depth bounds are not used.
+pub fn run_implicit_periodic(
+    grid: &Grid,
+    eta: f64,
+    history: &ForceHistory,
+    request: &ViscousRequest,
+    opts: &SolverOptions,
+    monitor: &mut dyn Monitor,
+) -> Result<ViscousSeries> {
+    check_request(request, eta)?;
+    let cell = PeriodicCell::new(grid.nx, grid.ny, grid.dx)?;
+    run_implicit_in(cell, grid, eta, history, request, opts, monitor)
+}
+
+/// The implicit stepping of `run_implicit`, each step's solve where `pool` puts it.
+fn run_implicit_in<S: StepSolvers>(
+    mut pool: S,
+    grid: &Grid,
+    eta: f64,
+    history: &ForceHistory,
+    request: &ViscousRequest,
+    opts: &SolverOptions,
+    monitor: &mut dyn Monitor,
+) -> Result<ViscousSeries> {
+    let n = grid.nx * grid.ny;
+    let mut full = ContactSolver::new(pool.whole()?);
     let mut sep = grid.height.clone();
     let mut u_acc = vec![0.0; n];
     let mut u_inc = vec![0.0; n];
@@ -231,15 +269,7 @@ pub fn run_implicit(
                 extrapolated
             };
             let (window, s) = loop {
-                let win = Window::around_contact(
-                    nx,
-                    ny,
-                    &sep,
-                    &grid.allowed,
-                    bound,
-                    impulse / eta,
-                    pool.kernel(),
-                );
+                let win = pool.contact_window(&sep, &grid.allowed, bound, impulse / eta);
                 win.gather(&sep, &mut sep_w);
                 win.gather(&grid.allowed, &mut allowed_w);
                 let solver = pool.get(win.wx, win.wy)?;
@@ -280,7 +310,7 @@ pub fn run_implicit(
         let force = history.force(t);
         let mut rate = None;
         if (request.rates || want_fields) && contact.iter().any(|&c| c) {
-            let win = Window::around(nx, ny, 0, |i| contact[i]);
+            let win = pool.set_window(&contact);
             win.gather(&contact, &mut allowed_w);
             let (its, res) =
                 punch.solve(pool.get(win.wx, win.wy)?, &allowed_w, false, opts, monitor)?;
@@ -304,7 +334,7 @@ pub fn run_implicit(
                 });
             }
         }
-        out.record(grid, t, depth, &contact, rate, iterations, residual);
+        out.record(grid, t, depth, &contact, &u_acc, rate, iterations, residual);
         out.steps += 1;
         t_prev = t;
         monitor.progress("time steps", k + 1, total)?;
@@ -389,7 +419,16 @@ pub fn run_explicit(
             });
         }
         let rate = (force / (eta * punch.k_unit), punch.k_unit / 4.0);
-        out.record(grid, t, depth, &contact, Some(rate), iterations, residual);
+        out.record(
+            grid,
+            t,
+            depth,
+            &contact,
+            &u,
+            Some(rate),
+            iterations,
+            residual,
+        );
         (iterations, residual) = (0, 0.0);
         monitor.progress("time steps", k + 1, request.times.len())?;
     }

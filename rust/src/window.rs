@@ -1,7 +1,8 @@
 //! Rectangular sub-grids ("windows") that hold everything a step can touch, so that a solve
 //! runs on the smallest FFT grid that represents it exactly, and a cache of solvers per
 //! padded FFT size so that plans, buffers and kernel spectra are made once per size, not
-//! once per step or window.
+//! once per step or window; and `StepSolvers`, where the steps of a run solve (these
+//! windows, or the whole cell of a periodic grid).
 
 use crate::contact::ContactSolver;
 use crate::error::{check_positive, Result};
@@ -191,6 +192,42 @@ impl SolverPool {
             solver.resize(wx, wy)?;
         }
         Ok(solver)
+    }
+}
+
+/// Where the contact solves of a time-stepping run happen: on windows of a non-periodic
+/// grid (`SolverPool`) or on the whole cell of a periodic one (`periodic::PeriodicCell`).
+pub trait StepSolvers {
+    /// The surface operator of the solvers.
+    type Op: SurfaceOperator;
+    /// The window that holds every allowed element whose separation `sep` (m) plus the
+    /// least deflection a load `load` (m^3: compliance times force) adds is at most `bound`
+    /// (m) (`Window::around_contact`).
+    fn contact_window(&self, sep: &[f64], allowed: &[bool], bound: f64, load: f64) -> Window;
+    /// The window of a fixed contact set `set` (for flat-punch solves on it).
+    fn set_window(&self, set: &[bool]) -> Window;
+    /// The solver of a `wx` x `wy` window.
+    fn get(&mut self, wx: usize, wy: usize) -> Result<&mut ContactSolver<Self::Op>>;
+    /// A new operator of the whole grid.
+    fn whole(&mut self) -> Result<Self::Op>;
+}
+
+impl StepSolvers for SolverPool {
+    type Op = FftOperator;
+    fn contact_window(&self, sep: &[f64], allowed: &[bool], bound: f64, load: f64) -> Window {
+        let (nx, ny) = self.kernel.extent();
+        Window::around_contact(nx, ny, sep, allowed, bound, load, &self.kernel)
+    }
+    fn set_window(&self, set: &[bool]) -> Window {
+        let (nx, ny) = self.kernel.extent();
+        Window::around(nx, ny, 0, |i| set[i])
+    }
+    fn get(&mut self, wx: usize, wy: usize) -> Result<&mut ContactSolver<FftOperator>> {
+        SolverPool::get(self, wx, wy)
+    }
+    fn whole(&mut self) -> Result<FftOperator> {
+        let (nx, ny) = self.kernel.extent();
+        self.operator(nx, ny)
     }
 }
 

@@ -7,7 +7,7 @@ use crate::error::Result;
 use crate::influence;
 use crate::mdr::{depth_on_sorted, prefix_sums};
 use crate::monitor::Monitor;
-use crate::operator::{DenseOperator, SurfaceOperator};
+use crate::operator::SurfaceOperator;
 use faer::linalg::solvers::Solve;
 use faer::{Mat, Side};
 
@@ -29,7 +29,7 @@ impl<O: SurfaceOperator> ContactSolver<O> {
         monitor: &mut dyn Monitor,
     ) -> Result<Option<ContactSummary>> {
         let n = self.p.len();
-        let (nx, dx, c) = (self.op.nx(), self.op.dx(), pb.compliance);
+        let (dx, c) = (self.op.dx(), pb.compliance);
         let area = dx * dx;
         let tuning = self.tuning;
         let limit = opts
@@ -54,7 +54,7 @@ impl<O: SurfaceOperator> ContactSolver<O> {
         let mut member = vec![false; n];
         for it in 1..=tuning.active_max_iter {
             let m = set.len();
-            let k = DenseOperator::subset_matrix(nx, dx, &set)?;
+            let k = self.op.submatrix(&set)?;
             let Ok(llt) = k.llt(Side::Lower) else {
                 return Ok(None);
             };

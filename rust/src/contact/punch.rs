@@ -5,10 +5,10 @@
 use super::{ContactSolver, SolverOptions};
 use crate::error::{check_len, Error, Result};
 use crate::monitor::Monitor;
-use crate::operator::{DenseOperator, SurfaceOperator};
+use crate::operator::SurfaceOperator;
 use crate::precondition;
 use faer::linalg::solvers::Solve;
-use faer::{ColRef, Side};
+use faer::{ColRef, Mat, Side};
 
 impl<O: SurfaceOperator> ContactSolver<O> {
     /// Flat-punch solve on a fixed contact set: the pressure (Pa at G = 1) that moves every
@@ -39,7 +39,7 @@ impl<O: SurfaceOperator> ContactSolver<O> {
         let x = &mut self.p;
         x.fill(0.0);
         if idx.len() <= opts.dense_limit {
-            return unit_punch_dense(self.op.nx(), self.op.dx(), idx, x);
+            return unit_punch_dense(self.op.submatrix(idx)?, idx, x);
         }
         // Conjugate gradient on K_SS x = 1 (symmetric positive definite), preconditioned by
         // the inverse-kernel stencil restricted to the set unless turned off.
@@ -104,10 +104,10 @@ impl<O: SurfaceOperator> ContactSolver<O> {
     }
 }
 
-/// Dense Cholesky solve of K_SS x = 1 on the elements `idx` (faer), written into `x` (zero
-/// elsewhere beforehand); returns (1, relative residual).
-fn unit_punch_dense(nx: usize, dx: f64, idx: &[usize], x: &mut [f64]) -> Result<(usize, f64)> {
-    let k = DenseOperator::subset_matrix(nx, dx, idx)?;
+/// Dense Cholesky solve of K_SS x = 1 on the elements `idx` (faer), K_SS = `k` (the
+/// operator's matrix among them), written into `x` (zero elsewhere beforehand); returns
+/// (1, relative residual).
+fn unit_punch_dense(k: Mat<f64>, idx: &[usize], x: &mut [f64]) -> Result<(usize, f64)> {
     let llt = k.llt(Side::Lower).map_err(|e| {
         Error::Domain(format!(
             "influence matrix of the contact set is not positive definite: {e:?}"

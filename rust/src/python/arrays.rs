@@ -10,6 +10,7 @@ use crate::error::{check_finite, Error};
 use crate::grid::Grid;
 use crate::integrator::ExplicitControl;
 use crate::operator::{DenseOperator, FftOperator, SurfaceOperator};
+use crate::periodic::PeriodicOperator;
 use crate::scene::assemble::{bem_static_report, bem_viscous_report, report, Wanted};
 use crate::scene::report::FieldSet;
 use crate::scene::run::viscous_bem;
@@ -110,6 +111,7 @@ pub(crate) fn bem_viscous(
         pressure: all,
         surface_velocity: all,
         deflection: all,
+        ..Wanted::default()
     };
     let fields: Vec<(f64, usize)> = fields_at.iter().map(|&k| (times[k], k)).collect();
     let mut inner = bem_viscous_report(&settings, &grid, forces, s, wanted, &fields);
@@ -238,22 +240,26 @@ pub(crate) fn surface_deflection<'py>(
     u.into_pyarray(py).reshape(shape)
 }
 
-/// The DC-FFT surface operator of an `nx` x `ny` grid of square elements of side `dx` (m),
-/// built once (Love kernel spectrum, FFT plans, buffers) and applied many times:
-/// `apply(p)` maps element pressures (Pa, shape (ny, nx)) to element-centre deflections (m)
-/// of an incompressible half-space with G = 1 Pa (divide by G, or by eta for rates).
+/// The surface operator of an `nx` x `ny` grid of square elements of side `dx` (m), built
+/// once (kernel spectrum, FFT plans, buffers) and applied many times: `apply(p)` maps
+/// element pressures (Pa, shape (ny, nx)) to element-centre deflections (m) of an
+/// incompressible half-space with G = 1 Pa (divide by G, or by eta for rates). Non-periodic:
+/// Love's coefficients by DC-FFT; `periodic`: the periodic cell's spectral kernel
+/// (`PeriodicOperator`, zero-mean deflections).
 ///
 /// One operator may be used from several threads: its buffers are behind a lock, so calls
 /// from different threads run one after the other.
 #[pyclass(name = "SurfaceOperator", module = "mdrvisc._core", frozen)]
 pub(crate) struct PySurfaceOperator {
-    op: Mutex<FftOperator>,
+    op: Mutex<Box<dyn SurfaceOperator + Send>>,
     /// (ny, nx) of the grid.
     shape: [usize; 2],
     /// Element side (m).
     dx: f64,
-    /// Zero-padded FFT sizes (y, x).
+    /// FFT sizes (y, x): zero-padded, or the grid's own for a periodic cell.
     padded: (usize, usize),
+    /// Whether the grid is a periodic cell.
+    periodic: bool,
 }
 
 impl PySurfaceOperator {
@@ -264,7 +270,7 @@ impl PySurfaceOperator {
     fn apply_locked(&self, py: Python<'_>, p: &[f64], u: &mut [f64]) -> PyResult<()> {
         py.detach(|| {
             let mut guard = self.op.lock().unwrap_or_else(|e| e.into_inner());
-            let op: &mut FftOperator = &mut guard;
+            let op: &mut (dyn SurfaceOperator + Send) = &mut **guard;
             crate::pool::run(|| op.apply(p, u))?;
             // pressures and element sizes near the range of physical inputs can overflow
             crate::error::check_finite("deflection K[p] (overflows double precision)", u)
@@ -276,15 +282,23 @@ impl PySurfaceOperator {
 #[pymethods]
 impl PySurfaceOperator {
     #[new]
-    fn new(py: Python<'_>, nx: usize, ny: usize, dx: f64) -> PyResult<Self> {
-        let op = py
-            .detach(|| FftOperator::new(nx, ny, dx))
-            .map_err(|e| to_pyerr(py, e))?;
-        let (mx, my) = op.padded();
+    #[pyo3(signature = (nx, ny, dx, periodic=false))]
+    fn new(py: Python<'_>, nx: usize, ny: usize, dx: f64, periodic: bool) -> PyResult<Self> {
+        let built = py.detach(|| -> crate::Result<(Box<dyn SurfaceOperator + Send>, _)> {
+            Ok(if periodic {
+                (Box::new(PeriodicOperator::new(nx, ny, dx)?), (ny, nx))
+            } else {
+                let op = FftOperator::new(nx, ny, dx)?;
+                let (mx, my) = op.padded();
+                (Box::new(op), (my, mx))
+            })
+        });
+        let (op, padded) = built.map_err(|e| to_pyerr(py, e))?;
         Ok(PySurfaceOperator {
             shape: [op.ny(), op.nx()],
             dx: op.dx(),
-            padded: (my, mx),
+            padded,
+            periodic,
             op: Mutex::new(op),
         })
     }
@@ -371,10 +385,16 @@ impl PySurfaceOperator {
         self.dx
     }
 
-    /// Zero-padded FFT sizes (y, x).
+    /// FFT sizes (y, x): zero-padded, or the grid's own for a periodic cell.
     #[getter]
     fn padded(&self) -> (usize, usize) {
         self.padded
+    }
+
+    /// Whether the grid is a periodic cell.
+    #[getter]
+    fn periodic(&self) -> bool {
+        self.periodic
     }
 }
 
@@ -383,9 +403,12 @@ impl PySurfaceOperator {
 /// touch (`static_contact::solve`): the elements with h <= depth, or under force control
 /// those with h plus a lower bound of the deflection <= `depth_bound` (m; the whole grid
 /// without one). `deflection=False` leaves the deflection field out, which spares a
-/// whole-grid operator when the window is smaller.
+/// whole-grid operator when the window is smaller. With `periodic`, the grid is one period
+/// of a periodic cell, solved whole (`static_contact::solve_periodic`): `force` is the total
+/// on the cell, `depth` the approach from the deflected surface's mean plane (mean
+/// separation mean(h) - depth, > 0), and `depth_bound` is refused.
 #[pyfunction]
-#[pyo3(signature = (height, allowed, dx, compliance, force=None, depth=None, tol=1e-10, max_iter=5000, progress=None, dense_limit=DENSE_LIMIT, active_limit=None, precondition=true, depth_bound=None, deflection=true))]
+#[pyo3(signature = (height, allowed, dx, compliance, force=None, depth=None, tol=1e-10, max_iter=5000, progress=None, dense_limit=DENSE_LIMIT, active_limit=None, precondition=true, depth_bound=None, deflection=true, periodic=false))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn contact_solve(
     py: Python<'_>,
@@ -403,9 +426,18 @@ pub(crate) fn contact_solve(
     precondition: bool,
     depth_bound: Option<f64>,
     deflection: bool,
+    periodic: bool,
 ) -> PyResult<PyReport> {
     let start = Instant::now();
     let grid = grid_from(py, &height, &allowed, dx)?;
+    if periodic && depth_bound.is_some() {
+        return Err(to_pyerr(
+            py,
+            Error::InvalidInput(
+                "depth_bound sizes windows, which a periodic cell does not have".into(),
+            ),
+        ));
+    }
     let target = match (force, depth) {
         (Some(f), None) => Target::Force(f),
         (None, Some(d)) => Target::Depth(d),
@@ -421,15 +453,26 @@ pub(crate) fn contact_solve(
         options(tol, max_iter, dense_limit, active_limit, precondition),
     );
     let r = PyMonitor::new(progress).run(py, |monitor| {
-        static_contact::solve(
-            &grid,
-            compliance,
-            target,
-            depth_bound,
-            deflection,
-            &settings.solver,
-            monitor,
-        )
+        if periodic {
+            static_contact::solve_periodic(
+                &grid,
+                compliance,
+                target,
+                deflection,
+                &settings.solver,
+                monitor,
+            )
+        } else {
+            static_contact::solve(
+                &grid,
+                compliance,
+                target,
+                depth_bound,
+                deflection,
+                &settings.solver,
+                monitor,
+            )
+        }
     })?;
     let force = r.summary.force;
     let wanted = Wanted {
@@ -438,6 +481,10 @@ pub(crate) fn contact_solve(
         ..Wanted::default()
     };
     let mut inner = bem_static_report(&settings, &grid, force, r, wanted);
+    if periodic {
+        // a periodic cell has no edge
+        inner.at_edge = Some(vec![false]);
+    }
     inner.wall_time = start.elapsed().as_secs_f64();
     Ok(PyReport { inner })
 }

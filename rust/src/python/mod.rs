@@ -1,6 +1,6 @@
 //! pyo3 bindings (cargo feature "python"): numpy in, typed objects out (`Scene`, `Report`,
 //! `FieldSet`, `SurfaceOperator`). Computations run on a rayon worker with the GIL released
-//! (`monitor`); inputs are converted in `convert`; scenes in `scene`, arrays in `arrays`.
+//! (`monitor`); inputs are converted in `convert`; scenes in `scene`, arrays in `arrays`, random surfaces in `surfaces`.
 
 mod arrays;
 mod convert;
@@ -9,6 +9,7 @@ mod monitor;
 mod pool;
 mod report;
 mod scene;
+mod surfaces;
 
 /// The compiled core of mdrvisc.
 #[pyo3::pymodule(name = "_core")]
@@ -22,6 +23,8 @@ mod core_module {
     use super::curve::PyCurve;
     #[pymodule_export]
     use super::pool::{num_threads, set_num_threads};
+    #[pymodule_export]
+    use super::surfaces::self_affine;
     /// Largest magnitude of a physical input (and inverse of the smallest nonzero one).
     #[pymodule_export]
     const MAGNITUDE: f64 = crate::error::MAGNITUDE;

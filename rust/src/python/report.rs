@@ -90,6 +90,21 @@ impl PyReport {
     fn central_pressure<'py>(&self, py: Python<'py>) -> Option<Bound<'py, PyArray1<f64>>> {
         optional(py, &self.inner.central_pressure)
     }
+    /// Real contact area over the area of a height map.
+    #[getter]
+    fn contact_fraction<'py>(&self, py: Python<'py>) -> Option<Bound<'py, PyArray1<f64>>> {
+        optional(py, &self.inner.contact_fraction)
+    }
+    /// Number of contact patches of a height map.
+    #[getter]
+    fn patches<'py>(&self, py: Python<'py>) -> Option<Bound<'py, PyArray1<usize>>> {
+        self.inner.patches.clone().map(|v| v.into_pyarray(py))
+    }
+    /// Mean gap (m) between a height map and the deformed surface.
+    #[getter]
+    fn mean_gap<'py>(&self, py: Python<'py>) -> Option<Bound<'py, PyArray1<f64>>> {
+        optional(py, &self.inner.mean_gap)
+    }
     /// Whether the contact covers the whole indenter.
     #[getter]
     fn saturated<'py>(&self, py: Python<'py>) -> Option<Bound<'py, PyArray1<bool>>> {
@@ -238,5 +253,10 @@ impl PyFieldSet {
     #[getter]
     fn deflection<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyAny>>> {
         self.shaped(py, &self.inner.deflection, true)
+    }
+    /// Gap (m) between a height map and the deformed surface.
+    #[getter]
+    fn gap<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyAny>>> {
+        self.shaped(py, &self.inner.gap, false)
     }
 }

@@ -53,9 +53,22 @@ impl PyScene {
         self.inner.to_json()
     }
 
-    /// The scene as scene-file TOML, with `method` and `n` when given.
-    #[pyo3(signature = (method=None, n=None))]
-    fn to_toml(&self, py: Python<'_>, method: Option<&str>, n: Option<usize>) -> PyResult<String> {
+    /// The scene as scene-file TOML, with `method` and `n` when given (a height map's `n` is
+    /// its own); with `path`, also written there (a height map's heights to a `.npy` file
+    /// beside it).
+    #[pyo3(signature = (method=None, n=None, path=None))]
+    fn to_toml(
+        &self,
+        py: Python<'_>,
+        method: Option<&str>,
+        n: Option<usize>,
+        path: Option<std::path::PathBuf>,
+    ) -> PyResult<String> {
+        let map = match &self.inner.indenter {
+            Indenter::HeightMap(map) => Some(map),
+            _ => None,
+        };
+        let n = n.or(map.filter(|_| method.is_some()).map(|m| m.n()));
         let run = match (method, n) {
             (Some(m), Some(n)) => Some((parse_method(py, m)?, n)),
             (None, None) => None,
@@ -66,7 +79,13 @@ impl PyScene {
                 ))
             }
         };
-        Ok(file::to_toml(&self.inner, run))
+        if let (Some(map), Some((method, n))) = (map, run) {
+            map.check_run(method, n).map_err(|e| to_pyerr(py, e))?;
+        }
+        match path {
+            Some(path) => file::write(&self.inner, run, &path).map_err(|e| to_pyerr(py, e)),
+            None => Ok(file::to_toml(&self.inner, run)),
+        }
     }
 
     /// Output times (s): the requested ones and the field times, sorted.

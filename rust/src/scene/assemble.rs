@@ -55,6 +55,9 @@ pub fn report(settings: &RunSettings, dx: f64, integrator: &str, t: Vec<f64>) ->
         velocity: None,
         stiffness_length: None,
         central_pressure: None,
+        contact_fraction: None,
+        patches: None,
+        mean_gap: None,
         saturated: None,
         at_edge: None,
         fields: vec![],
@@ -83,6 +86,10 @@ pub struct Wanted {
     pub surface_velocity: bool,
     /// Deflection fields.
     pub deflection: bool,
+    /// Gap fields (height maps).
+    pub gap: bool,
+    /// The height-map series: contact fraction, patches, mean gap.
+    pub height_map: bool,
 }
 
 impl Wanted {
@@ -94,17 +101,55 @@ impl Wanted {
             pressure: scene.wants(Output::Pressure),
             surface_velocity: scene.wants(Output::SurfaceVelocity),
             deflection: scene.wants(Output::Deflection),
+            gap: scene.wants(Output::Gap),
+            height_map: matches!(scene.indenter, super::Indenter::HeightMap(_)),
         }
     }
 
     /// Whether any field is asked for.
     pub fn fields(&self) -> bool {
-        self.pressure || self.surface_velocity || self.deflection
+        self.pressure || self.surface_velocity || self.deflection || self.gap
     }
 }
 
-/// The report of a static BEM contact on `grid` under `force` (N), with pressure and
-/// deflection fields as `wanted` says (the deflection only where the solve computed it).
+/// Fills the height-map series of `out` at each output time from the contact areas (m^2),
+/// patch counts, depths (m) and mean deflections over the grid (m): the contact fraction
+/// A / (nx ny dx^2) and the mean gap, mean height below the highest point plus mean
+/// deflection minus depth (the gap is h + u - d everywhere, zero in contact).
+pub fn height_map_series(
+    out: &mut Report,
+    grid: &Grid,
+    area: &[f64],
+    patches: Vec<usize>,
+    mean_deflection: &[f64],
+) {
+    let elements = (grid.nx * grid.ny) as f64;
+    let map_area = elements * grid.dx * grid.dx;
+    let mean_height = grid.height.iter().sum::<f64>() / elements;
+    out.contact_fraction = Some(area.iter().map(|a| a / map_area).collect());
+    out.patches = Some(patches);
+    out.mean_gap = Some(
+        out.depth
+            .iter()
+            .zip(mean_deflection)
+            .map(|(d, u)| mean_height + u - d)
+            .collect(),
+    );
+}
+
+/// The gap field (m) of `grid` under the deflection `u` (m) at depth `d` (m): h + u - d.
+pub fn gap(grid: &Grid, u: &[f64], d: f64) -> Vec<f64> {
+    grid.height.iter().zip(u).map(|(h, u)| h + u - d).collect()
+}
+
+/// Mean of `values` over the grid.
+pub fn mean(values: &[f64]) -> f64 {
+    values.iter().sum::<f64>() / values.len() as f64
+}
+
+/// The report of a static BEM contact on `grid` under `force` (N), with pressure, deflection
+/// and gap fields and the height-map series as `wanted` says (the deflection, the gap and
+/// the mean gap only where the solve computed the deflection).
 pub fn bem_static_report(
     settings: &RunSettings,
     grid: &Grid,
@@ -127,11 +172,25 @@ pub fn bem_static_report(
     out.residual = r.summary.residual;
     out.solver = Some(static_solver_name(r.summary.dense).into());
     out.window = Some([r.window.y0, r.window.x0, r.window.wy, r.window.wx]);
+    let u = r.deflection.as_deref();
+    if wanted.height_map {
+        let mean_u = u.map_or(f64::NAN, mean);
+        height_map_series(
+            &mut out,
+            grid,
+            &[area],
+            vec![grid.patches(&contact)],
+            &[mean_u],
+        );
+    }
     if wanted.fields() {
         out.fields.push(FieldSet {
             t: 0.0,
             x: Some(centres(grid.nx, grid.dx)),
             y: Some(centres(grid.ny, grid.dx)),
+            gap: u
+                .filter(|_| wanted.gap)
+                .map(|u| gap(grid, u, r.summary.depth)),
             pressure: wanted.pressure.then_some(r.pressure),
             deflection: r.deflection.filter(|_| wanted.deflection),
             ..FieldSet::default()
@@ -179,17 +238,22 @@ pub fn bem_viscous_report(
     out.solves = s.solves;
     out.iterations = s.iterations.iter().sum();
     out.residual = s.residual.iter().fold(0.0, |a: f64, &b| a.max(b));
-    out.fields = bem_fields(grid, &s.fields, wanted, fields);
+    out.fields = bem_fields(grid, &s.fields, wanted, fields, &out.depth);
+    if wanted.height_map {
+        let area = out.area.clone().unwrap_or_default();
+        height_map_series(&mut out, grid, &area, s.patches, &s.mean_deflection);
+    }
     out
 }
 
 /// BEM field sets on `grid` at (time, output index) `at`, from the solver's fields, as
-/// `wanted` says.
+/// `wanted` says; the gap from the depths (m) at the output indices.
 pub fn bem_fields(
     grid: &Grid,
     solved: &[Fields],
     wanted: Wanted,
     at: &[(f64, usize)],
+    depth: &[f64],
 ) -> Vec<FieldSet> {
     at.iter()
         .filter_map(|&(t, k)| {
@@ -201,6 +265,7 @@ pub fn bem_fields(
                 pressure: wanted.pressure.then(|| f.pressure.clone()),
                 surface_velocity: wanted.surface_velocity.then(|| f.velocity.clone()),
                 deflection: wanted.deflection.then(|| f.deflection.clone()),
+                gap: wanted.gap.then(|| gap(grid, &f.deflection, depth[k])),
                 ..FieldSet::default()
             })
         })

@@ -1,17 +1,19 @@
-//! Rigid axisymmetric indenters h = f(r): their footprints, BEM height maps and MDR 1D
-//! profiles g(x) = |x| * integral_0^|x| f'(r) / sqrt(x^2 - r^2) dr (Popov & Hess).
+//! Rigid indenters: axisymmetric ones h = f(r), with their footprints, BEM height maps and
+//! MDR 1D profiles g(x) = |x| * integral_0^|x| f'(r) / sqrt(x^2 - r^2) dr (Popov & Hess),
+//! and height maps (`heightmap.rs`), which fix their own BEM grid and have no MDR profile.
 //!
 //! Lengths in m. A footprint is the part of the plane the indenter covers: a disc, a centred
-//! square of edge L (whose 1D MDR indenter has half-length L / sqrt(pi), equal area), or
-//! the whole plane (unbounded).
+//! square of edge L (whose 1D MDR indenter has half-length L / sqrt(pi), equal area), a
+//! height map's rectangle, or the whole plane (unbounded).
 
+use super::heightmap::{not_axisymmetric, HeightMap, HeightMapTable};
 use super::profile::{Profile, ProfileTable};
 use crate::error::{check_positive, Error, Result};
 use crate::grid::Grid;
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
 
-/// A rigid axisymmetric indenter.
+/// A rigid indenter: axisymmetric, or a height map.
 #[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
 #[serde(tag = "type", rename_all = "lowercase", deny_unknown_fields)]
 pub enum Indenter {
@@ -43,6 +45,24 @@ pub enum Indenter {
     },
     /// A tabulated profile (see `ProfileTable`).
     Profile(#[serde(with = "profile_serde")] Box<Profile>),
+    /// A height map (see `HeightMapTable`).
+    HeightMap(#[serde(with = "heightmap_serde")] Box<HeightMap>),
+}
+
+mod heightmap_serde {
+    use super::{HeightMap, HeightMapTable};
+    use serde::{Deserialize, Deserializer, Serialize, Serializer};
+
+    pub fn serialize<S: Serializer>(m: &HeightMap, s: S) -> Result<S::Ok, S::Error> {
+        m.table().serialize(s)
+    }
+
+    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<Box<HeightMap>, D::Error> {
+        let table = HeightMapTable::deserialize(d)?;
+        HeightMap::try_from(table)
+            .map(Box::new)
+            .map_err(|e| serde::de::Error::custom(e.message()))
+    }
 }
 
 mod profile_serde {
@@ -76,6 +96,13 @@ pub enum Footprint {
         /// Side (m).
         edge: f64,
     },
+    /// A height map's rectangle, centred.
+    Rectangle {
+        /// Side along x (m).
+        width: f64,
+        /// Side along y (m).
+        length: f64,
+    },
     /// The whole plane.
     Unbounded,
 }
@@ -86,7 +113,7 @@ impl Indenter {
         let edge = match *self {
             Indenter::Rod { radius } => return check_positive("rod radius", radius),
             Indenter::Sphere { radius } => return check_positive("sphere radius", radius),
-            Indenter::Profile(_) => return Ok(()),
+            Indenter::Profile(_) | Indenter::HeightMap(_) => return Ok(()),
             Indenter::Paraboloid { c, edge } => {
                 check_positive("paraboloid c", c)?;
                 edge
@@ -118,6 +145,10 @@ impl Indenter {
                 (Some(radius), _) => Footprint::Disc { radius, rim: true },
                 (None, edge) => square(edge),
             },
+            Indenter::HeightMap(m) => {
+                let (width, length) = m.sides();
+                Footprint::Rectangle { width, length }
+            }
         }
     }
 
@@ -132,16 +163,18 @@ impl Indenter {
         match self.footprint() {
             Footprint::Disc { radius, .. } => Some(radius),
             Footprint::Square { edge } => Some(0.5 * edge),
+            Footprint::Rectangle { width, length } => Some(0.5 * width.max(length)),
             Footprint::Unbounded => None,
         }
     }
 
     /// Half-length of the 1D MDR indenter (m): a disc's radius, L / sqrt(pi) for a square
-    /// of side L (equal area); None when unbounded.
+    /// of side L or sqrt(W L / pi) for a rectangle (equal area); None when unbounded.
     pub fn half_length_1d(&self) -> Option<f64> {
         match self.footprint() {
             Footprint::Disc { radius, .. } => Some(radius),
             Footprint::Square { edge } => Some(edge / PI.sqrt()),
+            Footprint::Rectangle { width, length } => Some((width * length / PI).sqrt()),
             Footprint::Unbounded => None,
         }
     }
@@ -154,6 +187,7 @@ impl Indenter {
             Indenter::Cone { slope, .. } => slope * r,
             Indenter::Sphere { radius } => r * r / (radius + ((radius - r) * (radius + r)).sqrt()),
             Indenter::Profile(p) => p.height(r)?,
+            Indenter::HeightMap(_) => return Err(not_axisymmetric("height h(r)")),
         })
     }
 
@@ -173,6 +207,7 @@ impl Indenter {
                 x * (x / radius).atanh()
             }
             Indenter::Profile(p) => p.profile_1d(x)?,
+            Indenter::HeightMap(_) => return Err(not_axisymmetric("MDR profile")),
         })
     }
 
@@ -184,6 +219,7 @@ impl Indenter {
             Indenter::Rod { radius } => *radius,
             Indenter::Paraboloid { c, .. } => (d / (2.0 * c)).sqrt(),
             Indenter::Cone { slope, .. } => 2.0 * d / (PI * slope),
+            Indenter::HeightMap(_) => return Err(not_axisymmetric("contact radius")),
             _ => self.bisect(|a| self.profile_1d(a), d)?,
         })
     }
@@ -198,6 +234,7 @@ impl Indenter {
             Indenter::Paraboloid { c, .. } => (3.0 * s / (8.0 * c)).cbrt(),
             // 2 (k a^2 - k a^2 / 2) = k a^2, k = pi slope / 2
             Indenter::Cone { slope, .. } => (s / (0.5 * PI * slope)).sqrt(),
+            Indenter::HeightMap(_) => return Err(not_axisymmetric("contact radius")),
             _ => self.bisect(|a| self.mdr_load(a), s)?,
         })
     }
@@ -209,6 +246,7 @@ impl Indenter {
         let inside = match self.footprint() {
             Footprint::Disc { radius, .. } => a < radius,
             Footprint::Square { edge } => a < 0.5 * edge,
+            Footprint::Rectangle { width, length } => a < 0.5 * width.min(length),
             Footprint::Unbounded => true,
         };
         if !inside {
@@ -277,15 +315,22 @@ impl Indenter {
             Footprint::Disc { radius, rim: true } => r <= radius,
             Footprint::Disc { radius, rim: false } => r < radius,
             Footprint::Square { edge } => x.abs() <= 0.5 * edge && y.abs() <= 0.5 * edge,
+            Footprint::Rectangle { width, length } => {
+                x.abs() <= 0.5 * width && y.abs() <= 0.5 * length
+            }
             Footprint::Unbounded => true,
         }
     }
 
     /// BEM grid over a square of half-width `half` (m) with n elements across. A flat face
     /// gets dx = 2 half / n on a grid centred on an element ((n + 1) x (n + 1) for even n:
-    /// n = 200 puts 31417 elements in a disc); any other indenter n x n element centres
-    /// symmetric about the axis.
+    /// n = 200 puts 31417 elements in a disc); a height map its own grid (n must be its
+    /// `HeightMap::n`); any other indenter n x n element centres symmetric about the axis.
     pub fn bem_grid(&self, n: usize, half: f64) -> Result<Grid> {
+        if let Indenter::HeightMap(m) = self {
+            m.check_run(super::run::Method::Bem, n)?;
+            return m.grid();
+        }
         let dx = 2.0 * half / n as f64;
         let (m, offset) = if self.is_flat() {
             (2 * (n / 2) + 1, (n / 2) as f64)

@@ -7,7 +7,7 @@ use super::Scene;
 use serde::Serialize;
 
 /// The unit of each quantity of a report.
-pub const UNITS: [(&str, &str); 14] = [
+pub const UNITS: [(&str, &str); 18] = [
     ("t", "s"),
     ("depth", "m"),
     ("contact_length", "m"),
@@ -16,11 +16,15 @@ pub const UNITS: [(&str, &str); 14] = [
     ("velocity", "m/s"),
     ("stiffness_length", "m"),
     ("central_pressure", "Pa"),
+    ("contact_fraction", "1"),
+    ("patches", "1"),
+    ("mean_gap", "m"),
     ("dx", "m"),
     ("wall_time", "s"),
     ("pressure", "Pa"),
     ("surface_velocity", "m/s"),
     ("deflection", "m"),
+    ("gap", "m"),
     ("x, y, r", "m"),
 ];
 
@@ -51,6 +55,10 @@ pub struct FieldSet {
     /// Surface deflection (m).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub deflection: Option<Vec<f64>>,
+    /// Gap (m) between a height map and the deformed surface: height below the highest
+    /// point plus deflection minus depth; zero in contact up to the solver's tolerance.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub gap: Option<Vec<f64>>,
 }
 
 /// What a run reports. Series have one entry per output time; quantities a run did not
@@ -85,6 +93,12 @@ pub struct Report {
     pub stiffness_length: Option<Vec<f64>>,
     /// Pressure at the centre of a flat punch (Pa).
     pub central_pressure: Option<Vec<f64>>,
+    /// Real contact area over the area of the height map (1).
+    pub contact_fraction: Option<Vec<f64>>,
+    /// Number of contact patches of a height map (4-connected components of the contact).
+    pub patches: Option<Vec<usize>>,
+    /// Mean gap (m) between a height map and the deformed surface, over the map.
+    pub mean_gap: Option<Vec<f64>>,
     /// Whether the contact covers the whole indenter.
     pub saturated: Option<Vec<bool>>,
     /// Whether the contact reached the outermost ring of the BEM grid.
@@ -127,10 +141,15 @@ impl Report {
             &mut self.velocity,
             &mut self.stiffness_length,
             &mut self.central_pressure,
+            &mut self.contact_fraction,
+            &mut self.mean_gap,
         ]
         .into_iter()
         .flatten()
         {
+            pick(v, from);
+        }
+        if let Some(v) = &mut self.patches {
             pick(v, from);
         }
         for v in [&mut self.saturated, &mut self.at_edge]
@@ -195,17 +214,33 @@ impl Report {
         if let Some(p0) = &self.central_pressure {
             out += &format!("  central pressure p0 = {:.6} Pa\n", p0[p0.len() - 1]);
         }
-        let mut columns: Vec<(&str, &Vec<f64>)> = vec![
-            ("t [s]", &self.t),
-            ("d [m]", &self.depth),
-            ("l [m]", &self.contact_length),
-            ("F [N]", &self.force),
+        let numbers = |v: &[f64]| v.iter().map(|x| format!("{x:>14.8}")).collect();
+        let mut columns: Vec<(&str, Vec<String>)> = vec![
+            ("t [s]", numbers(&self.t)),
+            ("d [m]", numbers(&self.depth)),
+            ("l [m]", numbers(&self.contact_length)),
+            ("F [N]", numbers(&self.force)),
         ];
         if let Some(v) = &self.velocity {
-            columns.push(("dd/dt [m/s]", v));
+            columns.push(("dd/dt [m/s]", numbers(v)));
         }
         if let Some(v) = &self.stiffness_length {
-            columns.push(("l_F [m]", v));
+            columns.push(("l_F [m]", numbers(v)));
+        }
+        if let (Some(area), Some(fraction), Some(patches), Some(gap)) = (
+            &self.area,
+            &self.contact_fraction,
+            &self.patches,
+            &self.mean_gap,
+        ) {
+            let scientific = |v: &[f64]| v.iter().map(|x| format!("{x:>14.6e}")).collect();
+            columns.push(("A [m^2]", scientific(area)));
+            columns.push(("A/A0", numbers(fraction)));
+            columns.push((
+                "patches",
+                patches.iter().map(|p| format!("{p:>14}")).collect(),
+            ));
+            columns.push(("mean gap [m]", scientific(gap)));
         }
         out += "  ";
         out += &columns
@@ -218,7 +253,7 @@ impl Report {
             out += "  ";
             out += &columns
                 .iter()
-                .map(|(_, v)| format!("{:>14.8}", v[k]))
+                .map(|(_, v)| v[k].as_str())
                 .collect::<Vec<_>>()
                 .join(" ");
             out += "\n";

@@ -2,12 +2,12 @@
 //! viscous impulse engine, the paper's explicit loop, viscoelastic stepping) and the report.
 
 use super::assemble::{
-    bem_fields, bem_static_report, bem_viscous_report, central_value, centres, covers, mdr_fields,
-    report, Wanted,
+    bem_fields, bem_static_report, bem_viscous_report, central_value, centres, covers,
+    height_map_series, mdr_fields, report, Wanted,
 };
 use super::report::{FieldSet, Report};
 use super::sizing::{bem_grid, depth_bounds, mdr_foundation, mdr_half_length, DEPTH_BOUND_FACTOR};
-use super::{Output, Scene};
+use super::{Indenter, Output, Scene};
 use crate::contact::{SolverOptions, Target};
 use crate::error::{check_positive, Error, Result};
 use crate::grid::Grid;
@@ -15,6 +15,7 @@ use crate::integrator::ExplicitControl;
 use crate::loading::{ForceHistory, Loading};
 use crate::mdr;
 use crate::monitor::Monitor;
+use crate::periodic::PeriodicOperator;
 use crate::static_contact;
 use crate::transforms;
 use crate::viscoelastic;
@@ -63,8 +64,9 @@ impl Integrator {
     }
 }
 
-/// Runs a viscous BEM request on `grid` with the integrator and solver options of
-/// `settings` (eta in Pa s, the force history in N over s).
+/// Runs a viscous BEM request on `grid` (a periodic cell: the implicit stepping only) with
+/// the integrator and solver options of `settings` (eta in Pa s, the force history in N
+/// over s).
 pub fn viscous_bem(
     grid: &Grid,
     eta: f64,
@@ -73,13 +75,20 @@ pub fn viscous_bem(
     settings: &RunSettings,
     monitor: &mut dyn Monitor,
 ) -> Result<ViscousSeries> {
-    match &settings.integrator {
-        Integrator::Implicit => {
+    match (&settings.integrator, grid.periodic) {
+        (Integrator::Implicit, false) => {
             viscous::run_implicit(grid, eta, history, request, &settings.solver, monitor)
         }
-        Integrator::Explicit(c) => {
+        (Integrator::Implicit, true) => {
+            viscous::run_implicit_periodic(grid, eta, history, request, &settings.solver, monitor)
+        }
+        (Integrator::Explicit(c), false) => {
             viscous::run_explicit(grid, eta, history, request, c, &settings.solver, monitor)
         }
+        (Integrator::Explicit(_), true) => Err(Error::InvalidInput(
+            "the explicit integrator runs on non-periodic grids; a periodic cell steps implicitly"
+                .into(),
+        )),
     }
 }
 
@@ -154,6 +163,20 @@ pub fn run(scene: &Scene, settings: &RunSettings, monitor: &mut dyn Monitor) -> 
     if let (Some(duration), Some(dt)) = (scene.duration, settings.dt) {
         viscoelastic::check_steps(dt, duration, duration / dt)?;
     }
+    if let Indenter::HeightMap(map) = &scene.indenter {
+        map.check_run(settings.method, settings.n)?;
+    } else {
+        let only_maps: Vec<Output> = scene
+            .outputs()
+            .into_iter()
+            .filter(|o| o.is_height_map())
+            .collect();
+        refuse(
+            scene,
+            &only_maps,
+            "for an axisymmetric indenter, only for a height map",
+        )?;
+    }
     crate::memory::check(
         &format!(
             "{} n = {}",
@@ -180,6 +203,10 @@ pub fn run(scene: &Scene, settings: &RunSettings, monitor: &mut dyn Monitor) -> 
         run_viscoelastic(scene, settings, monitor)?
     };
     beyond_the_equator(scene, &report)?;
+    if matches!(&scene.indenter, Indenter::HeightMap(map) if map.periodic()) {
+        // a periodic cell has no edge
+        report.at_edge = None;
+    }
     let from = scene.solved_from();
     if from.len() != report.t.len() {
         report.expand(scene.output_times(), &from);
@@ -208,6 +235,7 @@ fn memory_needed(scene: &Scene, settings: &RunSettings) -> f64 {
         Output::Pressure,
         Output::SurfaceVelocity,
         Output::Deflection,
+        Output::Gap,
     ]
     .iter()
     .filter(|&&o| scene.wants(o))
@@ -310,22 +338,30 @@ fn run_static(scene: &Scene, settings: &RunSettings, monitor: &mut dyn Monitor) 
                 .ok()
                 .flatten()
                 .map(|d| DEPTH_BOUND_FACTOR * d);
-            let r = static_contact::solve(
-                &grid,
-                1.0 / g,
-                Target::Force(force),
-                bound,
-                scene.wants(Output::Deflection),
-                &settings.solver,
-                monitor,
-            )?;
-            Ok(bem_static_report(
-                settings,
-                &grid,
-                force,
-                r,
-                Wanted::of(scene),
-            ))
+            let wanted = Wanted::of(scene);
+            let deflection = wanted.deflection || wanted.height_map;
+            let target = Target::Force(force);
+            let r = if grid.periodic {
+                static_contact::solve_periodic(
+                    &grid,
+                    1.0 / g,
+                    target,
+                    deflection,
+                    &settings.solver,
+                    monitor,
+                )?
+            } else {
+                static_contact::solve(
+                    &grid,
+                    1.0 / g,
+                    target,
+                    bound,
+                    deflection,
+                    &settings.solver,
+                    monitor,
+                )?
+            };
+            Ok(bem_static_report(settings, &grid, force, r, wanted))
         }
         Method::Mdr => {
             let f = mdr_foundation(scene, n)?;
@@ -582,14 +618,27 @@ fn run_viscoelastic(
         }
         Method::Bem => {
             let grid = bem_grid(scene, settings.n)?;
-            let (s, fields) = viscoelastic::run_bem(
-                &grid,
-                &rheology,
-                &loading,
-                &request,
-                &settings.solver,
-                monitor,
-            )?;
+            let (s, fields) = if grid.periodic {
+                let op = PeriodicOperator::new(grid.nx, grid.ny, grid.dx)?;
+                viscoelastic::run_bem_on(
+                    op,
+                    &grid,
+                    &rheology,
+                    &loading,
+                    &request,
+                    &settings.solver,
+                    monitor,
+                )?
+            } else {
+                viscoelastic::run_bem(
+                    &grid,
+                    &rheology,
+                    &loading,
+                    &request,
+                    &settings.solver,
+                    monitor,
+                )?
+            };
             unbounded_inside(scene, &s.at_edge, &s.t)?;
             let mut out = report(settings, grid.dx, "viscoelastic", s.t.clone());
             out.grid_shape = Some([grid.ny, grid.nx]);
@@ -603,7 +652,19 @@ fn run_viscoelastic(
             );
             out.solves = s.steps;
             let at: Vec<(f64, usize)> = field_times.iter().copied().zip(steps.clone()).collect();
-            out.fields = bem_fields(&grid, &fields, Wanted::of(scene), &at);
+            let wanted = Wanted::of(scene);
+            out.fields = bem_fields(&grid, &fields, wanted, &at, &s.depth);
+            if wanted.height_map {
+                out.depth.clone_from(&s.depth);
+                height_map_series(
+                    &mut out,
+                    &grid,
+                    &s.area,
+                    s.patches.clone(),
+                    &s.mean_deflection,
+                );
+            }
+            out.area = Some(s.area.clone());
             (s, out)
         }
     };
