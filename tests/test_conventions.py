@@ -16,6 +16,8 @@ from mdrvisc.progress import ProgressBar
 
 _SCENE = mv.Scene(indenter=mv.Paraboloid(c=1.0, edge=2.56), medium=mv.Viscous(eta=1.5),
                   force=1.0, duration=1.0, times=[0.5, 1.0])
+#: Sample times of the fitted curve (s): an elastic paraboloid (G = 2 Pa, R = 0.5 m) at 0.1 m/s.
+_T = np.array([0.25, 0.5, 0.75, 1.0])
 
 #: One instance of every concrete public class, with strings its repr must show (its
 #: parameters).
@@ -36,11 +38,17 @@ EXAMPLES = {
     "Maxwell": (lambda: mv.Maxwell(G=1.5, eta=0.4), ["1.5", "0.4"]),
     "StandardSolid": (lambda: mv.StandardSolid(G_inf=1.0, G1=3.0, tau1=0.5), ["3", "0.5"]),
     "Prony": (lambda: mv.Prony(G_inf=1.0, terms=((2.0, 0.25),)), ["2", "0.25"]),
+    "PowerLaw": (lambda: mv.PowerLaw(G0=2.0, beta=0.2, t0=1.5), ["2", "0.2", "1.5"]),
+    "FitResult": (lambda: mv.fit(mv.Paraboloid(c=1.0), mv.Elastic, _T, depth=0.1 * _T,
+                                 force=16 / 3 * 2.0 * np.sqrt(0.5) * (0.1 * _T) ** 1.5),
+                  ["Elastic", "4 samples", "G ", "stderr"]),
     "MdrviscError": (lambda: mv.MdrviscError("bad n"), ["bad n"]),
     "InvalidInputError": (lambda: mv.InvalidInputError("bad n"), ["bad n"]),
     "ConvergenceError": (lambda: mv.ConvergenceError("no convergence"), ["no convergence"]),
     "DomainError": (lambda: mv.DomainError("outside"), ["outside"]),
     "ResolutionWarning": (lambda: mv.ResolutionWarning("coarse"), ["coarse"]),
+    "DataError": (lambda: mv.DataError("unsorted times"), ["unsorted times"]),
+    "IdentifiabilityWarning": (lambda: mv.IdentifiabilityWarning("tau1"), ["tau1"]),
     "SurfaceOperator": (lambda: mv.arrays.SurfaceOperator((8, 16), 0.1), ["8", "16", "0.1"]),
     "ProgressBar": (lambda: ProgressBar(file=io.StringIO(), use_tqdm=False), ["stage"]),
     "Sweep": (lambda: mv.Sweep([_SCENE, _SCENE], "mdr", 257, [None, None], []), ["MDR", "n=257", "0/2"]),
