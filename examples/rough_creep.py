@@ -7,10 +7,11 @@ into the roughness: the real contact area grows from that of an elastic body wit
 modulus G_inf + G1 to that of one with the rubbery modulus G_inf, and the contact patches
 multiply and merge on the way.
 
-The surface is one periodic cell of a Gaussian self-affine surface (Hurst exponent 0.8,
-roll-off at 1/8 and short-wavelength cut-off at 1/4 of the grid's wavenumbers), made here by
-filtering Gaussian noise in Fourier space. It is solved as a periodic ``mv.HeightMap`` by BEM
-on its own grid; the force is the total on the cell (the nominal pressure times its area).
+The surface is one periodic cell of a Gaussian self-affine surface from
+``mv.surfaces.self_affine`` (Hurst exponent 0.8, rms height 1 um, roll-off wavelength 32 um,
+shortest wavelength 4 um, on 256 x 256 elements of 1 um). It is solved as a periodic
+``mv.HeightMap`` by BEM on its own grid; the force is the total on the cell (the nominal
+pressure times its area).
 The two elastic limits are solved statically and drawn as dashed lines; the creep time
 tau (G_inf + G1) / G_inf is 10 s, so at 100 s the creep is complete to exp(-10).
 
@@ -28,26 +29,17 @@ import numpy as np  # noqa: E402
 import mdrvisc as mv  # noqa: E402
 
 
-def self_affine(n, dx, hurst, rms_height, seed):
-    """A periodic n x n Gaussian self-affine surface (m) of the given rms height (m): white
-    noise filtered to a power spectrum ~ q^(-2 - 2 hurst) between the roll-off (1/8 of the
-    grid's largest wavenumber) and the cut-off (1/4), flat below the roll-off."""
-    q = np.hypot(*np.meshgrid(np.fft.fftfreq(n), np.fft.fftfreq(n)))
-    amplitude = np.where(q > 0, np.maximum(q, 1 / 8) ** (-1.0 - hurst), 0.0) * (q < 1 / 4)
-    noise = np.random.default_rng(seed).standard_normal((n, n))
-    h = np.real(np.fft.ifft2(np.fft.fft2(noise) * amplitude))
-    return h * rms_height / h.std()
-
-
 def main():
     parser = argparse.ArgumentParser(description="Rough contact creeping on a standard solid")
     parser.add_argument("out", nargs="?", default="rough_creep.png")
     args = parser.parse_args()
 
     n, dx = 256, 1e-6                                   # 256 x 256 elements of 1 um
-    surface = mv.HeightMap(self_affine(n, dx, 0.8, 1e-6, seed=11), dx, periodic=True)
+    heights = mv.surfaces.self_affine((n, n), dx, hurst=0.8, rms_height=1e-6, rolloff=32e-6,
+                                      short_cutoff=4e-6, seed=11)
+    surface = mv.HeightMap(heights, dx, periodic=True)
     g_inf, g1, tau = 1e6, 9e6, 1.0                      # Pa, Pa, s: glassy modulus 10 MPa
-    nominal = 0.1e6                                     # Pa, nominal pressure on the cell
+    nominal = 0.05e6                                    # Pa, nominal pressure on the cell
     force = nominal * (n * dx) ** 2                     # N, the total on the cell
     times = np.geomspace(0.01, 100.0, 40)
     scene = mv.Scene(indenter=surface, medium=mv.StandardSolid(G_inf=g_inf, G1=g1, tau1=tau),
@@ -77,9 +69,11 @@ def main():
     left.set_ylabel("y (um)")
     left.set_title("surface (grey) and contact at the end")
     right.semilogx(creep.t, creep.contact_fraction, "o-", ms=3, label="creep (BEM, periodic cell)")
-    for r, name in ((glassy, "elastic, glassy G_inf + G1"), (rubbery, "elastic, rubbery G_inf")):
+    # each limit labelled where the curve is far from it
+    for r, name, at, align in ((glassy, "elastic, glassy G_inf + G1", times[-1], "right"),
+                               (rubbery, "elastic, rubbery G_inf", times[0], "left")):
         right.axhline(r.contact_fraction[0], ls="--", color="0.5", lw=0.9)
-        right.annotate(name, (times[0], r.contact_fraction[0]), va="bottom", fontsize=8, color="0.3")
+        right.annotate(name, (at, r.contact_fraction[0]), va="bottom", ha=align, fontsize=8, color="0.3")
     right.set_xlabel("t (s)")
     right.set_ylabel("real contact area / nominal area")
     right.set_title(f"standard solid, tau = {tau:g} s, nominal pressure {nominal / 1e6:g} MPa")

@@ -346,3 +346,21 @@ def test_periodic_creep_on_a_standard_solid_ends_in_the_relaxed_periodic_contact
     # as in the non-periodic test: complete to exp(-15); measured 7e-8 relative
     assert creep.mean_gap[-1] == pytest.approx(relaxed.mean_gap[0], rel=1e-6)
     assert creep.area[-1] == relaxed.area[0] and creep.patches[-1] == relaxed.patches[0]
+
+
+@pytest.mark.filterwarnings("ignore::mdrvisc.ResolutionWarning")  # the first and last contacts are small
+def test_rough_loading_and_unloading_separates_before_the_depth_returns():
+    """A depth ramp up and down on a standard solid: the contact grows while loading and
+    shrinks while unloading, the force never turns tensile, and the surface, not yet
+    recovered, loses the indenter while the depth is still half its peak."""
+    hm = _rough_map(64, 1.0 / 64, seed=8, rms=1e-3)
+    r = mv.solve(mv.Scene(indenter=hm, medium=mv.StandardSolid(1.0, 3.0, 0.1),
+                          depth=([0.0, 0.5, 1.0], [0.0, 3e-3, 0.0]), duration=1.0,
+                          times=np.linspace(0.05, 1.0, 20), dt=0.0025), tol=1e-12)
+    loading, unloading = r.t <= 0.5, r.t >= 0.5
+    assert np.all(np.diff(r.area[loading]) > 0) and np.all(np.diff(r.area[unloading]) <= 0)
+    assert np.all(np.diff(r.patches[unloading]) <= 0)
+    assert r.force.min() >= 0.0
+    apart = r.t >= 0.75
+    assert np.all(r.force[apart] == 0) and np.all(r.area[apart] == 0) and np.all(r.patches[apart] == 0)
+    assert r.depth[r.t == 0.75][0] == pytest.approx(1.5e-3, rel=1e-12)
