@@ -192,7 +192,7 @@ mod tests {
                     }
                     let got = z[iy as usize * nx + ix as usize];
                     assert!(
-                        (got - exact).abs() < 1e-12 * (1.0 + exact.abs()),
+                        (got - exact).abs() < 5e-15 * (1.0 + exact.abs()),
                         "{nx}x{ny}"
                     );
                 }
