@@ -28,6 +28,12 @@ pub trait SurfaceOperator {
     /// The operator's matrix (m/Pa at G = 1) among the elements `idx` (grid indices), for
     /// dense solves on a contact set.
     fn submatrix(&mut self, idx: &[usize]) -> Result<Mat<f64>>;
+    /// Writes z = S g, S the conjugate gradients' preconditioner (an approximate inverse of
+    /// the operator times dx, `precondition`): by default the inverse-kernel stencil with
+    /// g zero beyond the grid.
+    fn precondition(&self, g: &[f64], z: &mut [f64]) {
+        crate::precondition::apply(self.nx(), self.ny(), g, z);
+    }
 }
 
 /// Smallest even m >= n of the form 2^a 3^b 5^c with c <= 1 (n itself when n <= 1): the

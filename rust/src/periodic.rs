@@ -130,6 +130,11 @@ impl SurfaceOperator for PeriodicOperator {
         self.fft.apply(p, u);
     }
 
+    /// The inverse-kernel stencil wrapped around the cell (`precondition::apply_periodic`).
+    fn precondition(&self, g: &[f64], z: &mut [f64]) {
+        crate::precondition::apply_periodic(self.nx(), self.ny(), g, z);
+    }
+
     /// Entries K[i, j] = response to a unit pressure at the periodic offset of i from j
     /// (the response is computed once, by one apply).
     fn submatrix(&mut self, idx: &[usize]) -> Result<Mat<f64>> {

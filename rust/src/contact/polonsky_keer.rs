@@ -6,7 +6,6 @@ use crate::error::{Error, Result};
 use crate::influence;
 use crate::monitor::Monitor;
 use crate::operator::SurfaceOperator;
-use crate::precondition;
 
 impl<O: SurfaceOperator> ContactSolver<O> {
     /// Polonsky–Keer on `pb`: starts from the solver's pressure with `warm` (rescaled to the
@@ -73,7 +72,6 @@ impl<O: SurfaceOperator> ContactSolver<O> {
         // `refresh_every` iterations (bounding round-off drift); otherwise it follows p by the
         // same linear update, so most iterations cost one apply.
         self.op.apply(&self.p, &mut self.u);
-        let (nx, ny) = (self.op.nx(), self.op.ny());
         // Under force control, the mean gap over the set as the last linear update of u
         // left it (None after a refresh).
         let mut next_shift = None;
@@ -114,7 +112,7 @@ impl<O: SurfaceOperator> ContactSolver<O> {
                 acc
             });
             let (zbar, gz) = if opts.precondition {
-                precondition::apply(nx, ny, &self.r, &mut self.z);
+                self.op.precondition(&self.r, &mut self.z);
                 let [zsum, gz, g_lin, count] = self.pass_sums(|c| {
                     let mut acc = [0.0; 4];
                     for j in 0..c.p.len() {

@@ -6,7 +6,6 @@ use super::{ContactSolver, SolverOptions};
 use crate::error::{check_len, Error, Result};
 use crate::monitor::Monitor;
 use crate::operator::SurfaceOperator;
-use crate::precondition;
 use faer::linalg::solvers::Solve;
 use faer::{ColRef, Mat, Side};
 
@@ -48,22 +47,21 @@ impl<O: SurfaceOperator> ContactSolver<O> {
                 x[i] = s[i];
             }
         }
-        let (nx, ny) = (self.op.nx(), self.op.ny());
         let (r, d, q, z) = (&mut self.g, &mut self.t, &mut self.r, &mut self.z);
         self.op.apply(x, q);
         for i in 0..n {
             r[i] = if set[i] { 1.0 - q[i] } else { 0.0 };
         }
         // z = M r on the set (M = the stencil or 1); returns r . z over the set
-        let apply_m = |r: &[f64], z: &mut [f64]| {
+        let apply_m = |op: &O, r: &[f64], z: &mut [f64]| {
             if opts.precondition {
-                precondition::apply(nx, ny, r, z);
+                op.precondition(r, z);
             } else {
                 z.copy_from_slice(r);
             }
             idx.iter().map(|&i| r[i] * z[i]).sum::<f64>()
         };
-        let mut rz = apply_m(r, z);
+        let mut rz = apply_m(&self.op, r, z);
         d.fill(0.0);
         for &i in idx {
             d[i] = z[i];
@@ -86,7 +84,7 @@ impl<O: SurfaceOperator> ContactSolver<O> {
             if res < opts.tol {
                 return Ok((it, res));
             }
-            let rz_new = apply_m(r, z);
+            let rz_new = apply_m(&self.op, r, z);
             let beta = rz_new / rz;
             rz = rz_new;
             for &i in idx {
