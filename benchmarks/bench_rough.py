@@ -49,9 +49,12 @@ The criteria measure different things, so equal tolerances need not give equal a
 the deviation columns show the accuracy each code actually reached (rerun a code at a
 tighter ``--tol`` to compare times at matched deviation).
 
-Timings: wall clock, best of ``--repeats``, model/operator set-up from the height array +
-solve (mdrvisc: ``mv.arrays.contact`` end to end; "solve s" is the peers' solve call
-alone). mdrvisc runs its rayon pool on all cores, aspher OpenMP on all cores, tamaas and
+Timings: wall clock, model/operator set-up from the height array + solve (mdrvisc:
+``mv.arrays.contact`` end to end; "solve s" is the peers' solve call alone), best of
+``--rounds`` rounds (default 3) of ``--repeats`` back-to-back runs (default 1), the rounds
+interleaved: mdrvisc, then each peer in its subprocess, then again, so that every code's
+runs spread over the same machine states; a run longer than ``--single-above`` (60 s) is not
+repeated ("[1 run]"). mdrvisc runs its rayon pool on all cores, aspher OpenMP on all cores, tamaas and
 contactmechanics are serial. Iterations: CG iterations (contactmechanics does two operator
 applies per iteration; aspher's nested solves report the finest level, the notes give every
 level). "peer / mv" is the row's wall time over mdrvisc's in the same mode and size.
@@ -59,7 +62,7 @@ level). "peer / mv" is the row's wall time over mdrvisc's in the same mode and s
 Peers run in their own venv, through ``rough_worker.py`` (its interpreter:
 ``--peers-python PATH`` or $MDRVISC_PEERS_PYTHON), one subprocess per code, variant, mode
 and size. Run: ``python benchmarks/bench_rough.py --peers-python PATH [--sizes 512 1024
-2048] [--modes free periodic] [--tol 1e-8] [--repeats 3]``; ``--peers`` selects codes.
+2048] [--modes free periodic] [--tol 1e-8] [--rounds 3]``; ``--peers`` selects codes.
 """
 
 from __future__ import annotations
@@ -172,11 +175,12 @@ def kernel_diff(u: np.ndarray, p_ref: np.ndarray, mode: str) -> float:
     return float(np.abs(u - u_mv).max() / np.abs(u_mv).max())
 
 
-def run_peer(code, variant, mode, n, heights, force, tol, repeats, python, folder, apply,
-             timeout):
+def run_peer(code, variant, mode, n, heights, force, tol, repeats, single_above, python,
+             folder, apply, timeout):
     cmd = [python, str(HERE / "rough_worker.py"), "--code", code, "--mode", mode,
            "--heights", heights, "--edge", repr(EDGE), "--e-star", repr(E_STAR), "--force",
-           repr(force), "--tol", repr(tol), "--repeats", str(repeats), "--out", folder]
+           repr(force), "--tol", repr(tol), "--repeats", str(repeats), "--single-above",
+           repr(single_above), "--out", folder]
     if variant:
         cmd += ["--variant", variant]
     if apply:
@@ -196,13 +200,99 @@ def run_peer(code, variant, mode, n, heights, force, tol, repeats, python, folde
     return res
 
 
+def solve_case(args, n, mode, z, heights, force, p_ref, ref_file, folder, last_wall, rows,
+               notes) -> None:
+    """Times mdrvisc and every selected peer on one mode and size, ``--rounds`` times
+    alternately (mdrvisc, then each peer, then again), keeping each code's best wall time and
+    its first answer; appends the table rows and the notes."""
+    runs = [("mdrvisc", "")] + [
+        (code, variant) for code, variant in PEER_RUNS[mode]
+        if code in args.peers and not (code == "aspher" and args.aspher_variants is not None
+                                       and variant not in args.aspher_variants)]
+    best: dict[tuple, dict] = {}
+    applied: set[tuple] = set()
+    for round_ in range(args.rounds):
+        for code, variant in runs:
+            name = code + (f" {variant}" if variant else "")
+            kernel = KERNEL.get(variant.removeprefix("nested-")) or KERNEL[(code, mode)]
+            prev = best.get((code, variant))
+            if prev is not None and ("failed" in prev or prev["wall"] > args.single_above):
+                continue  # a failed or long run is not repeated
+            if code == "mdrvisc":
+                wall, r = best_of(lambda: mv_solve(z, mode, force, args.tol), args.repeats)
+                res = dict(wall=wall, walls=[wall], pressure=pressure(r),
+                           iterations=int(r.iterations), solver=r.solver)
+            else:
+                last = last_wall.get((name, mode))
+                if round_ == 0 and last is not None:
+                    predicted = last[1] * (n / last[0]) ** 2 * 1.5
+                    if predicted > args.peer_limit:
+                        best[(code, variant)] = dict(failed=(
+                            f"skipped (predicted {predicted:.0f} s > --peer-limit "
+                            f"{args.peer_limit:.0f} s)"))
+                        continue
+                res = run_peer(code, variant, mode, n, heights, force, args.tol, args.repeats,
+                               args.single_above, args.peers_python, folder,
+                               ref_file if (code, kernel) not in applied else None,
+                               timeout=max(4 * args.peer_limit, 600))
+                if "failed" in res:
+                    best.setdefault((code, variant), res)
+                    continue
+                last_wall[(name, mode)] = (n, res["walls"][0])
+                if "deflection" in res:
+                    applied.add((code, kernel))
+            print(f"   n = {n} {mode} round {round_ + 1}: {name} {res['wall']:.3f} s, "
+                  f"{res['iterations']} iterations", file=sys.stderr)
+            if prev is None or "failed" in prev:
+                best[(code, variant)] = res
+            else:
+                prev["wall"] = min(prev["wall"], res["wall"])
+                if res.get("solve") is not None:
+                    prev["solve"] = min(prev["solve"], res["solve"])
+                prev["walls"] = prev["walls"] + res["walls"]
+    wall_mv = best[("mdrvisc", "")]["wall"]
+    for code, variant in runs:
+        res = best.get((code, variant))
+        if res is None:
+            continue
+        name = code + (f" {variant}" if variant else "")
+        kernel = KERNEL.get(variant.removeprefix("nested-")) or KERNEL[(code, mode)]
+        if "failed" in res:
+            rows.append([n, mode, name, kernel] + [None] * 8)
+            notes.append(f"{name} at n = {n}, {mode}: {res['failed']}")
+            continue
+        p = res["pressure"]
+        dmax, dl1 = deviation(p, p_ref)
+        kdiff = kernel_diff(res["deflection"], p_ref, mode) if "deflection" in res else None
+        timed = len(res["walls"]) if code != "mdrvisc" else None
+        label = (f"mdrvisc ({res['solver']})" if code == "mdrvisc" else
+                 name + (f" [{timed} run]" if timed is not None and timed < args.rounds
+                         * args.repeats else ""))
+        rows.append([n, mode, label, kernel, res["wall"], res.get("solve"), res["iterations"],
+                     np.count_nonzero(p > 0) / p.size, dmax, dl1, kdiff,
+                     None if code == "mdrvisc" else res["wall"] / wall_mv])
+        if code == "mdrvisc":
+            continue
+        extra = f"; levels {', '.join(res['stages'])}" if res.get("stages") else ""
+        applies = f", {res['applies']} operator applies" if res.get("applies") else ""
+        notes.append(f"{name} {res.get('version', '')} at n = {n}, {mode}: "
+                     f"{'converged' if res['converged'] else 'NOT converged'} "
+                     f"({res['criterion']}{applies}){extra}; {res['threads']}")
+
+
 def main(argv=None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--sizes", type=int, nargs="+", default=[512, 1024, 2048])
     ap.add_argument("--modes", nargs="+", default=["free", "periodic"],
                     choices=["free", "periodic"])
     ap.add_argument("--tol", type=float, default=1e-8)
-    ap.add_argument("--repeats", type=int, default=3)
+    ap.add_argument("--repeats", type=int, default=1,
+                    help="timed runs per code and round, back to back (best kept)")
+    ap.add_argument("--rounds", type=int, default=3,
+                    help="rounds of all codes one after the other (best kept): interleaving "
+                         "spreads every code's runs over the same machine states")
+    ap.add_argument("--single-above", type=float, default=60.0,
+                    help="a run longer than this (s) is not repeated")
     ap.add_argument("--seed", type=int, default=20260118,
                     help="seed of the surface (held out: not used elsewhere in the project)")
     ap.add_argument("--fraction", type=float, default=0.05, help="target contact fraction")
@@ -241,7 +331,7 @@ def main(argv=None) -> None:
     if args.peers:
         print(f"   peers run by {args.peers_python}")
     rows, notes = [], []
-    last_wall: dict[tuple, tuple[int, float]] = {}
+    last_wall: dict[tuple, tuple[int, float]] = {}  # (name, mode) -> (n, first wall)
     with tempfile.TemporaryDirectory() as folder:
         for n in args.sizes:
             z = self_affine(n, args.seed)
@@ -256,60 +346,8 @@ def main(argv=None) -> None:
                              f"({int(ref.iterations)} iterations, residual "
                              f"{float(ref.residual):.1e}, contact fraction "
                              f"{np.count_nonzero(p_ref > 0) / p_ref.size:.4f})")
-                wall_mv, r = best_of(lambda z=z, mode=mode: mv_solve(z, mode, force, args.tol),
-                                     args.repeats)
-                p = pressure(r)
-                dmax, dl1 = deviation(p, p_ref)
-                rows.append([n, mode, f"mdrvisc ({r.solver})", KERNEL[("mdrvisc", mode)],
-                             wall_mv, None, int(r.iterations), np.count_nonzero(p > 0) / p.size,
-                             dmax, dl1, None, None])
-                print(f"   n = {n} {mode}: mdrvisc {wall_mv:.3f} s, {int(r.iterations)} "
-                      f"iterations", file=sys.stderr)
-                applied = set()
-                for code, variant in PEER_RUNS[mode]:
-                    if code not in args.peers or (code == "aspher" and args.aspher_variants
-                                                  is not None and variant not in
-                                                  args.aspher_variants):
-                        continue
-                    name = code + (f" {variant}" if variant else "")
-                    kernel = KERNEL.get(variant) or KERNEL[(code, mode)]
-                    prev = last_wall.get((name, mode))
-                    if prev is not None:
-                        predicted = prev[1] * (n / prev[0]) ** 2 * 1.5
-                        if predicted > args.peer_limit:
-                            rows.append([n, mode, name, kernel] + [None] * 8)
-                            notes.append(f"{name} at n = {n}, {mode}: skipped (predicted "
-                                         f"{predicted:.0f} s > --peer-limit "
-                                         f"{args.peer_limit:.0f} s)")
-                            continue
-                    want_apply = (code, kernel) not in applied
-                    res = run_peer(code, variant, mode, n, heights, force, args.tol,
-                                   args.repeats, args.peers_python, folder,
-                                   ref_file if want_apply else None,
-                                   timeout=max(4 * args.peer_limit, 600))
-                    if "failed" in res:
-                        rows.append([n, mode, name, kernel] + [None] * 8)
-                        notes.append(f"{name} at n = {n}, {mode}: {res['failed']}")
-                        continue
-                    last_wall[(name, mode)] = (n, res["walls"][0])
-                    kdiff = None
-                    if "deflection" in res:
-                        applied.add((code, kernel))
-                        kdiff = kernel_diff(res["deflection"], p_ref, mode)
-                    dmax, dl1 = deviation(res["pressure"], p_ref)
-                    runs = res.get("runs", args.repeats)
-                    rows.append([n, mode, name + ("" if runs >= args.repeats else
-                                                  f" [{runs} run]"), kernel, res["wall"],
-                                 res.get("solve"), res["iterations"],
-                                 np.count_nonzero(res["pressure"] > 0) / res["pressure"].size,
-                                 dmax, dl1, kdiff, res["wall"] / wall_mv])
-                    extra = f"; levels {', '.join(res['stages'])}" if res.get("stages") else ""
-                    applies = f", {res['applies']} operator applies" if res.get("applies") else ""
-                    notes.append(f"{name} {res.get('version', '')} at n = {n}, {mode}: "
-                                 f"{'converged' if res['converged'] else 'NOT converged'} "
-                                 f"({res['criterion']}{applies}){extra}; {res['threads']}")
-                    print(f"   n = {n} {mode}: {name} {res['wall']:.3f} s, "
-                          f"{res['iterations']} iterations", file=sys.stderr)
+                solve_case(args, n, mode, z, heights, force, p_ref, ref_file, folder,
+                           last_wall, rows, notes)
     table(["n", "mode", "code", "kernel", "wall s", "solve s", "iters", "fraction", "dev max",
            "dev L1", "K diff", "peer / mv"], rows,
           ["{}", "{}", "{}", "{}", "{:.3f}", "{:.3f}", "{}", "{:.4f}", "{:.1e}", "{:.1e}",

@@ -68,6 +68,7 @@ import re
 import sys
 import tempfile
 import time
+from importlib import metadata
 
 import numpy as np
 
@@ -233,8 +234,9 @@ def run_aspher(z, edge, e_star, force, mode, tol, max_iter, variant, **_):
                 converged=bool(res.converged),
                 criterion=f"{res.status}, fw_error {res.fw_error:.2e}, "
                           f"penetration {res.penetration_error:.2e}",
-                stages=stages, pressure=p, version=getattr(hc, "__version__", "0.1.3"),
-                threads=f"OpenMP ({os.environ.get('OMP_NUM_THREADS', 'all cores')})")
+                stages=stages, pressure=p, version=metadata.version("aspher"),
+                threads=f"OpenMP, OMP_NUM_THREADS={os.environ.get('OMP_NUM_THREADS', 'unset')}, "
+                            f"OMP_WAIT_POLICY={os.environ.get('OMP_WAIT_POLICY', 'unset')}")
     return info, once, apply
 
 
