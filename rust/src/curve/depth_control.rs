@@ -188,13 +188,14 @@ impl ElementState {
                 }
             }
             let dw_step = w_new - w;
+            let inv = 1.0 / c.g_eff;
             for j in 0..p {
                 // the depth is prescribed: a touching element's displacement does not depend
                 // on the parameters; a free one's follows its relaxed surface
                 let dw_new = if touching {
                     0.0
                 } else {
-                    -(self.dh[j] * c.g_eff - hist * c.d_g_eff[j]) / (c.g_eff * c.g_eff)
+                    (hist * c.d_g_eff[j] * inv - self.dh[j]) * inv
                 };
                 let d_dw = dw_new - self.dw[j];
                 for k in 0..m {
