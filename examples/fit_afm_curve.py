@@ -1,5 +1,5 @@
 """Fitting a standard solid to an AFM force curve
-=============================================
+==============================================
 
 An AFM-style force curve: a 5 um sphere pressed 0.5 um into a soft viscoelastic gel at
 0.5 um/s and pulled back at the same rate, 1,000 samples with 1 % force noise. ``mv.fit``
