@@ -61,7 +61,7 @@ def problem(n: int, edge: float, radius: float, e_star: float, force: float):
     return dx, h, a * a / radius, 3.0 * force / (2.0 * np.pi * a * a)
 
 
-class _CaptureFd:
+class CaptureFd:
     """Captures what C++ code writes to fd 1 and 2 (tamaas logs there, not via Python)."""
 
     def __enter__(self):
@@ -107,7 +107,7 @@ def run_tamaas(n, edge, radius, e_star, force, tol, max_iter):
         end = time.perf_counter()
         return end - start, end - built, model, error
 
-    with _CaptureFd() as cap:
+    with CaptureFd() as cap:
         wall, solve, model, error = once()
     iters = [int(m.group(1)) for m in re.finditer(r"^\s*(\d+)\s+\S+\s+\S+\s*$", cap.text, re.M)]
     p = np.array(model.traction, dtype=np.float64, copy=True).reshape(n, n)
@@ -171,7 +171,7 @@ def main(argv=None):
     if first["wall"] <= args.single_above:
         for _ in range(args.repeats - 1):
             if args.code == "tamaas":
-                with _CaptureFd():
+                with CaptureFd():
                     w, s, *_ = once()
             else:
                 w, s, *_ = once()

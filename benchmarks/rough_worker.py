@@ -65,40 +65,15 @@ import argparse
 import json
 import os
 import re
-import sys
-import tempfile
 import time
 from importlib import metadata
 
 import numpy as np
 
+from peers_worker import CaptureFd
+
 VARIANTS = {"free": ("fft", "h2", "nested-fft", "nested-h2"),
             "periodic": ("periodic", "nested-periodic")}
-
-
-class _CaptureFd:
-    """Captures what C++ code writes to fd 1 and 2 (tamaas logs there, not via Python)."""
-
-    def __enter__(self):
-        sys.stdout.flush()
-        sys.stderr.flush()
-        self.file = tempfile.TemporaryFile(mode="w+b")
-        self.saved = [os.dup(1), os.dup(2)]
-        os.dup2(self.file.fileno(), 1)
-        os.dup2(self.file.fileno(), 2)
-        return self
-
-    def __exit__(self, *exc):
-        sys.stdout.flush()
-        sys.stderr.flush()
-        os.dup2(self.saved[0], 1)
-        os.dup2(self.saved[1], 2)
-        for fd in self.saved:
-            os.close(fd)
-        self.file.seek(0)
-        self.text = self.file.read().decode(errors="replace")
-        self.file.close()
-        return False
 
 
 def run_tamaas(z, edge, e_star, force, mode, tol, max_iter, **_):
@@ -131,7 +106,7 @@ def run_tamaas(z, edge, e_star, force, mode, tol, max_iter, **_):
         out.operators[op_name](np.ascontiguousarray(p, dtype=float).reshape(n, n, 1), u)
         return u.reshape(n, n)
 
-    with _CaptureFd() as cap:
+    with CaptureFd() as cap:
         wall, solve, state = once()
     once_state = state
     iters = [int(m.group(1)) for m in re.finditer(r"^\s*(\d+)\s+\S+\s+\S+\s*$", cap.text, re.M)]
@@ -142,7 +117,7 @@ def run_tamaas(z, edge, e_star, force, mode, tol, max_iter, **_):
                 version=tm.__version__, threads="serial (cpp backend)")
 
     def again():
-        with _CaptureFd():
+        with CaptureFd():
             return once()[:2]
     return info, again, apply
 
