@@ -38,6 +38,8 @@ pub struct StaticContact {
 /// whole grid without one). Windows get a margin of 2 elements. When the solved depth exceeds the
 /// bound, the bound grows by the excess and the solve repeats. `deflection` asks for the
 /// deflection on the whole grid, one extra whole-grid operator when the window is smaller.
+/// A periodic cell (`grid.periodic`) is solved whole by `solve_periodic`; a depth bound,
+/// which sizes windows, is refused there.
 pub fn solve(
     grid: &Grid,
     compliance: f64,
@@ -47,6 +49,14 @@ pub fn solve(
     opts: &SolverOptions,
     monitor: &mut dyn Monitor,
 ) -> Result<StaticContact> {
+    if grid.periodic {
+        if depth_bound.is_some() {
+            return Err(Error::InvalidInput(
+                "depth_bound sizes windows, which a periodic cell does not have".into(),
+            ));
+        }
+        return solve_periodic(grid, compliance, target, deflection, opts, monitor);
+    }
     let (nx, ny, n) = (grid.nx, grid.ny, grid.nx * grid.ny);
     check_len("height", grid.height.len(), n)?;
     let mut bound = match target {

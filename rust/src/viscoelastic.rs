@@ -17,6 +17,7 @@ use crate::loading::{check_output_times, Loading};
 use crate::mdr::{depth_on_sorted, prefix_sums, Fields1D};
 use crate::monitor::Monitor;
 use crate::operator::{FftOperator, SurfaceOperator};
+use crate::periodic::PeriodicOperator;
 use crate::rheology::Rheology;
 use crate::viscous::Fields;
 
@@ -311,7 +312,8 @@ pub fn run_mdr(
 
 /// BEM: a viscoelastic half-space under an indenter on `grid`, output as `request` says;
 /// also the fields at its field indices: pressure (Pa), deflection u = K[x] (m) and its
-/// rate (m/s, zero unless field rates are asked for).
+/// rate (m/s, zero unless field rates are asked for). A periodic cell (`grid.periodic`)
+/// runs on the periodic operator (`run_bem_on`).
 pub fn run_bem(
     grid: &Grid,
     medium: &Rheology,
@@ -320,6 +322,10 @@ pub fn run_bem(
     opts: &SolverOptions,
     monitor: &mut dyn Monitor,
 ) -> Result<(Series, Vec<Fields>)> {
+    if grid.periodic {
+        let op = PeriodicOperator::new(grid.nx, grid.ny, grid.dx)?;
+        return run_bem_on(op, grid, medium, loading, request, opts, monitor);
+    }
     let op = FftOperator::new(grid.nx, grid.ny, grid.dx)?;
     run_bem_on(op, grid, medium, loading, request, opts, monitor)
 }

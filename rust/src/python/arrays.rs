@@ -429,15 +429,8 @@ pub(crate) fn contact_solve(
     periodic: bool,
 ) -> PyResult<PyReport> {
     let start = Instant::now();
-    let grid = grid_from(py, &height, &allowed, dx)?;
-    if periodic && depth_bound.is_some() {
-        return Err(to_pyerr(
-            py,
-            Error::InvalidInput(
-                "depth_bound sizes windows, which a periodic cell does not have".into(),
-            ),
-        ));
-    }
+    let mut grid = grid_from(py, &height, &allowed, dx)?;
+    grid.periodic = periodic;
     let target = match (force, depth) {
         (Some(f), None) => Target::Force(f),
         (None, Some(d)) => Target::Depth(d),
@@ -453,26 +446,15 @@ pub(crate) fn contact_solve(
         options(tol, max_iter, dense_limit, active_limit, precondition),
     );
     let r = PyMonitor::new(progress).run(py, |monitor| {
-        if periodic {
-            static_contact::solve_periodic(
-                &grid,
-                compliance,
-                target,
-                deflection,
-                &settings.solver,
-                monitor,
-            )
-        } else {
-            static_contact::solve(
-                &grid,
-                compliance,
-                target,
-                depth_bound,
-                deflection,
-                &settings.solver,
-                monitor,
-            )
-        }
+        static_contact::solve(
+            &grid,
+            compliance,
+            target,
+            depth_bound,
+            deflection,
+            &settings.solver,
+            monitor,
+        )
     })?;
     let force = r.summary.force;
     let wanted = Wanted {

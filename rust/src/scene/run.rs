@@ -15,7 +15,6 @@ use crate::integrator::ExplicitControl;
 use crate::loading::{ForceHistory, Loading};
 use crate::mdr;
 use crate::monitor::Monitor;
-use crate::periodic::PeriodicOperator;
 use crate::static_contact;
 use crate::transforms;
 use crate::viscoelastic;
@@ -341,26 +340,15 @@ fn run_static(scene: &Scene, settings: &RunSettings, monitor: &mut dyn Monitor) 
             let wanted = Wanted::of(scene);
             let deflection = wanted.deflection || wanted.height_map;
             let target = Target::Force(force);
-            let r = if grid.periodic {
-                static_contact::solve_periodic(
-                    &grid,
-                    1.0 / g,
-                    target,
-                    deflection,
-                    &settings.solver,
-                    monitor,
-                )?
-            } else {
-                static_contact::solve(
-                    &grid,
-                    1.0 / g,
-                    target,
-                    bound,
-                    deflection,
-                    &settings.solver,
-                    monitor,
-                )?
-            };
+            let r = static_contact::solve(
+                &grid,
+                1.0 / g,
+                target,
+                bound.filter(|_| !grid.periodic),
+                deflection,
+                &settings.solver,
+                monitor,
+            )?;
             Ok(bem_static_report(settings, &grid, force, r, wanted))
         }
         Method::Mdr => {
@@ -618,27 +606,14 @@ fn run_viscoelastic(
         }
         Method::Bem => {
             let grid = bem_grid(scene, settings.n)?;
-            let (s, fields) = if grid.periodic {
-                let op = PeriodicOperator::new(grid.nx, grid.ny, grid.dx)?;
-                viscoelastic::run_bem_on(
-                    op,
-                    &grid,
-                    &rheology,
-                    &loading,
-                    &request,
-                    &settings.solver,
-                    monitor,
-                )?
-            } else {
-                viscoelastic::run_bem(
-                    &grid,
-                    &rheology,
-                    &loading,
-                    &request,
-                    &settings.solver,
-                    monitor,
-                )?
-            };
+            let (s, fields) = viscoelastic::run_bem(
+                &grid,
+                &rheology,
+                &loading,
+                &request,
+                &settings.solver,
+                monitor,
+            )?;
             unbounded_inside(scene, &s.at_edge, &s.t)?;
             let mut out = report(settings, grid.dx, "viscoelastic", s.t.clone());
             out.grid_shape = Some([grid.ny, grid.nx]);
