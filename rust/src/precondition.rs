@@ -22,15 +22,20 @@ pub const RADIUS: usize = 3;
 const REFERENCE_GRID: usize = 65;
 
 /// Inverse-kernel coefficients (Pa/m) of an element of side 1 m at G = 1 Pa for offsets
-/// 0..=RADIUS in x and y (row-major, (RADIUS + 1)^2), computed once per process. For side
+/// 0..=RADIUS in x and y (row-major, (RADIUS + 1)^2), kept once per process. For side
 /// dx they scale by 1/dx.
 pub fn coefficients() -> &'static [f64] {
     static COEFFS: OnceLock<Vec<f64>> = OnceLock::new();
-    COEFFS.get_or_init(|| {
-        FftOperator::new(REFERENCE_GRID, REFERENCE_GRID, 1.0)
-            .and_then(|mut op| op.inverse_kernel(RADIUS))
-            .expect("the reference grid is valid and larger than the stencil")
-    })
+    if let Some(c) = COEFFS.get() {
+        return c;
+    }
+    // Computed outside the lock: the computation runs rayon loops, and a worker that waits on
+    // the lock while its holder waits, inside such a loop, for a job that worker stole would
+    // never wake. Threads racing here each compute it; the first value is kept.
+    let computed = FftOperator::new(REFERENCE_GRID, REFERENCE_GRID, 1.0)
+        .and_then(|mut op| op.inverse_kernel(RADIUS))
+        .expect("the reference grid is valid and larger than the stencil");
+    COEFFS.get_or_init(|| computed)
 }
 
 /// Writes z = S * g on an `nx` x `ny` grid (row-major), S the truncated inverse-kernel
