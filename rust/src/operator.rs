@@ -31,7 +31,7 @@ pub trait SurfaceOperator {
     /// Writes z = S g, S the conjugate gradients' preconditioner (an approximate inverse of
     /// the operator times dx, `precondition`): by default the inverse-kernel stencil with
     /// g zero beyond the grid.
-    fn precondition(&self, g: &[f64], z: &mut [f64]) {
+    fn precondition(&mut self, g: &[f64], z: &mut [f64]) {
         crate::precondition::apply(self.nx(), self.ny(), g, z);
     }
 }
@@ -205,6 +205,25 @@ impl FftOperator {
             }
         }
         op
+    }
+
+    /// The spectrum of `symbol` in the layout and normalisation of this operator's own, for
+    /// [`FftOperator::convolve_with`].
+    pub(crate) fn spectrum_of(&self, symbol: impl Fn(usize, usize) -> f64) -> Vec<f64> {
+        let (my, norm) = (self.my, 1.0 / (self.mx * self.my) as f64);
+        (0..self.half * my)
+            .map(|i| symbol(i / my, i % my) * norm)
+            .collect()
+    }
+
+    /// Writes into `u` the circular convolution of `p` with the kernel whose spectrum is
+    /// `spectrum` (made by [`FftOperator::spectrum_of`]): the same plans and buffers as
+    /// `apply`, another kernel. The spectra are swapped in and out, not copied.
+    pub(crate) fn convolve_with(&mut self, spectrum: &mut Vec<f64>, p: &[f64], u: &mut [f64]) {
+        assert_eq!(spectrum.len(), self.spectrum.len(), "spectrum length");
+        std::mem::swap(&mut self.spectrum, spectrum);
+        self.apply(p, u);
+        std::mem::swap(&mut self.spectrum, spectrum);
     }
 
     /// Plans, buffers and a zero spectrum for an `nx` x `ny` grid in the period `mx` x `my`.

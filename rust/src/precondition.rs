@@ -43,17 +43,6 @@ pub fn coefficients() -> &'static [f64] {
 /// the scale of an element. Rows are computed in parallel; each sums its rows at offsets
 /// +-k first (the stencil is even), then the columns at +-j.
 pub fn apply(nx: usize, ny: usize, g: &[f64], z: &mut [f64]) {
-    stencil(nx, ny, g, z, false);
-}
-
-/// `apply` on a periodic cell: the stencil wraps around the cell's edges (a circulant, whose
-/// symbol is the stencil's at the cell's wavevectors, so it stays positive definite).
-pub fn apply_periodic(nx: usize, ny: usize, g: &[f64], z: &mut [f64]) {
-    stencil(nx, ny, g, z, true);
-}
-
-/// z = S * g, g zero beyond the grid or (`wrap`) periodic.
-fn stencil(nx: usize, ny: usize, g: &[f64], z: &mut [f64], wrap: bool) {
     assert_eq!(g.len(), nx * ny, "input length");
     assert_eq!(z.len(), nx * ny, "output length");
     let c = coefficients();
@@ -67,29 +56,19 @@ fn stencil(nx: usize, ny: usize, g: &[f64], z: &mut [f64], wrap: bool) {
                 let stride = nx + 2 * RADIUS;
                 for (r, row) in out.chunks_mut(nx).enumerate() {
                     let iy = chunk * rows_per_task + r;
-                    // pairs[k] = g[iy - k] + g[iy + k] (g[iy] for k = 0), padded by RADIUS:
-                    // with zeros, or (wrap) with the row's other end
+                    // pairs[k] = g[iy - k] + g[iy + k] (g[iy] for k = 0), padded by RADIUS
+                    // zeros
                     for k in 0..w {
                         let pk = &mut pairs[k * stride..(k + 1) * stride];
                         pk.fill(0.0);
-                        let (below, above) = if wrap {
-                            let kw = k % ny;
-                            (Some((iy + ny - kw) % ny), (k > 0).then_some((iy + kw) % ny))
-                        } else {
-                            (iy.checked_sub(k), (k > 0 && iy + k < ny).then_some(iy + k))
-                        };
+                        let (below, above) =
+                            (iy.checked_sub(k), (k > 0 && iy + k < ny).then_some(iy + k));
                         for sy in [below, above].into_iter().flatten() {
                             let src = &g[sy * nx..(sy + 1) * nx];
                             pk[RADIUS..RADIUS + nx]
                                 .iter_mut()
                                 .zip(src)
                                 .for_each(|(a, &b)| *a += b);
-                        }
-                        if wrap {
-                            for j in 0..RADIUS {
-                                pk[RADIUS - 1 - j] = pk[RADIUS + (nx - 1 - j % nx)];
-                                pk[RADIUS + nx + j] = pk[RADIUS + j % nx];
-                            }
                         }
                     }
                     row.fill(0.0);
@@ -166,41 +145,6 @@ mod tests {
                     symbol(tx, ty) >= at_zero,
                     "symbol at ({tx}, {ty}) below its value at 0"
                 );
-            }
-        }
-    }
-
-    /// The wrapped stencil is the direct periodic sum over the (2 RADIUS + 1)^2
-    /// neighbourhood with indices taken modulo the cell (also on cells narrower than the
-    /// stencil, where images overlap), to round-off (measured 9.7e-16).
-    #[test]
-    fn the_periodic_stencil_wraps_around_the_cell() {
-        let c = coefficients();
-        let w = RADIUS + 1;
-        let r = RADIUS as i64;
-        for (nx, ny) in [(11, 9), (5, 3), (1, 8), (16, 16)] {
-            let g: Vec<f64> = (0..nx * ny).map(|i| ((i * 37 % 17) as f64) - 8.0).collect();
-            let mut z = vec![0.0; nx * ny];
-            apply_periodic(nx, ny, &g, &mut z);
-            for iy in 0..ny as i64 {
-                for ix in 0..nx as i64 {
-                    let mut exact = 0.0;
-                    for dy in -r..=r {
-                        for dx in -r..=r {
-                            let (sx, sy) = (
-                                (ix + dx).rem_euclid(nx as i64) as usize,
-                                (iy + dy).rem_euclid(ny as i64) as usize,
-                            );
-                            let k = dy.unsigned_abs() as usize * w + dx.unsigned_abs() as usize;
-                            exact += c[k] * g[sy * nx + sx];
-                        }
-                    }
-                    let got = z[iy as usize * nx + ix as usize];
-                    assert!(
-                        (got - exact).abs() < 5e-15 * (1.0 + exact.abs()),
-                        "{nx}x{ny}"
-                    );
-                }
             }
         }
     }

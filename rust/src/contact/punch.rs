@@ -53,7 +53,7 @@ impl<O: SurfaceOperator> ContactSolver<O> {
             r[i] = if set[i] { 1.0 - q[i] } else { 0.0 };
         }
         // z = M r on the set (M = the stencil or 1); returns r . z over the set
-        let apply_m = |op: &O, r: &[f64], z: &mut [f64]| {
+        let apply_m = |op: &mut O, r: &[f64], z: &mut [f64]| {
             if opts.precondition {
                 op.precondition(r, z);
             } else {
@@ -61,7 +61,7 @@ impl<O: SurfaceOperator> ContactSolver<O> {
             }
             idx.iter().map(|&i| r[i] * z[i]).sum::<f64>()
         };
-        let mut rz = apply_m(&self.op, r, z);
+        let mut rz = apply_m(&mut self.op, r, z);
         d.fill(0.0);
         for &i in idx {
             d[i] = z[i];
@@ -84,7 +84,7 @@ impl<O: SurfaceOperator> ContactSolver<O> {
             if res < opts.tol {
                 return Ok((it, res));
             }
-            let rz_new = apply_m(&self.op, r, z);
+            let rz_new = apply_m(&mut self.op, r, z);
             let beta = rz_new / rz;
             rz = rz_new;
             for &i in idx {
