@@ -3,13 +3,12 @@
 Each medium has a shear relaxation modulus G(t), a shear creep compliance J(t) and a
 constant Poisson ratio ``nu`` (default 0.5, incompressible; -1 < nu <= 0.5). Its contact
 modulus is E*(t) = 2 G(t) / (1 - nu) (4 G when incompressible) and its Young's modulus
-E(t) = 2 (1 + nu) G(t) (:meth:`~_Medium.young_modulus`, and :attr:`~_Medium.young_moduli`
-for its parameters). The viscoelastic media are written as
-G(t) = G_inf + sum_k G_k exp(-t / tau_k) + eta delta(t) (:meth:`rheology`). The solvers work
-with E* = 4 G: they step the incompressible medium with the same contact modulus, whose
-moduli and viscosities are the medium's times 1 / (2 (1 - nu)) (relaxation times kept). The
-power law has no finite series: the solvers step one fitted to it over each run's time
-range (see :class:`PowerLaw`).
+E(t) = 2 (1 + nu) G(t) (``young_modulus(t)``; ``young_moduli`` for its parameters). The
+viscoelastic media are written as G(t) = G_inf + sum_k G_k exp(-t / tau_k) + eta delta(t)
+(:meth:`rheology`). The solvers work with E* = 4 G: they step the incompressible medium with
+the same contact modulus, whose moduli and viscosities are the medium's times
+1 / (2 (1 - nu)) (relaxation times kept). The power law has no finite series: the solvers
+step one fitted to it over each run's time range (see :class:`PowerLaw`).
 
 A constant Poisson ratio is what makes the elastic-viscoelastic correspondence with
 E*(t) = 2 G(t) / (1 - nu) exact; a medium whose nu changes with time (a bulk modulus that
