@@ -11,6 +11,7 @@ import json
 import math
 import subprocess
 import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -247,3 +248,18 @@ def test_the_fit_command_holds_nu(tmp_path):
     assert document["nu"] == NU
     assert abs(document["parameters"]["G"] / g - 1.0) < 1e-6, document
     assert abs(document["young_moduli"]["E"] / (2.6 * g) - 1.0) < 1e-6, document
+
+
+# The Rust binary reads nu from a scene file: examples/compressible_standard_solid_creep.toml
+# (nu = 0.3) against Lee-Radok, d^(3/2) = 3 F (1 - nu) J(t) / (8 sqrt(R)). Measured: 2.8e-7.
+def test_the_binary_solves_the_compressible_example():
+    root = Path(__file__).resolve().parents[1]
+    subprocess.run(["cargo", "build", "--release", "--quiet", "--bin", "mdrvisc"], cwd=root, check=True)
+    out = subprocess.run([str(root / "target" / "release" / "mdrvisc"), "run", "--json", "--no-progress",
+                          "examples/compressible_standard_solid_creep.toml"],
+                         cwd=root, capture_output=True, text=True, check=True)
+    result = json.loads(out.stdout)[0]["result"]
+    t = np.array(result["t"])
+    compliance = standard_solid_creep(t, 1.0, 3.0, 0.5)
+    exact = (3.0 * 1.0 * (1.0 - NU) * compliance / (8.0 * math.sqrt(0.5))) ** (2.0 / 3.0)
+    assert np.max(np.abs(np.array(result["depth"]) / exact - 1.0)) < 1.5e-6
