@@ -63,6 +63,17 @@ def _number(owner: str, name: str, value: object) -> float:
     return _magnitude(owner, name, number)
 
 
+def _poisson_ratio(owner: str, value: object) -> float:
+    """``value`` as a float, or InvalidInputError naming ``nu`` unless it is a real number
+    with -1 < nu <= 0.5 (the Poisson ratio of a stable isotropic solid; 0.5 is
+    incompressible)."""
+    number = _float(value)
+    if number is None or not -1.0 < number <= 0.5:
+        raise InvalidInputError(
+            f"{owner}: nu (Poisson ratio) must be a real number with -1 < nu <= 0.5, got {value!r:.80}")
+    return number
+
+
 def _integer(owner: str, name: str, value: object, minimum: int) -> int:
     """``value`` as an int, or InvalidInputError unless it is an integer >= ``minimum`` that
     the compiled core can take (bools and floats are refused, not truncated)."""

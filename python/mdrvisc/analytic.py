@@ -2,11 +2,15 @@
 
 Units throughout: lengths in m, times in s, forces in N, pressures and moduli in Pa,
 viscosities in Pa s, impulses (force x time) in N s. Depths and deflections are positive into
-the body. The half-space is incompressible: its effective modulus is E* = 4 G, and by Radok's
+the body. A half-space of shear modulus G and Poisson ratio nu has the effective modulus
+E* = 2 G / (1 - nu) = E / (1 - nu^2) (4 G when incompressible, nu = 1/2), and by Radok's
 correspondence a viscous half-space of viscosity eta behaves like an elastic one with
-E* = 4 eta once forces are replaced by impulses (constant force F from t = 0: impulse F t) and
-deflections by deflection rates. Functions taking times, radii or coordinates accept scalars or
-numpy arrays and return a float or an array of the broadcast shape.
+E* = 2 eta / (1 - nu) once forces are replaced by impulses (constant force F from t = 0:
+impulse F t) and deflections by deflection rates. The functions that take a viscosity are
+written for nu = 1/2 (for another nu pass eta / (2 (1 - nu)), the viscosity with the same E*);
+``ting_paraboloid_triangle`` takes the medium's nu. Functions taking times, radii or
+coordinates accept scalars or numpy arrays and return a float or an array of the broadcast
+shape.
 
 This module is the bottom layer of the package: it imports neither :mod:`mdrvisc.geometry`
 nor :mod:`mdrvisc.media`. The functions that take an indenter or a medium call their methods
@@ -183,9 +187,9 @@ def hertz(force: float, radius_of_curvature: float, e_star: float) -> tuple[floa
     """Hertz contact of a rigid paraboloid on an elastic half-space.
 
     Parameters: force F (N), radius of curvature R (m; h = r^2 / (2R)), effective modulus E*
-    (Pa; 4 G for an incompressible body). Returns ``(a, d, p0)``: contact radius
-    a = (3 F R / (4 E*))^(1/3) (m), depth d = a^2 / R (m), central pressure
-    p0 = 3 F / (2 pi a^2) (Pa).
+    (Pa; 2 G / (1 - nu) = E / (1 - nu^2), 4 G for an incompressible body). Returns
+    ``(a, d, p0)``: contact radius a = (3 F R / (4 E*))^(1/3) (m), depth d = a^2 / R (m),
+    central pressure p0 = 3 F / (2 pi a^2) (Pa).
     """
     force = _positive("hertz", "force", force)
     radius = _positive("hertz", "radius_of_curvature", radius_of_curvature)
@@ -244,7 +248,10 @@ def lee_radok_depth_from_impulse(
 # ----------------------------------------------------------------------------- Ting
 class _Rheology(Protocol):
     """What :func:`ting_paraboloid_triangle` needs of a medium (every
-    :mod:`mdrvisc.media` medium has it): (G_inf, [(G_k, tau_k), ...], eta)."""
+    :mod:`mdrvisc.media` medium has it): its shear modulus (G_inf, [(G_k, tau_k), ...], eta)
+    and its Poisson ratio nu."""
+
+    nu: float
 
     def rheology(self) -> tuple[float, list[tuple[float, float]], float]: ...
 
@@ -254,18 +261,20 @@ def ting_paraboloid_triangle(
 ) -> tuple[float | np.ndarray, float | np.ndarray, float]:
     """Ting's solution for a paraboloid pushed in and pulled out at a constant rate.
 
-    A rigid paraboloid h = r^2 / (2R) on an incompressible linear viscoelastic half-space of
-    shear relaxation modulus G(t) = G_inf + sum_k G_k exp(-t / tau_k) + eta delta(t) (any
-    :mod:`mdrvisc.media` medium), depth d(s) = v s up to s = t_peak and v (2 t_peak - s) after
-    (Ting 1966, J. Appl. Mech. 33:845; Greenwood 2010, Int. J. Mech. Sci. 52:829). In MDR
-    terms the element at ``|x|`` is pressed since the contact radius first reached ``|x|``, and carries
-    4 dx int G(t - s) ddot(s) ds:
+    A rigid paraboloid h = r^2 / (2R) on a linear viscoelastic half-space of shear
+    relaxation modulus G(t) = G_inf + sum_k G_k exp(-t / tau_k) + eta delta(t) and constant
+    Poisson ratio nu (any :mod:`mdrvisc.media` medium; its ``nu``, 1/2 if it has none), whose
+    contact modulus is E*(t) = 2 G(t) / (1 - nu), depth d(s) = v s up to s = t_peak and
+    v (2 t_peak - s) after (Ting 1966, J. Appl. Mech. 33:845; Greenwood 2010, Int. J. Mech.
+    Sci. 52:829). In MDR terms the element at ``|x|`` is pressed since the contact radius first
+    reached ``|x|``, and carries dx int E*(t - s) ddot(s) ds:
 
     * loading, t <= t_peak: a(t)^2 = R d(t) and
-      F(t) = 8 sqrt(R) v^(3/2) [int_0^t G(t - s) s^(1/2) ds + eta t^(1/2)];
+      F(t) = 4 / (1 - nu) sqrt(R) v^(3/2) [int_0^t G(t - s) s^(1/2) ds + eta t^(1/2)]
+      (8 sqrt(R) ... when incompressible);
     * unloading, t > t_peak: a(t) = a(t1), where t1 in [0, t_peak] makes the edge element's
       force vanish, int_{t1}^t G(t - s) ddot(s) ds = 0 (the dashpot adds eta ddot(t) = -eta v),
-      and F(t) = 8 sqrt(R) v^(3/2) int_0^t1 G(t - s) s^(1/2) ds;
+      and F(t) = 4 / (1 - nu) sqrt(R) v^(3/2) int_0^t1 G(t - s) s^(1/2) ds;
     * contact is lost (F = a = 0) from the separation time t_s in [t_peak, 2 t_peak], where
       int_0^t_s G(t_s - s) ddot(s) ds = 0 (t_s = t_peak if the dashpot alone outweighs it).
 
@@ -285,6 +294,7 @@ def ting_paraboloid_triangle(
     rate = _positive("ting_paraboloid_triangle", "rate", rate)
     t_peak = _positive("ting_paraboloid_triangle", "t_peak", t_peak)
     g_inf, terms, eta = medium.rheology()
+    nu = getattr(medium, "nu", 0.5)
     moduli = np.array([g for g, _ in terms])
     taus = np.array([tau for _, tau in terms])
 
@@ -322,7 +332,9 @@ def ting_paraboloid_triangle(
         * _relaxing_root_integral(t1[..., None] / taus), -1)
     dashpot = np.where(loading, eta * np.sqrt(t), 0.0)
     contact = loading | touching
-    force = np.where(contact, 8.0 * math.sqrt(curvature) * rate**1.5 * (hereditary + dashpot), 0.0)
+    # F = 2 sqrt(R) v^(3/2) int E*(t - s) s^(1/2) ds with E* = 2 G / (1 - nu) (8 sqrt(R) ... at nu = 1/2)
+    force = np.where(contact, 4.0 / (1.0 - nu) * math.sqrt(curvature) * rate**1.5 * (hereditary + dashpot),
+                     0.0)
     radius = np.where(contact, np.sqrt(curvature * rate * t1), 0.0)
     return _out(force), _out(radius), t_sep
 

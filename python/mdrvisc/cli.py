@@ -92,6 +92,8 @@ def _parser():
                               "powerlaw")
     fitting.add_argument("--control", choices=["depth", "force"], default="depth",
                          help="what was prescribed (default depth: the forces are fitted)")
+    fitting.add_argument("--nu", type=float, default=0.5,
+                         help="Poisson ratio of the medium, held in the fit (default 0.5, incompressible)")
     fitting.add_argument("--terms", type=int, default=2, help="Prony terms (--model prony)")
     fitting.add_argument("--substeps", type=int, default=1, help="time steps per sample interval")
     fitting.add_argument("--json", action="store_true", help="print the result as JSON")
@@ -134,12 +136,14 @@ def _fit(args):
         weights = np.atleast_1d(data["weight"]) if "weight" in names else None
         result = fit(_indenter(args.indenter), model, np.atleast_1d(data["t"]),
                      depth=np.atleast_1d(data["depth"]), force=np.atleast_1d(data["force"]),
-                     control=args.control, terms=args.terms, substeps=args.substeps, weights=weights)
+                     control=args.control, nu=args.nu, terms=args.terms, substeps=args.substeps,
+                     weights=weights)
     for w in caught:
         print(f"warning: {w.message}", file=sys.stderr)
     if args.json:
         print(json.dumps(to_jsonable({
             "medium": type(result.medium).__name__, "parameters": result.parameters, "stderr": result.stderr,
+            "nu": result.nu, "young_moduli": result.young_moduli, "young_stderr": result.young_stderr,
             "free": result.free, "correlation": result.correlation.tolist(), "rms": result.rms,
             "control": result.control, "solves": result.solves, "iterations": result.iterations,
             "wall_time": result.wall_time, "converged": result.converged, "message": result.message,

@@ -14,7 +14,6 @@ problems have a handful of parameters, each evaluation is a full forward solve w
 Jacobian, and a small dense solver needs no run-time dependency beyond numpy.
 """
 
-import dataclasses
 import json
 import math
 import time
@@ -25,10 +24,10 @@ from numpy.typing import ArrayLike
 
 from . import _core
 from ._least_squares import levenberg_marquardt
-from ._validate import _integer
+from ._validate import _integer, _poisson_ratio
 from .errors import DataError, DomainError, IdentifiabilityWarning, InvalidInputError
 from .geometry import Indenter
-from .media import Elastic, KelvinVoigt, Maxwell, PowerLaw, Prony, StandardSolid, Viscous, _Medium
+from .media import Elastic, KelvinVoigt, Maxwell, PowerLaw, Prony, StandardSolid, Viscous, _Medium, _young
 
 __all__ = ["fit", "FitResult"]
 
@@ -48,47 +47,47 @@ _LARGEST_CORRELATION = 0.999
 
 
 def _parameters(medium: _Medium) -> dict[str, float]:
-    """The medium's parameters by the names a fit uses (a Prony series: G_inf, G1, tau1, ...)."""
-    if isinstance(medium, Prony):
-        out = {"G_inf": medium.G_inf}
-        for k, (g, tau) in enumerate(medium.terms, 1):
-            out[f"G{k}"], out[f"tau{k}"] = g, tau
-        return out
-    return {f.name: getattr(medium, f.name) for f in dataclasses.fields(medium)}
+    """The medium's parameters by the names a fit uses (a Prony series: G_inf, G1, tau1, ...);
+    the Poisson ratio, held, is not one of them."""
+    return medium._parameters()
 
 
-def _medium(cls: type, values: dict[str, float]) -> _Medium:
-    """The medium of class ``cls`` with the parameters ``values`` (names of :func:`_parameters`)."""
+def _medium(cls: type, values: dict[str, float], nu: float) -> _Medium:
+    """The medium of class ``cls`` with the parameters ``values`` (names of :func:`_parameters`)
+    and the Poisson ratio ``nu``."""
     if cls is Prony:
         k = (len(values) - 1) // 2
-        return Prony(values["G_inf"], tuple((values[f"G{j}"], values[f"tau{j}"]) for j in range(1, k + 1)))
-    return cls(**values)
+        return Prony(values["G_inf"], tuple((values[f"G{j}"], values[f"tau{j}"]) for j in range(1, k + 1)),
+                     nu=nu)
+    return cls(**values, nu=nu)
 
 
-def _guesses(cls: type, span: float, step: float, terms: int) -> list[_Medium]:
-    """Candidate media of unit modulus scale for a fit of class ``cls`` to data over ``span``
-    (s) sampled every ``step`` (s) or more: relaxation times log-spaced between the two."""
+def _guesses(cls: type, span: float, step: float, terms: int, nu: float) -> list[_Medium]:
+    """Candidate media of unit modulus scale and Poisson ratio ``nu`` for a fit of class ``cls``
+    to data over ``span`` (s) sampled every ``step`` (s) or more: relaxation times log-spaced
+    between the two."""
     taus = np.geomspace(max(3.0 * step, 1e-3 * span), 3.0 * span, 9)
     if cls is Elastic:
-        return [Elastic(1.0)]
+        return [Elastic(1.0, nu=nu)]
     if cls is Viscous:
-        return [Viscous(tau) for tau in taus]
+        return [Viscous(tau, nu=nu) for tau in taus]
     if cls in (KelvinVoigt, Maxwell):
-        return [cls(1.0, tau) for tau in taus]
+        return [cls(1.0, tau, nu=nu) for tau in taus]
     if cls is StandardSolid:
-        return [StandardSolid(0.5, 0.5, tau) for tau in taus]
+        return [StandardSolid(0.5, 0.5, tau, nu=nu) for tau in taus]
     if cls is Prony:
-        return [Prony(0.5, tuple((0.5 / terms, tau * 10.0 ** -j) for j in range(terms))) for tau in taus]
+        return [Prony(0.5, tuple((0.5 / terms, tau * 10.0 ** -j) for j in range(terms)), nu=nu)
+                for tau in taus]
     if cls is PowerLaw:
-        return [PowerLaw(1.0, beta, 1.0) for beta in (0.05, 0.1, 0.2, 0.35, 0.5, 0.7)]
+        return [PowerLaw(1.0, beta, 1.0, nu=nu) for beta in (0.05, 0.1, 0.2, 0.35, 0.5, 0.7)]
     raise InvalidInputError(f"fit: model must be an mdrvisc medium or medium class, got {cls!r}")
 
 
 def _scaled(medium: _Medium, by: float) -> _Medium:
-    """The medium with every modulus and viscosity multiplied by ``by`` (times kept)."""
+    """The medium with every modulus and viscosity multiplied by ``by`` (times and nu kept)."""
     values = {name: v * by if not (name.startswith("tau") or name in ("beta", "t0")) else v
               for name, v in _parameters(medium).items()}
-    return _medium(type(medium), values)
+    return _medium(type(medium), values, medium.nu)
 
 
 def _array(name: str, values: ArrayLike) -> np.ndarray:
@@ -125,10 +124,17 @@ class FitResult:
     medium : medium
         The fitted medium, an instance of the model's class (usable in a :class:`~mdrvisc.Scene`).
     parameters : dict
-        Its parameters by name (Pa, s, Pa s; also attributes of the result: ``result.G1``).
+        Its parameters by name (Pa, s, Pa s; also attributes of the result: ``result.G1``):
+        shear moduli, viscosities and times.
     stderr : dict
         Standard errors of the parameters (same names and units; 0 for held ones), from the
         Jacobian at the solution and the residual variance (first order in the logarithms).
+    nu : float
+        The Poisson ratio the fit held (the model's).
+    young_moduli, young_stderr : dict
+        Young's moduli E = 2 (1 + nu) G of the fitted shear moduli and their standard errors
+        (Pa; names with G written E: ``E``, ``E_inf``, ``E1``, ``E0``; also attributes of the
+        result: ``result.E1``).
     free : list of str
         The fitted parameters, in the order of ``correlation``'s rows.
     correlation : ndarray
@@ -154,9 +160,10 @@ class FitResult:
         self.__dict__.update(values)
 
     def __getattr__(self, name: str) -> float:
-        parameters = self.__dict__.get("parameters", {})
-        if name in parameters:
-            return parameters[name]
+        for table in ("parameters", "young_moduli"):
+            values = self.__dict__.get(table, {})
+            if name in values:
+                return values[name]
         raise AttributeError(f"FitResult has no attribute {name!r}")
 
     def __repr__(self) -> str:
@@ -164,10 +171,14 @@ class FitResult:
         lines = [f"FitResult: {type(self.medium).__name__} to {self.data.size} samples ({self.control} "
                  f"control), rms {self.rms:.3e} {unit}, {self.solves} solves, {self.wall_time:.3f} s",
                  f"  {'parameter':<10}{'value':>14}{'stderr':>14}{'relative':>11}"]
-        for name, value in self.parameters.items():
-            err = self.stderr[name]
-            rel = "held" if name not in self.free else f"{err / value:.2e}"
+        young = {"E" + name[1:]: name for name in self.parameters if name.startswith("G")}
+        rows = [(name, value, self.stderr[name], name) for name, value in self.parameters.items()]
+        rows += [(name, value, self.young_stderr[name], young[name])
+                 for name, value in self.young_moduli.items()]
+        for name, value, err, of in rows:
+            rel = "held" if of not in self.free else f"{err / value:.2e}"
             lines.append(f"  {name:<10}{value:>14.6g}{err:>14.3g}{rel:>11}")
+        lines.append(f"  {'nu':<10}{self.nu:>14.6g}{'':>14}{'held':>11}")
         if not self.converged:
             lines.append(f"  not converged: {self.message}")
         return "\n".join(lines)
@@ -175,7 +186,8 @@ class FitResult:
 
 def fit(indenter: Indenter, model: _Medium | type, t: ArrayLike, *, depth: ArrayLike, force: ArrayLike,
         control: str = "depth", weights: ArrayLike | None = None, fixed: tuple[str, ...] = (),
-        terms: int = 2, n: int = 500, substeps: int = 1, max_iter: int = 100) -> FitResult:
+        nu: float | None = None, terms: int = 2, n: int = 500, substeps: int = 1,
+        max_iter: int = 100) -> FitResult:
     """Fit a medium to an indentation curve: depth and force sampled at times ``t``.
 
     Parameters
@@ -199,6 +211,10 @@ def fit(indenter: Indenter, model: _Medium | type, t: ArrayLike, *, depth: Array
     fixed : tuple of str
         Names of parameters held at the model's values (needs an instance). A
         :class:`PowerLaw`'s reference time ``t0`` is always held: only G0 t0^beta enters G(t).
+    nu : float, optional
+        Poisson ratio of a class ``model`` (default 0.5), -1 < nu <= 0.5; an instance brings its
+        own (give it there). Always held, never fitted: the curve fixes the contact modulus
+        2 G(t) / (1 - nu) only, so the fitted shear moduli scale with 1 - nu.
     terms : int
         Prony terms when ``model`` is the :class:`Prony` class. Terms whose relaxation times
         lie within a factor of a few of each other, or outside the data's span, are not
@@ -251,8 +267,12 @@ def fit(indenter: Indenter, model: _Medium | type, t: ArrayLike, *, depth: Array
         if fixed:
             raise InvalidInputError("fit: fixed parameters need a medium instance (their values)")
         cls, guess = model, None
+        nu = 0.5 if nu is None else _poisson_ratio("fit", nu)
     elif isinstance(model, _Medium):
-        cls, guess = type(model), model
+        if nu is not None:
+            raise InvalidInputError(f"fit: nu is given with a medium instance, which has its own "
+                                    f"(nu={model.nu!r}): give it to the medium")
+        cls, guess, nu = type(model), model, model.nu
     else:
         raise InvalidInputError(f"fit: model must be an mdrvisc medium or medium class, got {model!r}")
     if cls is Prony and guess is None:
@@ -263,7 +283,7 @@ def fit(indenter: Indenter, model: _Medium | type, t: ArrayLike, *, depth: Array
     span = float(t[-1])
     step = float(np.min(np.diff(np.concatenate([[0.0], t[t > 0]])), initial=span))
     if guess is None:
-        guess = _estimate(estimate[0], cls, f[estimate[1]], w[estimate[1]], span, step, terms)
+        guess = _estimate(estimate[0], cls, f[estimate[1]], w[estimate[1]], span, step, terms, nu)
     names = list(_parameters(guess))
     held = set(fixed) | ({"t0"} if cls is PowerLaw else set())
     unknown = sorted(set(fixed) - set(names))
@@ -286,7 +306,7 @@ def fit(indenter: Indenter, model: _Medium | type, t: ArrayLike, *, depth: Array
     def medium_at(x: np.ndarray) -> _Medium:
         values = dict(values0)
         values.update({name: float(v) for name, v in zip(free, np.exp(x))})
-        return _medium(cls, values)
+        return _medium(cls, values, nu)
 
     def residuals(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         nonlocal solves
@@ -322,17 +342,20 @@ def fit(indenter: Indenter, model: _Medium | type, t: ArrayLike, *, depth: Array
         # terms in increasing relaxation time: a fit finds them in any order
         order = sorted(range(len(medium.terms)), key=lambda k: medium.terms[k][1])
         rename = {f"{p}{old + 1}": f"{p}{new + 1}" for new, old in enumerate(order) for p in ("G", "tau")}
-        medium = Prony(medium.G_inf, tuple(medium.terms[k] for k in order))
+        medium = Prony(medium.G_inf, tuple(medium.terms[k] for k in order), nu=nu)
         parameters = _parameters(medium)
         free = [rename.get(name, name) for name in free]
         stderr = {rename.get(name, name): e for name, e in stderr.items()}
         stderr = {name: stderr[name] for name in parameters}
+    young_moduli = medium.young_moduli
+    young_stderr = _young(stderr, nu)
     messages = _identifiability(free, log_err, correlation)
     for message in messages:
         warnings.warn(message, IdentifiabilityWarning, stacklevel=2)
     residual = values - measured
     return FitResult(
         medium=medium, parameters=parameters, stderr=stderr, free=free, correlation=correlation,
+        nu=nu, young_moduli=young_moduli, young_stderr=young_stderr,
         t=t, data=measured, model=values, residuals=residual,
         rms=float(np.sqrt(np.sum(w * residual**2) / np.sum(w))), control=control, solves=solves + 1,
         iterations=solution.iterations, wall_time=time.perf_counter() - start,
@@ -372,12 +395,13 @@ def _curves(indenter, t, depth, prescribed, control, n, substeps):
     return curve, (_core.Curve(profile, dx, t[some], depth[some], "depth", 1), some)
 
 
-def _estimate(curve, cls, force, w, span, step, terms):
-    """The initial guess of class ``cls``: among candidates of unit modulus scale with
+def _estimate(curve, cls, force, w, span, step, terms, nu):
+    """The initial guess of class ``cls`` and Poisson ratio ``nu``: among candidates of unit
+    modulus scale with
     relaxation times over the data's span, the one whose best modulus scale (a linear
     least-squares factor: forces scale with the moduli at given depths) matches the forces
     best, so scaled."""
-    candidates = _guesses(cls, span, step, terms)
+    candidates = _guesses(cls, span, step, terms, nu)
     evaluated = curve.evaluate([json.dumps(m._model()) for m in candidates], [])
     best, best_cost = None, math.inf
     for medium, (values, _, _) in zip(candidates, evaluated):

@@ -66,7 +66,8 @@ class Result:
 
     Series (numpy arrays, one entry per output time ``t`` in s): ``depth`` (m),
     ``contact_length`` (m), ``force`` (N), and where computed ``area`` (m^2), ``velocity``
-    (penetration rate, m/s), ``stiffness_length`` (F / (4 eta dd/dt), m),
+    (penetration rate, m/s), ``stiffness_length`` (F / (4 eta dd/dt), m; F (1 - nu) / (2 eta dd/dt)
+    for a Poisson ratio nu),
     ``central_pressure`` (Pa), ``saturated`` (the contact covers the whole indenter),
     ``at_edge`` (it reached the outermost ring of the BEM grid); for a height map
     ``contact_fraction`` (real contact area over the map's), ``patches`` (number of contact

@@ -23,7 +23,8 @@ __all__ = ["Scene", "OUTPUTS"]
 #: Outputs a scene may ask for. ``depth`` and ``contact_length`` are always computed;
 #: ``velocity`` (dd/dt, m/s) is a series of every time-dependent medium (exact for a viscous
 #: one, a second-order backward difference over the steps for the others);
-#: ``stiffness_length`` (F / (4 eta dd/dt), m) is a series of a purely viscous medium;
+#: ``stiffness_length`` (F / (4 eta dd/dt), m; F (1 - nu) / (2 eta dd/dt) for a Poisson ratio
+#: nu) is a series of a purely viscous medium;
 #: ``pressure`` (Pa), ``surface_velocity`` (m/s) and ``deflection`` (m) are fields at
 #: ``field_times``. A :class:`~mdrvisc.HeightMap` always reports ``contact_fraction`` (real
 #: contact area over the map's), ``patches`` (connected contact patches) and ``mean_gap`` (m),
@@ -103,7 +104,8 @@ class Scene:
         Rod, Paraboloid, Cone, Sphere, Profile or Axisymmetric (see :mod:`mdrvisc.geometry`);
         an Axisymmetric profile is sampled into a tabulated profile. Or a
         :class:`~mdrvisc.HeightMap`, solved by BEM on its own grid.
-    medium : Elastic, Viscous, KelvinVoigt, Maxwell, StandardSolid or Prony
+    medium : Elastic, Viscous, KelvinVoigt, Maxwell, StandardSolid, Prony or PowerLaw
+        With its Poisson ratio ``nu`` (default 0.5): the contact modulus is 2 G(t) / (1 - nu).
     force : float, (array, array) or callable
         Constant force (N) from t = 0, or a piecewise-linear history (times in s from 0,
         forces in N, >= 0), held after its last sample, or a callable F(t) (sampled at 4001

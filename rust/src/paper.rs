@@ -2,6 +2,7 @@
 //! paraboloids of its Section 6, with the paper's resolutions. The binary's `paper` command
 //! and the Python package's `mdrvisc.paper` both run these.
 
+use crate::scene::medium::INCOMPRESSIBLE;
 use crate::scene::{History, Indenter, Medium, Method, Output, RunSettings, Scene};
 
 /// Curvature parameters c (1/m) of the paraboloids of Section 6.
@@ -54,7 +55,10 @@ pub fn resolutions(quick: bool) -> Resolutions {
 pub fn rod() -> Scene {
     Scene {
         indenter: Indenter::Rod { radius: ROD_RADIUS },
-        medium: Medium::Viscous { eta: ETA },
+        medium: Medium::Viscous {
+            eta: ETA,
+            nu: INCOMPRESSIBLE,
+        },
         force: Some(History::Constant(FORCE)),
         depth: None,
         duration: Some(1.0),
@@ -79,7 +83,10 @@ pub fn paraboloid(c: f64) -> Scene {
             c,
             edge: Some(EDGE),
         },
-        medium: Medium::Viscous { eta: ETA },
+        medium: Medium::Viscous {
+            eta: ETA,
+            nu: INCOMPRESSIBLE,
+        },
         force: Some(History::Constant(FORCE)),
         depth: None,
         duration: Some(DURATION),

@@ -1,7 +1,8 @@
-//! Linear viscoelastic media (incompressible) as a relaxation modulus
+//! Linear viscoelastic media (incompressible, E* = 4 G) as a relaxation modulus
 //! G(t) = G_inf + sum_k G_k exp(-t / tau_k) + eta delta(t): elastic (G_inf only), Maxwell,
 //! standard linear solid and Prony series (generalised Maxwell), Kelvin–Voigt (G_inf and
-//! eta) and the Newtonian fluid (eta only).
+//! eta) and the Newtonian fluid (eta only). A medium of Poisson ratio nu enters as its
+//! incompressible equivalent (`crate::scene::Medium::incompressible_equivalent`).
 //!
 //! A material point is advanced by the exact exponential update of each Prony term for a
 //! strain-like variable that varies linearly over the step, so any ratio of relaxation time

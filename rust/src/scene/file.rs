@@ -22,6 +22,8 @@
 //! type = "viscous"        # elastic (G) | viscous (eta) | kelvinvoigt (G, eta)
 //! eta = 1.0               # | maxwell (G, eta) | standardsolid (G_inf, G1, tau1)
 //!                         # | prony (G_inf, terms = [[G_k, tau_k], ...])
+//!                         # | powerlaw (G0, beta, t0)
+//! nu = 0.5                # Poisson ratio of any medium, -1 < nu <= 0.5, optional
 //! ```
 
 use super::run::{Method, RunSettings};

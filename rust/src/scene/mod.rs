@@ -92,7 +92,8 @@ pub enum Output {
     ContactLength,
     /// Penetration rate dd/dt (m/s) of a viscous medium.
     Velocity,
-    /// F / (4 eta dd/dt) (m), the paper's contact length (Eq. 23) of a viscous medium.
+    /// F / (4 eta dd/dt) (m), the paper's contact length (Eq. 23) of a viscous medium
+    /// (F (1 - nu) / (2 eta dd/dt) for a Poisson ratio nu).
     StiffnessLength,
     /// Pressure field (Pa) at the field times.
     Pressure,
@@ -411,11 +412,15 @@ pub const COINCIDENT_TIMES: f64 = 1e-9;
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::scene::medium::INCOMPRESSIBLE;
 
     fn viscous(indenter: Indenter) -> Scene {
         Scene {
             indenter,
-            medium: Medium::Viscous { eta: 1.0 },
+            medium: Medium::Viscous {
+                eta: 1.0,
+                nu: INCOMPRESSIBLE,
+            },
             force: Some(History::Constant(1.0)),
             depth: None,
             duration: Some(5.0),
@@ -477,7 +482,10 @@ mod tests {
         s.dt = Some(1e-300);
         refused(s, "steps");
         let mut s = paraboloid();
-        s.medium = Medium::Elastic { g: 1.0 };
+        s.medium = Medium::Elastic {
+            g: 1.0,
+            nu: INCOMPRESSIBLE,
+        };
         refused(s, "static");
         let mut s = paraboloid();
         s.duration = None;
@@ -491,7 +499,10 @@ mod tests {
         let heights = vec![0.1, -0.25, 1.0 / 3.0, 2e-7, 0.0, -1.5];
         let map = HeightMap::new(2, 3, heights, 0.5, true).unwrap();
         let mut scene = viscous(Indenter::HeightMap(Box::new(map)));
-        scene.medium = Medium::Elastic { g: 1.0 };
+        scene.medium = Medium::Elastic {
+            g: 1.0,
+            nu: INCOMPRESSIBLE,
+        };
         scene.duration = None;
         let dir = std::env::temp_dir().join(format!("mdrvisc-scene-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();

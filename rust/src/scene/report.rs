@@ -89,7 +89,8 @@ pub struct Report {
     pub force: Vec<f64>,
     /// Penetration rate dd/dt (m/s), viscous medium.
     pub velocity: Option<Vec<f64>>,
-    /// F / (4 eta dd/dt) (m), the paper's contact length, viscous medium.
+    /// F / (4 eta dd/dt) (m), the paper's contact length, viscous medium (F (1 - nu) /
+    /// (2 eta dd/dt) for a Poisson ratio nu: 4 eta is the contact viscosity 2 eta / (1 - nu)).
     pub stiffness_length: Option<Vec<f64>>,
     /// Pressure at the centre of a flat punch (Pa).
     pub central_pressure: Option<Vec<f64>>,

@@ -322,8 +322,9 @@ fn run_static(scene: &Scene, settings: &RunSettings, monitor: &mut dyn Monitor) 
         ],
         "for an elastic medium",
     )?;
-    let g = match scene.medium {
-        super::Medium::Elastic { g } => g,
+    // the solvers' G: that of the incompressible medium with the same contact modulus
+    let g = match scene.medium.incompressible_equivalent()? {
+        super::Medium::Elastic { g, .. } => g,
         _ => unreachable!("run_static is called for elastic media"),
     };
     let force = scene.force.as_ref().expect("validated: force").last();
@@ -379,8 +380,9 @@ fn run_static(scene: &Scene, settings: &RunSettings, monitor: &mut dyn Monitor) 
 }
 
 fn run_viscous(scene: &Scene, settings: &RunSettings, monitor: &mut dyn Monitor) -> Result<Report> {
-    let eta = match scene.medium {
-        super::Medium::Viscous { eta } => eta,
+    // the solvers' eta: that of the incompressible medium with the same contact modulus
+    let eta = match scene.medium.incompressible_equivalent()? {
+        super::Medium::Viscous { eta, .. } => eta,
         _ => unreachable!("run_viscous is called for viscous media"),
     };
     let history = scene.force.as_ref().expect("validated: force").force()?;
@@ -656,6 +658,7 @@ fn run_viscoelastic(
 mod tests {
     use super::*;
     use crate::monitor::Silent;
+    use crate::scene::medium::INCOMPRESSIBLE;
     use crate::scene::{History, Indenter, Medium};
 
     fn scene(indenter: Indenter, medium: Medium, force: History) -> Scene {
@@ -683,7 +686,11 @@ mod tests {
     fn maxwell_under_a_force_on_an_unbounded_indenter() {
         let s = scene(
             Indenter::Paraboloid { c: 0.5, edge: None },
-            Medium::Maxwell { g: 1.0, eta: 2.0 },
+            Medium::Maxwell {
+                g: 1.0,
+                eta: 2.0,
+                nu: INCOMPRESSIBLE,
+            },
             History::Constant(0.3),
         );
         let mdr = solve(&s, Method::Mdr, 4001);
@@ -722,7 +729,10 @@ mod tests {
         let history = History::Samples(vec![[0.0, 0.0], [1.0, 2.0], [2.0, 1.0]]);
         let s = scene(
             Indenter::Rod { radius: 1.0 },
-            Medium::Viscous { eta: 1.0 },
+            Medium::Viscous {
+                eta: 1.0,
+                nu: INCOMPRESSIBLE,
+            },
             history,
         );
         let forces = [1.0, 2.0, 1.0];
@@ -753,7 +763,10 @@ mod tests {
     fn elastic_sphere_follows_hertz() {
         let mut s = scene(
             Indenter::Sphere { radius: 10.0 },
-            Medium::Elastic { g: 2.0 },
+            Medium::Elastic {
+                g: 2.0,
+                nu: INCOMPRESSIBLE,
+            },
             History::Constant(0.05),
         );
         s.duration = None;

@@ -22,9 +22,11 @@ pub fn sizing_radius(scene: &Scene) -> Result<f64> {
         return ind.radius_at_depth(d.max());
     }
     let force = scene.force.as_ref().expect("validated: force or depth");
-    match scene.medium {
-        Medium::Elastic { g } => ind.radius_at_load(force.last() / (4.0 * g)),
-        Medium::Viscous { eta } => {
+    // MDR loads F / (4 G) of the incompressible medium with the same contact modulus
+    let medium = scene.medium.incompressible_equivalent()?;
+    match medium {
+        Medium::Elastic { g, .. } => ind.radius_at_load(force.last() / (4.0 * g)),
+        Medium::Viscous { eta, .. } => {
             let t_end = *scene
                 .solved_times()
                 .last()
@@ -33,7 +35,7 @@ pub fn sizing_radius(scene: &Scene) -> Result<f64> {
         }
         _ => {
             let duration = scene.duration.expect("validated: a duration");
-            let compliance = scene.medium.creep_compliance(duration)?;
+            let compliance = medium.creep_compliance(duration)?;
             ind.radius_at_load(force.max() * compliance / 4.0)
         }
     }
@@ -75,8 +77,8 @@ pub fn mdr_half_length(scene: &Scene) -> Result<f64> {
 /// contact would leave the footprint (the solver then extrapolates; it checks every bound
 /// and widens a window that was too small).
 pub fn depth_bounds(scene: &Scene) -> Result<Vec<f64>> {
-    let eta = match scene.medium {
-        Medium::Viscous { eta } => eta,
+    let eta = match scene.medium.incompressible_equivalent()? {
+        Medium::Viscous { eta, .. } => eta,
         _ => {
             return Err(Error::InvalidInput(
                 "depth bounds need a viscous medium".into(),
