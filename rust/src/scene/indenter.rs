@@ -425,6 +425,36 @@ mod tests {
         assert!((s.radius_at_depth(d).unwrap() - a).abs() < 1e-12);
     }
 
+    /// A pyramid's BEM grid holds its exact heights; its MDR quantities are its equivalent
+    /// cone's.
+    #[test]
+    fn pyramid_grid_is_exact_and_its_mdr_is_the_cone() {
+        let alpha: f64 = 0.6;
+        let p = Indenter::Pyramid {
+            half_angle: alpha,
+            edge: None,
+        };
+        let g = p.bem_grid(8, 1.0).unwrap();
+        let centre = |i: usize| (i as f64 - 3.5) * 0.25;
+        for (k, &h) in g.height.iter().enumerate() {
+            let (x, y) = (centre(k % 8), centre(k / 8));
+            assert_eq!(h, x.abs().max(y.abs()) / alpha.tan());
+        }
+        let cone = pyramid::equivalent_cone(alpha, None);
+        for x in [0.1, 0.7] {
+            assert_eq!(p.profile_1d(x).unwrap(), cone.profile_1d(x).unwrap());
+            assert_eq!(p.height(x).unwrap(), cone.height(x).unwrap());
+            assert_eq!(
+                p.radius_at_depth(x).unwrap(),
+                cone.radius_at_depth(x).unwrap()
+            );
+            assert_eq!(
+                p.radius_at_load(x).unwrap(),
+                cone.radius_at_load(x).unwrap()
+            );
+        }
+    }
+
     /// A rod grid of n = 200 holds the 31417 elements of the paper's BEM disc.
     #[test]
     fn rod_grid_holds_the_papers_elements() {
