@@ -46,6 +46,11 @@ def test_mdr_solves_the_equivalent_cone_in_closed_form():
         assert mdr.contact_length[-1] == pytest.approx(4.0 * depth * tan_psi / math.pi, rel=3e-3)
         cone = mv.solve(_elastic(pyramid.equivalent_cone, force, G), "mdr", 1001)
         assert (cone.depth[-1], cone.contact_length[-1]) == (mdr.depth[-1], mdr.contact_length[-1])
+    impulse = np.array([0.0, 0.3, 2.0])
+    slope = 1.0 / tan_psi
+    # the viscous Lee-Radok depth of the cone, d = sqrt(pi s J / (8 eta)); measured 1 ulp
+    np.testing.assert_allclose(pyramid.depth_from_impulse(impulse, 2.0),
+                               np.sqrt(math.pi * slope * impulse / 16.0), rtol=1e-14)
     x = np.linspace(-1.0, 1.0, 9)
     np.testing.assert_array_equal(pyramid.profile_1d(x), pyramid.equivalent_cone.profile_1d(x))
     assert pyramid.contact_radius_at_depth(0.3) == pyramid.equivalent_cone.contact_radius_at_depth(0.3)
