@@ -48,7 +48,7 @@ def test_mdr_solves_the_equivalent_cone_in_closed_form():
         assert (cone.depth[-1], cone.contact_length[-1]) == (mdr.depth[-1], mdr.contact_length[-1])
     impulse = np.array([0.0, 0.3, 2.0])
     slope = 1.0 / tan_psi
-    # the viscous Lee-Radok depth of the cone, d = sqrt(pi s J / (8 eta)); measured 1 ulp
+    # the viscous Lee-Radok depth of the cone, d = sqrt(pi s J / (8 eta)); measured 0 (same rounding)
     np.testing.assert_allclose(pyramid.depth_from_impulse(impulse, 2.0),
                                np.sqrt(math.pi * slope * impulse / 16.0), rtol=1e-14)
     x = np.linspace(-1.0, 1.0, 9)
