@@ -24,8 +24,8 @@ command lines alike: the scene's keys (see :class:`mdrvisc.Scene`) plus ``method
                             # | prony (G_inf, terms = [[G_k, tau_k], ...])
 
 Units: lengths in m, c in 1/m, angles in radians, forces in N, times in s, moduli in Pa, eta
-in Pa s. Unknown, missing and mistyped keys raise :class:`mdrvisc.InvalidInputError` naming the key. The
-compiled scene model parses and validates the file, for both command lines.
+in Pa s. Unknown, missing and mistyped keys raise :class:`mdrvisc.InvalidInputError` naming
+the key. The compiled scene model parses and validates the file, for both command lines.
 """
 
 from __future__ import annotations
