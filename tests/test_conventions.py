@@ -29,6 +29,7 @@ EXAMPLES = {
     "Paraboloid": (lambda: mv.Paraboloid(c=0.2, edge=3.5), ["0.2", "3.5"]),
     "Cone": (lambda: mv.Cone(slope=0.3), ["0.3"]),
     "Sphere": (lambda: mv.Sphere(radius=2.5), ["2.5"]),
+    "Pyramid": (lambda: mv.Pyramid(half_angle=0.6, edge=1.5), ["0.6", "1.5"]),
     "Axisymmetric": (lambda: mv.Axisymmetric(lambda r: 0.5 * r**2, edge=2.0), ["2"]),
     "Profile": (lambda: mv.Profile([0.0, 1.0, 2.0], [0.0, 0.5, 2.0]), ["3"]),
     "HeightMap": (lambda: mv.HeightMap(np.zeros((3, 5)), 0.25, periodic=True), ["(3, 5)", "0.25", "True"]),

@@ -133,6 +133,7 @@ INDENTERS = {
     "Paraboloid": lambda a, b: mv.Paraboloid(a, b),
     "Cone": lambda a, b: mv.Cone(a, b),
     "Sphere": lambda a, b: mv.Sphere(a),
+    "Pyramid": lambda a, b: mv.Pyramid(a, b),
 }
 
 

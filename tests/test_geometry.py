@@ -10,7 +10,7 @@ from scipy.integrate import quad
 from scipy.special import gamma
 
 from mdrvisc.errors import DomainError, InvalidInputError
-from mdrvisc.geometry import Cone, Indenter, Paraboloid, Rod, Sphere
+from mdrvisc.geometry import Cone, Indenter, Paraboloid, Pyramid, Rod, Sphere
 from mdrvisc.profiles import Axisymmetric
 
 X = np.concatenate([np.geomspace(1e-6, 1e-2, 20), np.linspace(0.01, 3.0, 200)])
@@ -172,7 +172,7 @@ def test_sphere_mask_is_open_and_cap_is_on_the_sphere():
 
 @pytest.mark.parametrize("indenter", [
     Rod(0.8), Paraboloid(5.0), Paraboloid(0.05, edge=1.5), Cone(0.4), Cone(2.0, edge=1.0),
-    Sphere(0.9), Sphere(5.0), Axisymmetric(lambda r: r**1.5),
+    Sphere(0.9), Sphere(5.0), Pyramid(0.6), Pyramid(1.2, edge=1.0), Axisymmetric(lambda r: r**1.5),
     Axisymmetric(lambda r: r**2, edge=1.2), Axisymmetric(lambda r: 1 - np.cos(r), radius=0.7),
 ])
 def test_heights_are_finite_and_nonnegative(indenter):
@@ -269,6 +269,7 @@ def test_unreachable_depth_is_a_domain_error():
 @pytest.mark.parametrize("make, name", [
     (Rod, "radius"), (Sphere, "radius"), (Paraboloid, "c"), (Cone, "slope"),
     (lambda v: Paraboloid(1.0, edge=v), "edge"), (lambda v: Cone(1.0, edge=v), "edge"),
+    (lambda v: Pyramid(0.5, edge=v), "edge"),
     (lambda v: Axisymmetric(lambda r: r, radius=v), "radius"),
     (lambda v: Axisymmetric(lambda r: r, edge=v), "edge"),
 ])

@@ -136,6 +136,8 @@ def _scenes():
                    medium=mv.KelvinVoigt(G=1.0, eta=0.3), force=0.5, duration=1.0)
     yield mv.Scene(indenter=mv.Profile([0.0, 0.5, 1.0], [0.0, 0.1, 0.4]),
                    medium=mv.StandardSolid(1.0, 3.0, 0.5), depth=0.05, duration=1.0)
+    yield mv.Scene(indenter=mv.Pyramid(half_angle=0.6, edge=2.0),
+                   medium=mv.PowerLaw(G0=1.0, beta=0.2, t0=1.0), depth=([0.0, 1.0], [0.0, 0.3]), duration=1.0)
 
 
 @pytest.mark.parametrize("scene", list(_scenes()), ids=lambda s: type(s.indenter).__name__)

@@ -26,7 +26,7 @@ from .errors import (
     ResolutionWarning,
 )
 from .fitting import FitResult, fit
-from .geometry import Cone, Indenter, Paraboloid, Rod, Sphere
+from .geometry import Cone, Indenter, Paraboloid, Pyramid, Rod, Sphere
 from .grids import load_sweep, sweep_scenes, zip_scenes
 from .heightmap import HeightMap
 from .many import SceneFailure, Sweep, solve_many
@@ -41,7 +41,8 @@ __version__ = "0.1.0"
 logging.getLogger("mdrvisc").addHandler(logging.NullHandler())
 
 __all__ = ["Scene", "Result", "Fields", "OUTPUTS", "solve", "set_num_threads", "num_threads",
-           "Rod", "Paraboloid", "Cone", "Sphere", "Axisymmetric", "Profile", "Indenter", "HeightMap",
+           "Rod", "Paraboloid", "Cone", "Sphere", "Pyramid", "Axisymmetric", "Profile", "Indenter",
+           "HeightMap",
            "Viscous", "Elastic", "KelvinVoigt", "Maxwell", "StandardSolid", "Prony", "PowerLaw", "fit",
            "FitResult", "analytic", "arrays", "scenefile", "store", "surfaces", "solve_many", "Sweep",
            "SceneFailure", "sweep_scenes", "zip_scenes", "load_sweep", "MdrviscError", "InvalidInputError",

@@ -8,6 +8,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 __all__ = [
+    "EQUIVALENT_CONE_FACTOR",
     "MAGNITUDE",
     "Curve",
     "FieldSet",
@@ -32,6 +33,7 @@ __all__ = [
 ]
 
 MAGNITUDE: float
+EQUIVALENT_CONE_FACTOR: float
 
 _Progress = Callable[[str, int, int], object] | None
 _F64 = NDArray[np.float64]

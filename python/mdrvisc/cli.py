@@ -86,7 +86,8 @@ def _parser():
     fitting.add_argument("data", help="CSV file with a header row naming its columns")
     fitting.add_argument("--indenter", required=True,
                          help="tip as NAME:KEY=VALUE,..., e.g. sphere:radius=5e-6, paraboloid:c=1e5, "
-                              "cone:slope=0.36, rod:radius=1e-6 (SI units)")
+                              "cone:slope=0.36, pyramid:half_angle=0.61, rod:radius=1e-6 (SI units, "
+                              "angles in radians)")
     fitting.add_argument("--model", required=True,
                          help="medium: elastic, viscous, kelvinvoigt, maxwell, standardsolid, prony, "
                               "powerlaw")
@@ -104,7 +105,7 @@ def _indenter(spec):
     """The indenter of a NAME:KEY=VALUE,... specification."""
     name, _, rest = spec.partition(":")
     classes = {cls.__name__.lower(): cls for cls in (geometry.Sphere, geometry.Paraboloid, geometry.Cone,
-                                                      geometry.Rod)}
+                                                      geometry.Pyramid, geometry.Rod)}
     if name.lower() not in classes:
         raise InvalidInputError(f"--indenter: unknown tip {name!r}; one of {sorted(classes)}")
     values = {}

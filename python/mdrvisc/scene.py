@@ -13,7 +13,7 @@ import numpy as np
 from . import _core
 from ._validate import _array, _number, _positive
 from .errors import DomainError, InvalidInputError
-from .geometry import Cone, Indenter, Paraboloid, Rod, Sphere
+from .geometry import Cone, Indenter, Paraboloid, Pyramid, Rod, Sphere
 from .heightmap import HeightMap
 from .media import Elastic, _Medium, medium_from_model
 from .profiles import Axisymmetric, Profile
@@ -90,7 +90,7 @@ def indenter_from_model(model: dict) -> Indenter | HeightMap:
     if kind == "heightmap":
         return HeightMap(np.asarray(args.pop("heights"), dtype=np.float64), **args)
     classes = {"rod": Rod, "paraboloid": Paraboloid, "cone": Cone, "sphere": Sphere,
-               "profile": Profile}
+               "pyramid": Pyramid, "profile": Profile}
     return classes[kind](**args)
 
 
@@ -101,8 +101,9 @@ class Scene:
     Parameters
     ----------
     indenter : Indenter or HeightMap
-        Rod, Paraboloid, Cone, Sphere, Profile or Axisymmetric (see :mod:`mdrvisc.geometry`);
-        an Axisymmetric profile is sampled into a tabulated profile. Or a
+        Rod, Paraboloid, Cone, Sphere, Pyramid, Profile or Axisymmetric (see
+        :mod:`mdrvisc.geometry`); an Axisymmetric profile is sampled into a tabulated profile;
+        a Pyramid is exact in the BEM and its equivalent cone in MDR. Or a
         :class:`~mdrvisc.HeightMap`, solved by BEM on its own grid.
     medium : Elastic, Viscous, KelvinVoigt, Maxwell, StandardSolid, Prony or PowerLaw
         With its Poisson ratio ``nu`` (default 0.5): the contact modulus is 2 G(t) / (1 - nu).

@@ -14,7 +14,8 @@ command lines alike: the scene's keys (see :class:`mdrvisc.Scene`) plus ``method
 
     [indenter]
     type = "paraboloid"     # rod (radius) | paraboloid (c, edge) | cone (slope, edge)
-    c = 1.0                 # | sphere (radius) | profile (r, h, slope, edge, radius)
+    c = 1.0                 # | sphere (radius) | pyramid (half_angle, edge)
+                            # | profile (r, h, slope, edge, radius)
     edge = 2.56
 
     [medium]
@@ -22,9 +23,9 @@ command lines alike: the scene's keys (see :class:`mdrvisc.Scene`) plus ``method
     eta = 1.0               # | maxwell (G, eta) | standardsolid (G_inf, G1, tau1)
                             # | prony (G_inf, terms = [[G_k, tau_k], ...])
 
-Units: lengths in m, c in 1/m, forces in N, times in s, moduli in Pa, eta in Pa s. Unknown,
-missing and mistyped keys raise :class:`mdrvisc.InvalidInputError` naming the key. The
-compiled scene model parses and validates the file, for both command lines.
+Units: lengths in m, c in 1/m, angles in radians, forces in N, times in s, moduli in Pa, eta
+in Pa s. Unknown, missing and mistyped keys raise :class:`mdrvisc.InvalidInputError` naming
+the key. The compiled scene model parses and validates the file, for both command lines.
 """
 
 from __future__ import annotations

@@ -28,6 +28,9 @@ mod core_module {
     /// Largest magnitude of a physical input (and inverse of the smallest nonzero one).
     #[pymodule_export]
     const MAGNITUDE: f64 = crate::error::MAGNITUDE;
+    /// tan(psi) / tan(alpha) of the cone MDR solves in place of a four-sided pyramid.
+    #[pymodule_export]
+    const EQUIVALENT_CONE_FACTOR: f64 = crate::scene::pyramid::EQUIVALENT_CONE_FACTOR;
     #[pymodule_export]
     use super::report::{PyFieldSet, PyReport};
     #[pymodule_export]

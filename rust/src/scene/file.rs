@@ -15,7 +15,8 @@
 //!
 //! [indenter]
 //! type = "paraboloid"     # rod (radius) | paraboloid (c, edge) | cone (slope, edge)
-//! c = 1.0                 # | sphere (radius) | profile (r, h, slope, edge, radius)
+//! c = 1.0                 # | sphere (radius) | pyramid (half_angle, edge)
+//!                         # | profile (r, h, slope, edge, radius)
 //! edge = 2.56             # | heightmap (heights = "surface.npy", dx, periodic)
 //!
 //! [medium]

@@ -1,5 +1,6 @@
 //! Rigid indenters: axisymmetric ones h = f(r), with their footprints, BEM height maps and
-//! MDR 1D profiles g(x) = |x| * integral_0^|x| f'(r) / sqrt(x^2 - r^2) dr (Popov & Hess),
+//! MDR 1D profiles g(x) = |x| * integral_0^|x| f'(r) / sqrt(x^2 - r^2) dr (Popov & Hess);
+//! the four-sided pyramid (`pyramid.rs`), exact in the BEM and an equivalent cone in MDR;
 //! and height maps (`heightmap.rs`), which fix their own BEM grid and have no MDR profile.
 //!
 //! Lengths in m. A footprint is the part of the plane the indenter covers: a disc, a centred
@@ -8,12 +9,13 @@
 
 use super::heightmap::{not_axisymmetric, HeightMap, HeightMapTable};
 use super::profile::{Profile, ProfileTable};
+use super::pyramid;
 use crate::error::{check_positive, Error, Result};
 use crate::grid::Grid;
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
 
-/// A rigid indenter: axisymmetric, or a height map.
+/// A rigid indenter: axisymmetric, a four-sided pyramid, or a height map.
 #[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
 #[serde(tag = "type", rename_all = "lowercase", deny_unknown_fields)]
 pub enum Indenter {
@@ -35,6 +37,15 @@ pub enum Indenter {
         /// Slope (dimensionless, the cotangent of the half-opening angle).
         slope: f64,
         /// Side of a centred square footprint (m); absent: unbounded.
+        #[serde(default)]
+        edge: Option<f64>,
+    },
+    /// Four-sided pyramid h = max(|x|, |y|) / tan(half_angle) (see `pyramid.rs`); MDR
+    /// solves its equivalent cone.
+    Pyramid {
+        /// Face half-angle alpha (radians, in (0, pi/2)): between the axis and a face.
+        half_angle: f64,
+        /// Side of a centred square footprint (m), the pyramid's base; absent: unbounded.
         #[serde(default)]
         edge: Option<f64>,
     },
@@ -122,6 +133,10 @@ impl Indenter {
                 check_positive("cone slope", slope)?;
                 edge
             }
+            Indenter::Pyramid { half_angle, edge } => {
+                pyramid::check_half_angle(half_angle)?;
+                edge
+            }
         };
         edge.map_or(Ok(()), |e| check_positive("footprint edge", e))
     }
@@ -140,7 +155,9 @@ impl Indenter {
                 radius: *radius,
                 rim: false,
             },
-            Indenter::Paraboloid { edge, .. } | Indenter::Cone { edge, .. } => square(*edge),
+            Indenter::Paraboloid { edge, .. }
+            | Indenter::Cone { edge, .. }
+            | Indenter::Pyramid { edge, .. } => square(*edge),
             Indenter::Profile(p) => match (p.table().radius, p.table().edge) {
                 (Some(radius), _) => Footprint::Disc { radius, rim: true },
                 (None, edge) => square(edge),
@@ -179,12 +196,25 @@ impl Indenter {
         }
     }
 
-    /// Height above the tip (m) at radius `r` (m) inside the footprint.
+    /// Height above the tip (m) at (`x`, `y`) (m) inside the footprint: the indenter's true
+    /// shape, which the BEM solves.
+    pub fn surface(&self, x: f64, y: f64) -> Result<f64> {
+        match *self {
+            Indenter::Pyramid { half_angle, .. } => Ok(pyramid::height(half_angle, x, y)),
+            _ => self.height(x.hypot(y)),
+        }
+    }
+
+    /// Height above the tip (m) at radius `r` (m) inside the footprint, of the axisymmetric
+    /// indenter MDR solves (a pyramid's equivalent cone).
     pub fn height(&self, r: f64) -> Result<f64> {
         Ok(match self {
             Indenter::Rod { .. } => 0.0,
             Indenter::Paraboloid { c, .. } => c * r * r,
             Indenter::Cone { slope, .. } => slope * r,
+            Indenter::Pyramid { half_angle, edge } => {
+                pyramid::equivalent_cone(*half_angle, *edge).height(r)?
+            }
             Indenter::Sphere { radius } => r * r / (radius + ((radius - r) * (radius + r)).sqrt()),
             Indenter::Profile(p) => p.height(r)?,
             Indenter::HeightMap(_) => return Err(not_axisymmetric("height h(r)")),
@@ -198,6 +228,9 @@ impl Indenter {
             Indenter::Rod { .. } => 0.0,
             Indenter::Paraboloid { c, .. } => 2.0 * c * x * x,
             Indenter::Cone { slope, .. } => 0.5 * PI * slope * x,
+            Indenter::Pyramid { half_angle, edge } => {
+                pyramid::equivalent_cone(*half_angle, *edge).profile_1d(x)?
+            }
             Indenter::Sphere { radius } => {
                 if x >= *radius {
                     return Err(Error::InvalidInput(format!(
@@ -219,6 +252,9 @@ impl Indenter {
             Indenter::Rod { radius } => *radius,
             Indenter::Paraboloid { c, .. } => (d / (2.0 * c)).sqrt(),
             Indenter::Cone { slope, .. } => 2.0 * d / (PI * slope),
+            Indenter::Pyramid { half_angle, edge } => {
+                pyramid::equivalent_cone(*half_angle, *edge).radius_at_depth(d)?
+            }
             Indenter::HeightMap(_) => return Err(not_axisymmetric("contact radius")),
             _ => self.bisect(|a| self.profile_1d(a), d)?,
         })
@@ -234,6 +270,9 @@ impl Indenter {
             Indenter::Paraboloid { c, .. } => (3.0 * s / (8.0 * c)).cbrt(),
             // 2 (k a^2 - k a^2 / 2) = k a^2, k = pi slope / 2
             Indenter::Cone { slope, .. } => (s / (0.5 * PI * slope)).sqrt(),
+            Indenter::Pyramid { half_angle, edge } => {
+                pyramid::equivalent_cone(*half_angle, *edge).radius_at_load(s)?
+            }
             Indenter::HeightMap(_) => return Err(not_axisymmetric("contact radius")),
             _ => self.bisect(|a| self.mdr_load(a), s)?,
         })
@@ -325,7 +364,8 @@ impl Indenter {
     /// BEM grid over a square of half-width `half` (m) with n elements across. A flat face
     /// gets dx = 2 half / n on a grid centred on an element ((n + 1) x (n + 1) for even n:
     /// n = 200 puts 31417 elements in a disc); a height map its own grid (n must be its
-    /// `HeightMap::n`); any other indenter n x n element centres symmetric about the axis.
+    /// `HeightMap::n`); any other indenter n x n element centres symmetric about the axis,
+    /// with the heights of its true shape (`surface`: a pyramid's, not its cone's).
     pub fn bem_grid(&self, n: usize, half: f64) -> Result<Grid> {
         if let Indenter::HeightMap(m) = self {
             m.check_run(super::run::Method::Bem, n)?;
@@ -343,10 +383,9 @@ impl Indenter {
         for iy in 0..m {
             for ix in 0..m {
                 let (x, y) = (centre(ix), centre(iy));
-                let r = x.hypot(y);
-                let inside = self.covers(x, y, r);
+                let inside = self.covers(x, y, x.hypot(y));
                 allowed.push(inside);
-                height.push(if inside { self.height(r)? } else { 0.0 });
+                height.push(if inside { self.surface(x, y)? } else { 0.0 });
             }
         }
         Grid::new(m, m, dx, height, allowed)
@@ -384,6 +423,36 @@ mod tests {
         let a: f64 = 0.9;
         let d = 0.5 * a * ((1.5 + a) / (1.5 - a)).ln();
         assert!((s.radius_at_depth(d).unwrap() - a).abs() < 1e-12);
+    }
+
+    /// A pyramid's BEM grid holds its exact heights; its MDR quantities are its equivalent
+    /// cone's.
+    #[test]
+    fn pyramid_grid_is_exact_and_its_mdr_is_the_cone() {
+        let alpha: f64 = 0.6;
+        let p = Indenter::Pyramid {
+            half_angle: alpha,
+            edge: None,
+        };
+        let g = p.bem_grid(8, 1.0).unwrap();
+        let centre = |i: usize| (i as f64 - 3.5) * 0.25;
+        for (k, &h) in g.height.iter().enumerate() {
+            let (x, y) = (centre(k % 8), centre(k / 8));
+            assert_eq!(h, x.abs().max(y.abs()) / alpha.tan());
+        }
+        let cone = pyramid::equivalent_cone(alpha, None);
+        for x in [0.1, 0.7] {
+            assert_eq!(p.profile_1d(x).unwrap(), cone.profile_1d(x).unwrap());
+            assert_eq!(p.height(x).unwrap(), cone.height(x).unwrap());
+            assert_eq!(
+                p.radius_at_depth(x).unwrap(),
+                cone.radius_at_depth(x).unwrap()
+            );
+            assert_eq!(
+                p.radius_at_load(x).unwrap(),
+                cone.radius_at_load(x).unwrap()
+            );
+        }
     }
 
     /// A rod grid of n = 200 holds the 31417 elements of the paper's BEM disc.

@@ -9,6 +9,7 @@ pub mod heightmap;
 pub mod indenter;
 pub mod medium;
 pub mod profile;
+pub mod pyramid;
 pub mod report;
 pub mod run;
 pub mod sizing;

@@ -1,0 +1,66 @@
+"""A four-sided pyramid tip: the exact BEM against MDR's equivalent cone
+=======================================================================
+
+AFM cantilever tips are four-sided pyramids, h = max(``|x|``, ``|y|``) / tan(alpha), alpha the
+face half-angle. The BEM solves that shape exactly; MDR, which needs an axisymmetric indenter,
+solves an equivalent cone: Bilodeau's, tan(psi) = 0.7453 (pi/2) tan(alpha), whose elastic
+force is F = 0.7453 E* tan(alpha) d^2 (E* = 4 G for an incompressible body).
+
+First the elastic constant k = F pi / (8 G tan(alpha) d^2) of the exact pyramid as the BEM grid
+is refined, against Bilodeau's cone and the cone of equal projected area; then the contact's
+shape; then a tip pressed 1 um into a standard linear solid and held, by both methods.
+
+    python examples/pyramid_tip.py
+"""
+
+import math
+
+import numpy as np
+
+import mdrvisc as mv
+
+ALPHA = math.radians(35.0)
+
+
+def elastic_constant(n):
+    """k of the exact pyramid by BEM on an n x n grid (G = 1 Pa, F = 1 N)."""
+    scene = mv.Scene(indenter=mv.Pyramid(half_angle=ALPHA), medium=mv.Elastic(G=1.0), force=1.0)
+    result = mv.solve(scene, "bem", n)
+    return math.pi / (8.0 * result.depth[-1] ** 2 * math.tan(ALPHA))
+
+
+def contact_shape(n=128):
+    """The extents of the BEM contact along the diagonal and along an axis."""
+    scene = mv.Scene(indenter=mv.Pyramid(half_angle=ALPHA), medium=mv.Elastic(G=1.0), force=1.0,
+                     outputs=("depth", "contact_length", "pressure"))
+    result = mv.solve(scene, "bem", n)
+    fields = result.fields[0.0]
+    contact = fields.pressure > 0
+    x = fields.x
+    axis = np.max(np.abs(x[contact[n // 2]])) + 0.5 * result.dx
+    diagonal = math.sqrt(2.0) * (np.max(np.abs(x[np.diagonal(contact)])) + 0.5 * result.dx)
+    return axis, diagonal, result.contact_length[-1] / 2
+
+
+def relaxation(n_bem=48, n_mdr=4001):
+    """A tip pressed 1 um into a standard solid in 1 s and held for 1 s: forces (N)."""
+    scene = mv.Scene(indenter=mv.Pyramid(half_angle=ALPHA),
+                     medium=mv.StandardSolid(G_inf=4e8, G1=8e8, tau1=0.5),
+                     depth=([0.0, 1.0, 2.0], [0.0, 1e-6, 1e-6]), duration=2.0, times=[1.0, 1.5, 2.0])
+    return scene.times, mv.solve(scene, "bem", n_bem).force, mv.solve(scene, "mdr", n_mdr).force
+
+
+if __name__ == "__main__":
+    bilodeau, equal_area = 0.7453 * math.pi / 2, 2.0 / math.sqrt(math.pi)
+    print("elastic pyramid, alpha = 35 deg: k = F pi / (8 G tan(alpha) d^2)")
+    for n in (32, 64, 128, 256):
+        k = elastic_constant(n)
+        print(f"  BEM {n:4d}^2: k = {k:.6f}; Bilodeau's cone {bilodeau / k - 1:+.2%}, "
+              f"equal-area cone {equal_area / k - 1:+.2%}")
+    axis, diagonal, radius = contact_shape()
+    print(f"contact (BEM 128^2): extent {axis:.4f} m along an axis, {diagonal:.4f} m along the "
+          f"diagonal (ratio {diagonal / axis:.2f}; a square's is 1.41); equal-area radius {radius:.4f} m")
+    t, bem, mdr = relaxation()
+    print("standard solid, depth ramped to 1 um and held:")
+    for ti, fb, fm in zip(t, bem, mdr):
+        print(f"  t = {ti:.1f} s: BEM {fb:.4e} N, MDR {fm:.4e} N (MDR/BEM {fm / fb:.4f})")
