@@ -54,13 +54,14 @@ Timings: wall clock, scene or model set-up from the height array + all steps (md
 ``mv.Scene(...)`` + ``mv.solve`` end to end, both field times included), best of
 ``--rounds`` (2) interleaved rounds (mdrvisc, tamaas, mdrvisc at equal accuracy, then
 again); a run over ``--single-above`` (60 s) is not repeated. mdrvisc runs its rayon pool on
-all cores, tamaas (the PyPI wheel, cpp backend) on one. Iterations: CG iterations summed
-over the steps.
+all cores, tamaas (the PyPI wheel, cpp backend) on one; ``--mv-threads1`` adds mdrvisc's
+times on one thread (this script in a subprocess with RAYON_NUM_THREADS=1, best of
+``--rounds``). Iterations: CG iterations summed over the steps.
 
 Peers run in their own venv, through ``creep_worker.py`` (its interpreter: ``--peers-python
 PATH`` or $MDRVISC_PEERS_PYTHON). Run: ``python benchmarks/bench_rough_creep.py
---peers-python PATH [--size 512] [--steps 100] [--rounds 2] [--ref-steps 800]
-[--conv-size 128]``.
+--peers-python PATH [--size 512] [--steps 100] [--rounds 2] [--single-above 60]
+[--ref-steps 800] [--conv-size 128] [--mv-threads1]``.
 """
 
 from __future__ import annotations
@@ -134,6 +135,18 @@ def mv_creep(z, medium, pbar, duration, steps, tol):
     wall = time.perf_counter() - start
     fields = {k: np.asarray(r.fields[t].pressure) for k, t in zip(("mid", "end"), sorted(r.fields))}
     return wall, fields, r
+
+
+def one_thread(args, pbar, steps) -> float:
+    """mdrvisc's wall (s) for ``steps`` steps with RAYON_NUM_THREADS=1: this script in a
+    subprocess (rayon sizes its pool once per process) with ``--time-mv``."""
+    cmd = [sys.executable, str(Path(__file__).resolve()), "--time-mv", str(steps), "--size",
+           str(args.size), "--seed", str(args.seed), "--pressure", repr(pbar), "--duration",
+           repr(args.duration), "--g-inf", repr(args.g_inf), "--g1", repr(args.g1), "--tau1",
+           repr(args.tau1), "--tol", repr(args.tol), "--no-peers"]
+    proc = subprocess.run(cmd, capture_output=True, text=True, check=True,
+                          env=dict(os.environ, RAYON_NUM_THREADS="1"))
+    return float(proc.stdout.strip().splitlines()[-1])
 
 
 def peer(args, *worker_args, timeout=3600.0) -> dict:
@@ -282,7 +295,16 @@ def main(argv=None) -> None:
                     help="Python interpreter of the venv holding tamaas "
                          f"(default: ${PEERS_PYTHON_ENV}; set-up in benchmarks/README.md)")
     ap.add_argument("--no-peers", action="store_true", help="mdrvisc alone")
+    ap.add_argument("--mv-threads1", action="store_true",
+                    help="also time mdrvisc's runs with RAYON_NUM_THREADS=1 (tamaas is serial)")
+    ap.add_argument("--time-mv", type=int, default=None, metavar="STEPS",
+                    help="(used by --mv-threads1) print the wall of one mdrvisc run and stop")
     args = ap.parse_args(argv)
+    if args.time_mv is not None:
+        z = surface(args.size, args.seed)
+        medium = mv.StandardSolid(G_inf=args.g_inf, G1=args.g1, tau1=args.tau1)
+        print(mv_creep(z, medium, args.pressure, args.duration, args.time_mv, args.tol)[0])
+        return
     if args.no_peers:
         args.peers_python = None
     elif not args.peers_python:
@@ -376,6 +398,11 @@ def main(argv=None) -> None:
                 else:
                     run["walls"].append(mv_creep(z, medium, pbar, duration, run["steps"],
                                                  args.tol)[0])
+        if args.mv_threads1:
+            for name, run in runs.items():
+                if name != "tamaas":
+                    run["threads1"] = min(one_thread(args, pbar, run["steps"])
+                                          for _ in range(args.rounds))
 
     wall_mv = min(runs["mdrvisc"]["walls"])
     rows = []
@@ -411,6 +438,12 @@ def main(argv=None) -> None:
         notes.append(f"tamaas: solves {'converged' if tm_run['converged'] else 'NOT converged'} "
                      f"(largest error {tm_run['max_error']:.1e}), {tm_run['threads']}; "
                      f"walls {', '.join(f'{w:.1f}' for w in tm_run['walls'])} s")
+    for name, run in runs.items():
+        if "threads1" in run:
+            ratio = (f", tamaas / it = {min(runs['tamaas']['walls']) / run['threads1']:.1f}"
+                     if "tamaas" in runs else "")
+            notes.append(f"{name} on one thread (RAYON_NUM_THREADS=1, best of {args.rounds}): "
+                         f"{run['threads1']:.2f} s{ratio}")
     notes.append("mdrvisc walls: " + "; ".join(
         f"{k}: {', '.join(f'{w:.2f}' for w in v['walls'])} s" for k, v in runs.items()
         if k != "tamaas"))
