@@ -21,6 +21,8 @@ PARA = mv.Paraboloid(c=1.0, edge=2.56)
     (lambda: mv.Scene(indenter=PARA, medium=VISCOUS, force=-1.0, duration=1.0), "force"),
     (lambda: mv.Scene(indenter=PARA, medium=VISCOUS, force=1.0, duration=0.0), "duration"),
     (lambda: mv.Scene(indenter=PARA, medium=VISCOUS, force=1.0, duration=-5.0), "duration"),
+    (lambda: mv.Scene(indenter=PARA, medium=VISCOUS, force=1.0, duration=1j), "duration"),
+    (lambda: mv.Scene(indenter=PARA, medium=VISCOUS, force=1.0, duration=1.0, dt=1j), "dt"),
     (lambda: mv.Scene(indenter=PARA, medium=VISCOUS, force=1.0), "duration"),
     (lambda: mv.Scene(indenter=PARA, medium=VISCOUS, force=1.0, duration=1.0, times=[0.5, 0.2]), "times"),
     (lambda: mv.Scene(indenter=PARA, medium=VISCOUS, force=1.0, duration=1.0, times=[np.nan]), "times"),

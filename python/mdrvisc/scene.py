@@ -11,7 +11,7 @@ import math
 import numpy as np
 
 from . import _core
-from ._validate import _array, _number, _positive
+from ._validate import _array, _finite_positive, _number, _positive
 from .errors import DomainError, InvalidInputError
 from .geometry import Cone, Indenter, Paraboloid, Pyramid, Rod, Sphere
 from .heightmap import HeightMap
@@ -69,7 +69,8 @@ def _array_or_none(name, value):
 
 
 def _json(model):
-    """``model`` as JSON text; a non-finite number is an error naming its key."""
+    """``model`` as JSON text; a non-finite number is an error naming its key (searched for
+    only when the encoder refuses one: a height map's million numbers are not walked)."""
     def walk(value, path):
         if isinstance(value, float) and not math.isfinite(value):
             raise InvalidInputError(f"Scene: {path} must be finite, got {value!r}")
@@ -79,8 +80,11 @@ def _json(model):
         elif isinstance(value, list):
             for v in value:
                 walk(v, path)
-    walk(model, "")
-    return json.dumps(model)
+    try:
+        return json.dumps(model, allow_nan=False)
+    except ValueError:
+        walk(model, "")
+        raise
 
 
 def indenter_from_model(model: dict) -> Indenter | HeightMap:
@@ -162,9 +166,10 @@ class Scene:
         for name in ("force", "depth"):
             if getattr(self, name) is not None:
                 model[name] = _history(getattr(self, name), name, self.duration)
-        for name in ("duration", "dt"):
-            if getattr(self, name) is not None:
-                model[name] = getattr(self, name)
+        if self.duration is not None:
+            model["duration"] = _positive("Scene", "duration", self.duration)
+        if self.dt is not None:
+            model["dt"] = _finite_positive("Scene", "dt", self.dt)
         for name in ("times", "field_times"):
             if getattr(self, name) is not None:
                 model[name] = _array_or_none(name, getattr(self, name))
