@@ -125,6 +125,17 @@ def test_rough_elastic_contact_keeps_the_invariants():
     assert r.mean_gap[0] == pytest.approx(f.gap.mean(), rel=1e-12)
 
 
+def test_a_sweep_of_height_maps_solves_each_on_its_own_grid():
+    scenes = [mv.Scene(indenter=_rough_map(n, 1.0 / n, seed=1, rms=1e-3), medium=mv.Elastic(G=1.0),
+                       force=2e-3) for n in (32, 48)]
+    sweep = mv.solve_many(scenes, workers=1, progress=False)
+    assert not sweep.failures and sweep.n is None
+    for scene, result in zip(scenes, sweep.results):
+        alone = mv.solve(scene)
+        assert result.n == alone.n == scene.indenter.n
+        assert result.depth[0] == alone.depth[0]
+
+
 @pytest.mark.filterwarnings("ignore::mdrvisc.ResolutionWarning")  # the instant contact is small
 def test_rough_creep_on_a_standard_solid_goes_from_the_instant_to_the_relaxed_elastic_contact():
     """Constant force on G(t) = G_inf + G1 exp(-t/tau): the contact grows monotonically from

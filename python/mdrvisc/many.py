@@ -29,7 +29,7 @@ from .errors import InvalidInputError, MdrviscError
 from .progress import ProgressBar
 from .result import SERIES, Result
 from .scene import Scene
-from .solve import DEFAULT_N, solve
+from .solve import DEFAULT_N, resolution, solve
 from .store import Store, scene_key
 
 if TYPE_CHECKING:
@@ -65,11 +65,13 @@ class Sweep:
     scene failed (or was not reached when the sweep was interrupted). ``failures``: a
     :class:`SceneFailure` per scene that raised. ``computed``, ``loaded``: how many results
     were solved now and read from the store. ``wall_time``: seconds of the whole sweep.
+    ``n``: the resolution of every solve, None where the scenes' height maps fixed different
+    ones.
     """
 
     scenes: list[Scene]
     method: str
-    n: int
+    n: int | None
     results: list[Result | None]
     failures: list[SceneFailure]
     computed: int = 0
@@ -241,7 +243,8 @@ def solve_many(scenes: Iterable[Scene], method: str = "bem", n: int | None = Non
     scenes : iterable of Scene
         E.g. from :func:`mdrvisc.sweep_scenes`.
     method, n :
-        As in :func:`mdrvisc.solve`, the same for every scene.
+        As in :func:`mdrvisc.solve`, the same for every scene; without ``n``, each height
+        map's own and the method's default for other indenters.
     client : dask.distributed.Client, optional
         Run on that cluster (``pip install 'mdrvisc[dask]'``); default: this machine.
     store : str or Path, optional
@@ -279,14 +282,15 @@ def solve_many(scenes: Iterable[Scene], method: str = "bem", n: int | None = Non
             raise InvalidInputError(f"solve_many: scenes[{i}] must be a Scene, got {scene!r}")
     if method not in DEFAULT_N:
         raise InvalidInputError(f"solve_many: method must be 'bem' or 'mdr', got {method!r}")
-    n = DEFAULT_N[method] if n is None else n
-    try:
-        count = -1 if isinstance(n, bool) else operator.index(n)
-    except TypeError:
-        count = -1
-    if count < 1:
-        raise InvalidInputError(f"solve_many: n must be a positive integer, got {n!r}")
-    n = count
+    if n is not None:
+        try:
+            count = -1 if isinstance(n, bool) else operator.index(n)
+        except TypeError:
+            count = -1
+        if count < 1:
+            raise InvalidInputError(f"solve_many: n must be a positive integer, got {n!r}")
+        n = count
+    ns = [resolution(scene, method, n) for scene in scenes]
     unknown = set(solve_options) - set(SOLVE_OPTIONS)
     if unknown:
         raise InvalidInputError(f"solve_many: unknown solve option(s) {sorted(unknown)}; "
@@ -295,15 +299,16 @@ def solve_many(scenes: Iterable[Scene], method: str = "bem", n: int | None = Non
         raise InvalidInputError(f"solve_many: workers must be a positive integer, got {workers!r}")
     shelf = None if store is None else Store(store)
     # the key sees every option, so that a default named or not is the same result
-    keys = [scene_key(scene, method, n, {**SOLVE_OPTIONS, **solve_options}) for scene in scenes]
-    sweep = Sweep(scenes, method, n, [None] * len(scenes), [])
+    keys = [scene_key(scene, method, k, {**SOLVE_OPTIONS, **solve_options}) for scene, k in zip(scenes, ns)]
+    common = ns[0] if ns and all(k == ns[0] for k in ns) else None
+    sweep = Sweep(scenes, method, common, [None] * len(scenes), [])
     tasks = []
     for index, (scene, key) in enumerate(zip(scenes, keys)):
         if shelf is not None and key in shelf:
             sweep.results[index] = shelf.load(key)
             sweep.loaded += 1
         else:
-            tasks.append((index, scene.to_json(), method, n, solve_options))
+            tasks.append((index, scene.to_json(), method, ns[index], solve_options))
 
     def collect(index: int, result: Result | None, error: BaseException | None) -> None:
         if error is not None:

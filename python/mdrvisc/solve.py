@@ -27,6 +27,14 @@ DEFAULT_N = {"bem": 257, "mdr": 66049}
 _log = logging.getLogger("mdrvisc")
 
 
+def resolution(scene: Scene, method: str, n: int | None) -> int:
+    """The ``n`` a solve of ``scene`` by ``method`` runs at: ``n`` when given, else a height
+    map's own (its longer side) or the method's default (``DEFAULT_N``)."""
+    if n is not None:
+        return n
+    return scene.indenter.n if isinstance(scene.indenter, HeightMap) else DEFAULT_N[method]
+
+
 def solve(scene: Scene, method: str = "bem", n: int | None = None, tol: float = 1e-10,
           max_iter: int = 5000, progress: Callable[[str, int, int], object] | bool | None = None,
           integrator: str = "implicit", step: float = 0.01, area_change: float = 0.01,
@@ -70,9 +78,7 @@ def solve(scene: Scene, method: str = "bem", n: int | None = None, tol: float = 
         raise InvalidInputError(f"solve: scene must be a Scene, got {scene!r}")
     if method not in DEFAULT_N:
         raise InvalidInputError(f"solve: method must be 'bem' or 'mdr', got {method!r}")
-    if n is None:
-        n = scene.indenter.n if isinstance(scene.indenter, HeightMap) else DEFAULT_N[method]
-    n = _integer("solve", "n", n, 1)
+    n = _integer("solve", "n", resolution(scene, method, n), 1)
     if integrator not in ("implicit", "explicit"):
         raise InvalidInputError(f"solve: integrator must be 'implicit' or 'explicit', got {integrator!r}")
     # every option is checked, whether or not this scene and method use it
