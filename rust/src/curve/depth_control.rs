@@ -56,18 +56,34 @@ impl Sums {
 }
 
 impl Curve {
-    /// `Curve::evaluate` under depth control.
+    /// `Curve::evaluate` under depth control, with `shift` (m) added to every prescribed
+    /// depth; with a shift, the derivative along it is a last tangent (a zero rheology
+    /// tangent whose depth moves at unit rate).
     pub(super) fn evaluate_depth_control(
         &self,
         r: &Rheology,
         tangents: &[Rheology],
+        shift: Option<f64>,
     ) -> Result<Evaluation> {
+        let mut all = tangents.to_vec();
+        let mut rates = vec![0.0; tangents.len()];
+        if shift.is_some() {
+            all.push(Rheology {
+                g_inf: 0.0,
+                terms: vec![(0.0, 0.0); r.terms.len()],
+                eta: 0.0,
+            });
+            rates.push(1.0);
+        }
+        let tangents = &all[..];
+        let shift = shift.unwrap_or(0.0);
         let p = tangents.len();
         let samples = self.times.len();
         let mut steps = vec![];
         let mut coefficients: Vec<(f64, StepCoefficients)> = vec![];
         let (mut t_prev, mut value_prev) = (0.0, 0.0);
         for (s, (&t_sample, &v_sample)) in self.times.iter().zip(&self.values).enumerate() {
+            let v_sample = v_sample + shift;
             let substeps = self.substeps_to(r, (t_prev, value_prev), (t_sample, v_sample))?;
             let last = substeps.len();
             let mut clock = t_prev;
@@ -103,7 +119,7 @@ impl Curve {
                 let mut state = ElementState::new(r.terms.len(), p);
                 for &g in &self.g[b * BLOCK..n.min((b + 1) * BLOCK)] {
                     if g < deepest {
-                        state.run(g, &steps, &coefficients, &mut sums);
+                        state.run(g, &steps, &coefficients, &rates, &mut sums);
                     }
                 }
                 sums
@@ -146,13 +162,15 @@ impl ElementState {
     }
 
     /// Steps the element at profile height `g` (m) from rest through `steps`, adding its
-    /// force at each sample to `sums`. Until the depth first passes g the element's state
-    /// stays zero and its steps are skipped.
+    /// force at each sample to `sums`; `rates` are the derivatives of the depth along each
+    /// tangent (constant over the history). Until the depth first passes g the element's
+    /// state stays zero and its steps are skipped.
     fn run(
         &mut self,
         g: f64,
         steps: &[Step],
         coefficients: &[(f64, StepCoefficients)],
+        rates: &[f64],
         sums: &mut Sums,
     ) {
         let (m, p) = (self.m, self.p);
@@ -184,16 +202,17 @@ impl ElementState {
                 sums.force[s] += c.g_eff * (depth - g) + hist;
                 sums.contact[s] += 1;
                 for j in 0..p {
-                    sums.d_force[s * p + j] += c.d_g_eff[j] * (depth - g) + self.dh[j];
+                    sums.d_force[s * p + j] +=
+                        c.d_g_eff[j] * (depth - g) + c.g_eff * rates[j] + self.dh[j];
                 }
             }
             let dw_step = w_new - w;
             let inv = 1.0 / c.g_eff;
             for j in 0..p {
-                // the depth is prescribed: a touching element's displacement does not depend
-                // on the parameters; a free one's follows its relaxed surface
+                // a touching element's displacement follows the prescribed depth (which
+                // depends on the shift only); a free one's follows its relaxed surface
                 let dw_new = if touching {
-                    0.0
+                    rates[j]
                 } else {
                     (hist * c.d_g_eff[j] * inv - self.dh[j]) * inv
                 };

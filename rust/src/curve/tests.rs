@@ -136,3 +136,48 @@ fn derivatives_match_central_differences() {
         }
     }
 }
+
+/// The derivative along a depth shift against central differences of the shifted curve
+/// (step 1e-7 of a 0.3 peak depth: truncation and round-off ~1e-8 relative to the largest
+/// derivative), on a raw-curve-like history that starts out of contact (depths < 0 from
+/// t = 0) and separates on retraction; the rheology columns beside it against the unshifted
+/// curve of the shifted depths.
+#[test]
+fn shift_derivative_matches_central_differences() {
+    let (half, _, dx) = half_parabola(400, 1.0, 1.0);
+    let times: Vec<f64> = (0..=60).map(|k| 0.05 * k as f64).collect();
+    let depth: Vec<f64> = times.iter().map(|&t| 0.3 * (t - 0.6).min(2.4 - t)).collect();
+    let curve = Curve::new(half.clone(), dx, times.clone(), depth.clone(), Control::Depth, 2).unwrap();
+    let r = standard_solid(1.0, 2.0, 0.3);
+    let tangent = Rheology {
+        g_inf: r.g_inf,
+        terms: vec![(0.0, 0.0)],
+        eta: 0.0,
+    };
+    for shift in [0.0, 0.05, -0.07] {
+        let e = curve.evaluate_shifted(&r, &[tangent.clone()], shift).unwrap();
+        let moved: Vec<f64> = depth.iter().map(|d| d + shift).collect();
+        let plain = Curve::new(half.clone(), dx, times.clone(), moved, Control::Depth, 2)
+            .unwrap()
+            .evaluate(&r, &[tangent.clone()])
+            .unwrap();
+        let biggest = e.jacobian.iter().fold(0.0f64, |a, b| a.max(b.abs()));
+        let h = 1e-7;
+        let up = curve.evaluate_shifted(&r, &[], shift + h).unwrap().values;
+        let down = curve.evaluate_shifted(&r, &[], shift - h).unwrap().values;
+        for k in 0..times.len() {
+            assert!((e.values[k] - plain.values[k]).abs() <= 1e-12 * biggest);
+            assert!((e.jacobian[2 * k] - plain.jacobian[k]).abs() <= 1e-12 * biggest);
+            let numeric = (up[k] - down[k]) / (2.0 * h);
+            let analytic = e.jacobian[2 * k + 1];
+            assert!(
+                (numeric - analytic).abs() <= 1e-6 * biggest,
+                "shift {shift} sample {k}: {analytic} vs {numeric}"
+            );
+        }
+        assert_eq!(e.values[0], 0.0);
+        assert!(e.jacobian.iter().any(|&d| d > 0.0));
+    }
+    let force = Curve::new(half, dx, times, depth, Control::Force, 1).unwrap();
+    assert!(force.evaluate_shifted(&r, &[], 0.0).is_err());
+}
