@@ -102,8 +102,8 @@ def _guesses(cls: type, span: float, step: float, terms: int) -> list[_Medium]:
 
 def _scaled(medium: _Medium, by: float) -> _Medium:
     """The medium with every modulus and viscosity multiplied by ``by`` (times kept)."""
-    values = {name: v * by if not (name.startswith("tau") or name in ("beta", "t0")) else v
-              for name, v in _parameters(medium).items()}
+    values = _parameters(medium)
+    values.update({name: values[name] * by for name in _moduli(values)})
     return _medium(type(medium), values)
 
 
@@ -369,19 +369,29 @@ def fit(indenter: Indenter, model: _Medium | type, t: ArrayLike, *, depth: Array
             return failed()
         media = [json.dumps(medium._model())]
         if raw is None:
-            values, jac, contact = curve.evaluate(media, free)[0]
+            values, jac, contact = curve.evaluate(media, asked)[0]
             r = values - measured
         else:
             z_c, b = raw.at(x[p:], free_raw)
             if raw.depth_at_start(z_c, b) > 0:
                 return failed()  # in contact before the first sample
-            values, jac, contact = curve.evaluate(media, free, raw.shift(z_c, b))[0]
-            r, jac = values - raw.force(b), raw.jacobian(jac, free_raw)
+            values, jac, contact = curve.evaluate(media, asked, raw.shift(z_c, b))[0]
+            r = values - raw.force(b)
+        jac = _with_derived(values, jac, free, asked)
+        if raw is not None:
+            jac = raw.jacobian(jac, free_raw)
         solves += 1
         if np.any(contact == n):
             return failed()
         return root_w * r, root_w[:, None] * jac
 
+    # under depth control the force is proportional to the moduli together (Pa, Pa s; the
+    # contact set depends on their ratios only): the derivatives in their logarithms add up
+    # to the force, so one of them follows from the others and the forward model is asked
+    # for one tangent fewer
+    asked = free
+    if control == "depth" and set(_moduli(values0)) <= set(free):
+        asked = [name for name in free if name != _moduli(values0)[0]]
     x0 = np.concatenate([np.log([values0[name] for name in free]), np.zeros(len(free_raw))])
     solution = levenberg_marquardt(residuals, x0, max_iter=max_iter)
     medium = medium_at(solution.x)
@@ -438,6 +448,26 @@ def fit(indenter: Indenter, model: _Medium | type, t: ArrayLike, *, depth: Array
         rms=float(np.sqrt(np.sum(w * residual**2) / np.sum(w))), control=control, solves=solves + 1,
         iterations=solution.iterations, wall_time=time.perf_counter() - start,
         converged=solution.converged, message=solution.message, warnings=messages, **afm)
+
+
+def _moduli(values: dict[str, float]) -> list[str]:
+    """The names among a medium's parameters that are moduli or viscosities (Pa, Pa s): its
+    relaxation function is proportional to them together."""
+    return [name for name in values if not (name.startswith("tau") or name in ("beta", "t0"))]
+
+
+def _with_derived(values: np.ndarray, jac: np.ndarray, free: list[str], asked: list[str]) -> np.ndarray:
+    """The Jacobian in ``free``'s order from the columns of ``asked`` (and any further
+    columns after them, kept last), the one free name not asked for being a modulus whose
+    column is the force minus the other moduli's (Euler: the force is homogeneous of degree
+    one in the moduli)."""
+    if asked == free:
+        return jac
+    (derived,) = set(free) - set(asked)
+    others = [asked.index(name) for name in _moduli(dict.fromkeys(free)) if name != derived]
+    column = values - jac[:, others].sum(axis=1)
+    at = free.index(derived)
+    return np.column_stack([jac[:, :at], column, jac[:, at:]])
 
 
 def _raw_input(depth, force, piezo, deflection, spring_constant, control):

@@ -2,7 +2,10 @@
 //! foundation evolves on its own, so the stepping runs element by element through all the
 //! steps, its state in registers, and blocks of elements run in parallel; the force of a
 //! sample is the sum of the blocks' forces, added in block order (the same result on any
-//! number of threads).
+//! number of threads). The derivatives are laid out term by term with the tangents
+//! contiguous (padded to a multiple of `LANES`), so that the part of each update common to
+//! all tangents is one loop the compiler vectorises; the few tangents that move a term's
+//! own coefficients add their terms after it.
 
 use super::{Curve, Evaluation, StepCoefficients};
 use crate::error::Result;
@@ -11,6 +14,56 @@ use rayon::prelude::*;
 
 /// Elements per block of the parallel loop.
 const BLOCK: usize = 32;
+
+/// The tangents are padded to a multiple of this (zero tangents, whose derivatives stay 0):
+/// the f64 lanes of the narrowest x86-64 vectors (SSE2).
+const LANES: usize = 2;
+
+/// A step's coefficients laid out for the element loop: 1 / g_eff, d g_eff and d relaxing
+/// along every tangent (pp, padded), and per term k the tangents that move its decay or
+/// gain, with those derivatives (a tangent of one parameter moves one term or none, so
+/// these lists are short; the rest of the update is the same for every tangent).
+struct Tangential {
+    /// 1 / g_eff (1/Pa), for multiplications in the element loop.
+    inv_g_eff: f64,
+    d_g_eff: Vec<Lanes>,
+    d_relaxing: Vec<Lanes>,
+    /// Per term: (tangent, d decay, d gain) where either is nonzero.
+    moving: Vec<Vec<(usize, f64, f64)>>,
+}
+
+/// Values along `LANES` consecutive tangents.
+type Lanes = [f64; LANES];
+
+/// `values` (one per tangent) padded with zeros into lanes.
+fn lanes(values: &[f64], pp: usize) -> Vec<Lanes> {
+    let mut out = vec![[0.0; LANES]; pp / LANES];
+    for (j, v) in values.iter().enumerate() {
+        out[j / LANES][j % LANES] = *v;
+    }
+    out
+}
+
+impl Tangential {
+    fn new(c: &StepCoefficients, p: usize, pp: usize) -> Self {
+        let m = c.decay.len();
+        let (d_g_eff, d_relaxing) = (lanes(&c.d_g_eff, pp), lanes(&c.d_relaxing, pp));
+        let moving = (0..m)
+            .map(|k| {
+                (0..p)
+                    .map(|j| (j, c.d_decay[j * m + k], c.d_gain[j * m + k]))
+                    .filter(|&(_, dd, dg)| dd != 0.0 || dg != 0.0)
+                    .collect()
+            })
+            .collect();
+        Tangential {
+            inv_g_eff: 1.0 / c.g_eff,
+            d_g_eff,
+            d_relaxing,
+            moving,
+        }
+    }
+}
 
 /// One step of the prescribed depth history.
 struct Step {
@@ -112,14 +165,26 @@ impl Curve {
             .map(|s| s.depth)
             .fold(f64::NEG_INFINITY, f64::max);
         let n = self.g.len();
+        let pp = p.div_ceil(LANES) * LANES;
+        let tangential: Vec<Tangential> = coefficients
+            .iter()
+            .map(|(_, c)| Tangential::new(c, p, pp))
+            .collect();
+        let rates = lanes(&rates, pp);
+        let table = Table {
+            steps: &steps,
+            coefficients: &coefficients,
+            tangential: &tangential,
+            rates: &rates,
+        };
         let blocks: Vec<Sums> = (0..n.div_ceil(BLOCK))
             .into_par_iter()
             .map(|b| {
-                let mut sums = Sums::zero(samples, p);
-                let mut state = ElementState::new(r.terms.len(), p);
+                let mut sums = Sums::zero(samples, pp);
+                let mut state = ElementState::new(r.terms.len(), pp);
                 for &g in &self.g[b * BLOCK..n.min((b + 1) * BLOCK)] {
                     if g < deepest {
-                        state.run(g, &steps, &coefficients, &rates, &mut sums);
+                        state.run(g, &table, &mut sums);
                     }
                 }
                 sums
@@ -127,104 +192,146 @@ impl Curve {
             .collect();
         let total = blocks
             .iter()
-            .fold(Sums::zero(samples, p), |acc, b| acc.add(b));
+            .fold(Sums::zero(samples, pp), |acc, b| acc.add(b));
         // each element stands for itself and its mirror image
         let weight = 8.0 * self.dx;
         Ok(Evaluation {
             values: total.force.iter().map(|f| weight * f).collect(),
-            jacobian: total.d_force.iter().map(|f| weight * f).collect(),
+            jacobian: total
+                .d_force
+                .chunks_exact(pp.max(1))
+                .flat_map(|row| row[..p].iter().map(|f| weight * f))
+                .collect(),
             contact: total.contact,
         })
     }
 }
 
+/// What the elements' stepping reads: the steps, their coefficients (as computed and with
+/// the tangents contiguous) and the depth's derivative along each tangent.
+struct Table<'a> {
+    steps: &'a [Step],
+    coefficients: &'a [(f64, StepCoefficients)],
+    tangential: &'a [Tangential],
+    rates: &'a [Lanes],
+}
+
 /// The state of one element (displacement w, Prony stresses q) and its derivatives along
-/// each tangent, with the history term's derivatives of the current step.
+/// each of the padded tangents (in lanes; dq term by term), with the history term's
+/// derivatives of the current step and the change of dw in it.
 struct ElementState {
     m: usize,
-    p: usize,
+    chunks: usize,
     q: Vec<f64>,
-    dw: Vec<f64>,
-    dq: Vec<f64>,
-    dh: Vec<f64>,
+    dw: Vec<Lanes>,
+    dq: Vec<Lanes>,
+    dh: Vec<Lanes>,
+    d_dw: Vec<Lanes>,
 }
 
 impl ElementState {
-    fn new(m: usize, p: usize) -> Self {
+    fn new(m: usize, pp: usize) -> Self {
+        let chunks = pp / LANES;
         ElementState {
             m,
-            p,
+            chunks,
             q: vec![0.0; m],
-            dw: vec![0.0; p],
-            dq: vec![0.0; p * m],
-            dh: vec![0.0; p],
+            dw: vec![[0.0; LANES]; chunks],
+            dq: vec![[0.0; LANES]; m * chunks],
+            dh: vec![[0.0; LANES]; chunks],
+            d_dw: vec![[0.0; LANES]; chunks],
         }
     }
 
-    /// Steps the element at profile height `g` (m) from rest through `steps`, adding its
-    /// force at each sample to `sums`; `rates` are the derivatives of the depth along each
-    /// tangent (constant over the history). Until the depth first passes g the element's
-    /// state stays zero and its steps are skipped.
-    fn run(
-        &mut self,
-        g: f64,
-        steps: &[Step],
-        coefficients: &[(f64, StepCoefficients)],
-        rates: &[f64],
-        sums: &mut Sums,
-    ) {
-        let (m, p) = (self.m, self.p);
+    /// Steps the element at profile height `g` (m) from rest through the table's steps,
+    /// adding its force at each sample to `sums`; the table's `rates` are the derivatives
+    /// of the depth along each tangent (constant over the history). Until the depth first
+    /// passes g the element's state stays zero and its steps are skipped.
+    fn run(&mut self, g: f64, table: &Table<'_>, sums: &mut Sums) {
+        let (m, chunks) = (self.m, self.chunks);
+        let pp = chunks * LANES;
         self.q.iter_mut().for_each(|x| *x = 0.0);
-        self.dw.iter_mut().for_each(|x| *x = 0.0);
-        self.dq.iter_mut().for_each(|x| *x = 0.0);
-        let Some(first) = steps.iter().position(|s| s.depth > g) else {
+        self.dw.iter_mut().for_each(|x| *x = [0.0; LANES]);
+        self.dq.iter_mut().for_each(|x| *x = [0.0; LANES]);
+        let Some(first) = table.steps.iter().position(|s| s.depth > g) else {
             return;
         };
+        let rates = table.rates;
         let mut w = 0.0;
-        for step in &steps[first..] {
-            let c = &coefficients[step.coefficients].1;
+        for step in &table.steps[first..] {
+            let c = &table.coefficients[step.coefficients].1;
+            let t = &table.tangential[step.coefficients];
             let depth = step.depth;
             let mut hist = -c.relaxing * w;
-            for k in 0..m {
-                hist += c.decay[k] * self.q[k];
+            for (e, q) in c.decay.iter().zip(&self.q) {
+                hist += e * q;
             }
-            for j in 0..p {
-                let mut dh = -c.d_relaxing[j] * w - c.relaxing * self.dw[j];
-                for k in 0..m {
-                    dh += c.d_decay[j * m + k] * self.q[k] + c.decay[k] * self.dq[j * m + k];
+            // dh = -d_relaxing w - relaxing dw + sum_k (d_decay_k q_k + decay_k dq_k)
+            for ((dh, dr), dw) in self.dh.iter_mut().zip(&t.d_relaxing).zip(&self.dw) {
+                for l in 0..LANES {
+                    dh[l] = -dr[l] * w - c.relaxing * dw[l];
                 }
-                self.dh[j] = dh;
             }
-            let relaxed = g - hist / c.g_eff;
+            for k in 0..m {
+                let ek = c.decay[k];
+                for (dh, dq) in self
+                    .dh
+                    .iter_mut()
+                    .zip(&self.dq[k * chunks..(k + 1) * chunks])
+                {
+                    for l in 0..LANES {
+                        dh[l] += ek * dq[l];
+                    }
+                }
+                for &(j, dd, _) in &t.moving[k] {
+                    self.dh[j / LANES][j % LANES] += dd * self.q[k];
+                }
+            }
+            let inv = t.inv_g_eff;
+            let relaxed = g - hist * inv;
             let touching = relaxed < depth;
             let w_new = if touching { depth - g } else { relaxed - g };
             if let (true, Some(s)) = (touching, step.sample) {
                 sums.force[s] += c.g_eff * (depth - g) + hist;
                 sums.contact[s] += 1;
-                for j in 0..p {
-                    sums.d_force[s * p + j] +=
-                        c.d_g_eff[j] * (depth - g) + c.g_eff * rates[j] + self.dh[j];
+                let row = sums.d_force[s * pp..(s + 1) * pp].chunks_exact_mut(LANES);
+                for (((f, dg), rate), dh) in row.zip(&t.d_g_eff).zip(rates).zip(&self.dh) {
+                    for l in 0..LANES {
+                        f[l] += dg[l] * (depth - g) + c.g_eff * rate[l] + dh[l];
+                    }
                 }
             }
             let dw_step = w_new - w;
-            let inv = 1.0 / c.g_eff;
-            for j in 0..p {
-                // a touching element's displacement follows the prescribed depth (which
-                // depends on the shift only); a free one's follows its relaxed surface
-                let dw_new = if touching {
-                    rates[j]
-                } else {
-                    (hist * c.d_g_eff[j] * inv - self.dh[j]) * inv
-                };
-                let d_dw = dw_new - self.dw[j];
-                for k in 0..m {
-                    let dq = &mut self.dq[j * m + k];
-                    *dq = c.d_decay[j * m + k] * self.q[k]
-                        + c.decay[k] * *dq
-                        + c.d_gain[j * m + k] * dw_step
-                        + c.gain[k] * d_dw;
+            // a touching element's displacement follows the prescribed depth (which depends
+            // on the shift only); a free one's follows its relaxed surface
+            if touching {
+                for ((d_dw, dw), rate) in self.d_dw.iter_mut().zip(&mut self.dw).zip(rates) {
+                    for l in 0..LANES {
+                        d_dw[l] = rate[l] - dw[l];
+                        dw[l] = rate[l];
+                    }
                 }
-                self.dw[j] = dw_new;
+            } else {
+                let iter = self.d_dw.iter_mut().zip(&mut self.dw);
+                for (((d_dw, dw), dg), dh) in iter.zip(&t.d_g_eff).zip(&self.dh) {
+                    for l in 0..LANES {
+                        let new = (hist * dg[l] * inv - dh[l]) * inv;
+                        d_dw[l] = new - dw[l];
+                        dw[l] = new;
+                    }
+                }
+            }
+            for k in 0..m {
+                let (qk, ek, gk) = (self.q[k], c.decay[k], c.gain[k]);
+                let dq = &mut self.dq[k * chunks..(k + 1) * chunks];
+                for (dq, d_dw) in dq.iter_mut().zip(&self.d_dw) {
+                    for l in 0..LANES {
+                        dq[l] = ek * dq[l] + gk * d_dw[l];
+                    }
+                }
+                for &(j, dd, dg) in &t.moving[k] {
+                    dq[j / LANES][j % LANES] += dd * qk + dg * dw_step;
+                }
             }
             for k in 0..m {
                 self.q[k] = c.decay[k] * self.q[k] + c.gain[k] * dw_step;

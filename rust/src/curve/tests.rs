@@ -146,8 +146,19 @@ fn derivatives_match_central_differences() {
 fn shift_derivative_matches_central_differences() {
     let (half, _, dx) = half_parabola(400, 1.0, 1.0);
     let times: Vec<f64> = (0..=60).map(|k| 0.05 * k as f64).collect();
-    let depth: Vec<f64> = times.iter().map(|&t| 0.3 * (t - 0.6).min(2.4 - t)).collect();
-    let curve = Curve::new(half.clone(), dx, times.clone(), depth.clone(), Control::Depth, 2).unwrap();
+    let depth: Vec<f64> = times
+        .iter()
+        .map(|&t| 0.3 * (t - 0.6).min(2.4 - t))
+        .collect();
+    let curve = Curve::new(
+        half.clone(),
+        dx,
+        times.clone(),
+        depth.clone(),
+        Control::Depth,
+        2,
+    )
+    .unwrap();
     let r = standard_solid(1.0, 2.0, 0.3);
     let tangent = Rheology {
         g_inf: r.g_inf,
@@ -155,7 +166,9 @@ fn shift_derivative_matches_central_differences() {
         eta: 0.0,
     };
     for shift in [0.0, 0.05, -0.07] {
-        let e = curve.evaluate_shifted(&r, &[tangent.clone()], shift).unwrap();
+        let e = curve
+            .evaluate_shifted(&r, &[tangent.clone()], shift)
+            .unwrap();
         let moved: Vec<f64> = depth.iter().map(|d| d + shift).collect();
         let plain = Curve::new(half.clone(), dx, times.clone(), moved, Control::Depth, 2)
             .unwrap()
