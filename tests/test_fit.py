@@ -447,8 +447,9 @@ def test_bem_cone_is_recovered_to_its_discretisation_error():
         assert abs(e) < 2 * data_error, (name, e, data_error)
 
 
-@pytest.mark.parametrize("medium", [mv.Elastic(G=2e3), mv.Viscous(eta=500.0), mv.KelvinVoigt(G=1e3, eta=300.0),
-                                    mv.Maxwell(G=2e3, eta=600.0), mv.StandardSolid(1e3, 2e3, 0.2),
+@pytest.mark.parametrize("medium", [mv.Elastic(G=2e3), mv.Viscous(eta=500.0),
+                                    mv.KelvinVoigt(G=1e3, eta=300.0), mv.Maxwell(G=2e3, eta=600.0),
+                                    mv.StandardSolid(1e3, 2e3, 0.2),
                                     mv.Prony(1e3, ((2e3, 0.03), (1.5e3, 0.5))), mv.PowerLaw(1e3, 0.2, 1.0)],
                          ids=_name)
 def test_derived_modulus_column_is_the_forward_models_own(medium):

@@ -9,7 +9,7 @@ import pytest
 
 import mdrvisc as mv
 from mdrvisc.analytic import ting_paraboloid_triangle
-from test_fit import R, T_PEAK, V, cone_ramp_hold, power_law_ramp_hold
+from test_fit import T_PEAK, R, V, cone_ramp_hold, power_law_ramp_hold
 
 # contact point (m), baseline (m), spring constant (N/m): the largest deflection change is
 # 7 % of the largest indentation. Its noise enters the depths too (errors in the variables):
@@ -28,7 +28,8 @@ def raw_curve(indentation, force, seed=None, level=0.01):
     bend = force / K
     deflection = bend + BASELINE
     if seed is not None:
-        deflection = deflection + level * np.max(bend) * np.random.default_rng(seed).standard_normal(bend.size)
+        rng = np.random.default_rng(seed)
+        deflection = deflection + level * np.max(bend) * rng.standard_normal(bend.size)
     return Z_C + indentation + bend, deflection
 
 
@@ -73,7 +74,7 @@ TING_MEDIA = [
 ]
 
 
-@pytest.mark.parametrize("true, options", TING_MEDIA, ids=lambda m: type(m).__name__)
+@pytest.mark.parametrize("true, options", TING_MEDIA, ids=[type(m).__name__ for m, _ in TING_MEDIA])
 def test_noise_free_raw_curve_recovers_contact_point_and_medium(true, options):
     """Every medium of Ting's paraboloid from the class alone, the contact point and the
     baseline estimated from the curve. Measured worst: parameters 7.5e-5 (Kelvin-Voigt G;
@@ -83,7 +84,8 @@ def test_noise_free_raw_curve_recovers_contact_point_and_medium(true, options):
     result = mv.fit(PARABOLOID, type(true), t, piezo=z, deflection=deflection, spring_constant=K,
                     **{"substeps": 8, **options})
     assert result.converged, result.message
-    errors = {name: result.parameters[name] / value - 1 for name, value in mv.fitting._parameters(true).items()}
+    true_values = mv.fitting._parameters(true)
+    errors = {name: result.parameters[name] / value - 1 for name, value in true_values.items()}
     print(type(true).__name__, errors, (result.contact_point - Z_C) / (V * T_PEAK),
           (result.baseline - BASELINE) / np.ptp(deflection), result.solves)
     assert max(abs(e) for e in errors.values()) < 3e-4, errors

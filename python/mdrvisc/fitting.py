@@ -404,9 +404,9 @@ def fit(indenter: Indenter, model: _Medium | type, t: ArrayLike, *, depth: Array
         d, measured = raw.depth(z_c, b), raw.force(b)
         before = int(np.count_nonzero(d[:int(np.argmax(raw.z)) + 1] <= 0))
         if before < _BASELINE_SAMPLES:
-            raise DataError(f"fit: a raw AFM curve needs a contact-free start (the baseline): at the fitted "
-                            f"contact point ({z_c:.6g} m) {before} samples of the approach are before contact, "
-                            f"fewer than {_BASELINE_SAMPLES}")
+            raise DataError(f"fit: a raw AFM curve needs a contact-free start (the baseline): at the "
+                            f"fitted contact point ({z_c:.6g} m) {before} samples of the approach are before "
+                            f"contact, fewer than {_BASELINE_SAMPLES}")
     if np.any(contact == n):
         raise DomainError("fit: the fitted contact reaches the end of the 1D profile; the data's depths "
                           "are beyond the indenter's footprint")
@@ -482,7 +482,8 @@ def _raw_input(depth, force, piezo, deflection, spring_constant, control):
         raise InvalidInputError("fit: give depth= and force=, or a raw AFM curve as piezo=, deflection= and "
                                 f"spring_constant=; got {sorted(given)}")
     if control != "depth":
-        raise InvalidInputError(f"fit: a raw AFM curve is depth-controlled (the piezo moves); control={control!r}")
+        raise InvalidInputError(f"fit: a raw AFM curve is depth-controlled (the piezo moves); "
+                                f"control={control!r}")
     k = float(spring_constant)
     if not (math.isfinite(k) and k > 0):
         raise InvalidInputError(f"fit: spring_constant must be > 0 (N/m), got {spring_constant!r}")
@@ -521,9 +522,9 @@ class _AfmCurve:
         slope, intercept = np.polyfit(steps, start, 1)
         scatter = 1.4826 * float(np.median(np.abs(start - slope * steps - intercept)))
         if abs(slope) * (count - 1) > 5.0 * max(scatter, 1e-12 * float(np.max(np.abs(deflection)))):
-            raise DataError(f"fit: a raw AFM curve needs a contact-free start (the baseline): the deflection "
-                            f"changes by {slope * (count - 1):.3g} m over the first {count} samples, more than "
-                            f"5 times its scatter about a line ({scatter:.3g} m)")
+            raise DataError(f"fit: a raw AFM curve needs a contact-free start (the baseline): the "
+                            f"deflection changes by {slope * (count - 1):.3g} m over the first {count} "
+                            f"samples, more than 5 times its scatter about a line ({scatter:.3g} m)")
         b = median if baseline is None else float(baseline)
         above = deflection[:top + 1] - b > _CONTACT_SIGMAS * sigma
         if not np.any(above[count:]):
