@@ -30,6 +30,8 @@ struct Tangential {
     d_relaxing: Vec<Lanes>,
     /// Per term: (tangent, d decay, d gain) where either is nonzero.
     moving: Vec<Vec<(usize, f64, f64)>>,
+    /// (d decay, d gain) at each pair of the table's `settled` pattern.
+    settled: Vec<(f64, f64)>,
 }
 
 /// Values along `LANES` consecutive tangents.
@@ -61,8 +63,45 @@ impl Tangential {
             d_g_eff,
             d_relaxing,
             moving,
+            settled: vec![],
         }
     }
+
+    /// The derivatives of c's decays and gains at the (term, tangent) pairs `pattern`.
+    fn with_settled(mut self, c: &StepCoefficients, pattern: &[(usize, usize)]) -> Self {
+        let m = c.decay.len();
+        self.settled = pattern
+            .iter()
+            .map(|&(k, j)| (c.d_decay[j * m + k], c.d_gain[j * m + k]))
+            .collect();
+        self
+    }
+}
+
+/// The (term, tangent) pairs whose derivative of a Prony stress can be nonzero while an
+/// element has stayed in contact since it first touched: its displacement's derivatives are
+/// then the depth's (constant), so a stress's derivative along a tangent grows only from
+/// that tangent's derivatives of the term's own coefficients, or from a moving depth.
+fn settled_pattern(tangential: &[Tangential], rates: &[f64], m: usize) -> Vec<(usize, usize)> {
+    let mut pattern: Vec<(usize, usize)> = tangential
+        .iter()
+        .flat_map(|t| {
+            t.moving
+                .iter()
+                .enumerate()
+                .flat_map(|(k, list)| list.iter().map(move |&(j, _, _)| (k, j)))
+        })
+        .chain(
+            rates
+                .iter()
+                .enumerate()
+                .filter(|(_, r)| **r != 0.0)
+                .flat_map(|(j, _)| (0..m).map(move |k| (k, j))),
+        )
+        .collect();
+    pattern.sort_unstable();
+    pattern.dedup();
+    pattern
 }
 
 /// One step of the prescribed depth history.
@@ -170,12 +209,19 @@ impl Curve {
             .iter()
             .map(|(_, c)| Tangential::new(c, p, pp))
             .collect();
+        let settled = settled_pattern(&tangential, &rates, r.terms.len());
+        let tangential: Vec<Tangential> = tangential
+            .into_iter()
+            .zip(&coefficients)
+            .map(|(t, (_, c))| t.with_settled(c, &settled))
+            .collect();
         let rates = lanes(&rates, pp);
         let table = Table {
             steps: &steps,
             coefficients: &coefficients,
             tangential: &tangential,
             rates: &rates,
+            settled: &settled,
         };
         let blocks: Vec<Sums> = (0..n.div_ceil(BLOCK))
             .into_par_iter()
@@ -214,6 +260,9 @@ struct Table<'a> {
     coefficients: &'a [(f64, StepCoefficients)],
     tangential: &'a [Tangential],
     rates: &'a [Lanes],
+    /// `settled_pattern`: the derivatives of the stresses that can be nonzero while an
+    /// element has not left contact.
+    settled: &'a [(usize, usize)],
 }
 
 /// The state of one element (displacement w, Prony stresses q) and its derivatives along
@@ -246,7 +295,9 @@ impl ElementState {
     /// Steps the element at profile height `g` (m) from rest through the table's steps,
     /// adding its force at each sample to `sums`; the table's `rates` are the derivatives
     /// of the depth along each tangent (constant over the history). Until the depth first
-    /// passes g the element's state stays zero and its steps are skipped.
+    /// passes g the element's state stays zero and its steps are skipped. While the element
+    /// has stayed in contact since it first touched, only the stress derivatives of the
+    /// table's `settled` pattern are nonzero, and only those are updated.
     fn run(&mut self, g: f64, table: &Table<'_>, sums: &mut Sums) {
         let (m, chunks) = (self.m, self.chunks);
         let pp = chunks * LANES;
@@ -258,6 +309,7 @@ impl ElementState {
         };
         let rates = table.rates;
         let mut w = 0.0;
+        let mut settled = true;
         for step in &table.steps[first..] {
             let c = &table.coefficients[step.coefficients].1;
             let t = &table.tangential[step.coefficients];
@@ -266,31 +318,40 @@ impl ElementState {
             for (e, q) in c.decay.iter().zip(&self.q) {
                 hist += e * q;
             }
+            let inv = t.inv_g_eff;
+            let relaxed = g - hist * inv;
+            let touching = relaxed < depth;
+            let w_new = if touching { depth - g } else { relaxed - g };
+            let dw_step = w_new - w;
+            settled &= touching;
             // dh = -d_relaxing w - relaxing dw + sum_k (d_decay_k q_k + decay_k dq_k)
             for ((dh, dr), dw) in self.dh.iter_mut().zip(&t.d_relaxing).zip(&self.dw) {
                 for l in 0..LANES {
                     dh[l] = -dr[l] * w - c.relaxing * dw[l];
                 }
             }
-            for k in 0..m {
-                let ek = c.decay[k];
-                for (dh, dq) in self
-                    .dh
-                    .iter_mut()
-                    .zip(&self.dq[k * chunks..(k + 1) * chunks])
-                {
-                    for l in 0..LANES {
-                        dh[l] += ek * dq[l];
+            if settled {
+                for (&(k, j), &(dd, _)) in table.settled.iter().zip(&t.settled) {
+                    let dq = self.dq[k * chunks + j / LANES][j % LANES];
+                    self.dh[j / LANES][j % LANES] += c.decay[k] * dq + dd * self.q[k];
+                }
+            } else {
+                for k in 0..m {
+                    let ek = c.decay[k];
+                    for (dh, dq) in self
+                        .dh
+                        .iter_mut()
+                        .zip(&self.dq[k * chunks..(k + 1) * chunks])
+                    {
+                        for l in 0..LANES {
+                            dh[l] += ek * dq[l];
+                        }
+                    }
+                    for &(j, dd, _) in &t.moving[k] {
+                        self.dh[j / LANES][j % LANES] += dd * self.q[k];
                     }
                 }
-                for &(j, dd, _) in &t.moving[k] {
-                    self.dh[j / LANES][j % LANES] += dd * self.q[k];
-                }
             }
-            let inv = t.inv_g_eff;
-            let relaxed = g - hist * inv;
-            let touching = relaxed < depth;
-            let w_new = if touching { depth - g } else { relaxed - g };
             if let (true, Some(s)) = (touching, step.sample) {
                 sums.force[s] += c.g_eff * (depth - g) + hist;
                 sums.contact[s] += 1;
@@ -301,7 +362,6 @@ impl ElementState {
                     }
                 }
             }
-            let dw_step = w_new - w;
             // a touching element's displacement follows the prescribed depth (which depends
             // on the shift only); a free one's follows its relaxed surface
             if touching {
@@ -321,16 +381,24 @@ impl ElementState {
                     }
                 }
             }
-            for k in 0..m {
-                let (qk, ek, gk) = (self.q[k], c.decay[k], c.gain[k]);
-                let dq = &mut self.dq[k * chunks..(k + 1) * chunks];
-                for (dq, d_dw) in dq.iter_mut().zip(&self.d_dw) {
-                    for l in 0..LANES {
-                        dq[l] = ek * dq[l] + gk * d_dw[l];
-                    }
+            if settled {
+                for (&(k, j), &(dd, dg)) in table.settled.iter().zip(&t.settled) {
+                    let d_dw = self.d_dw[j / LANES][j % LANES];
+                    let dq = &mut self.dq[k * chunks + j / LANES][j % LANES];
+                    *dq = dd * self.q[k] + c.decay[k] * *dq + dg * dw_step + c.gain[k] * d_dw;
                 }
-                for &(j, dd, dg) in &t.moving[k] {
-                    dq[j / LANES][j % LANES] += dd * qk + dg * dw_step;
+            } else {
+                for k in 0..m {
+                    let (qk, ek, gk) = (self.q[k], c.decay[k], c.gain[k]);
+                    let dq = &mut self.dq[k * chunks..(k + 1) * chunks];
+                    for (dq, d_dw) in dq.iter_mut().zip(&self.d_dw) {
+                        for l in 0..LANES {
+                            dq[l] = ek * dq[l] + gk * d_dw[l];
+                        }
+                    }
+                    for &(j, dd, dg) in &t.moving[k] {
+                        dq[j / LANES][j % LANES] += dd * qk + dg * dw_step;
+                    }
                 }
             }
             for k in 0..m {

@@ -167,12 +167,12 @@ fn shift_derivative_matches_central_differences() {
     };
     for shift in [0.0, 0.05, -0.07] {
         let e = curve
-            .evaluate_shifted(&r, &[tangent.clone()], shift)
+            .evaluate_shifted(&r, std::slice::from_ref(&tangent), shift)
             .unwrap();
         let moved: Vec<f64> = depth.iter().map(|d| d + shift).collect();
         let plain = Curve::new(half.clone(), dx, times.clone(), moved, Control::Depth, 2)
             .unwrap()
-            .evaluate(&r, &[tangent.clone()])
+            .evaluate(&r, std::slice::from_ref(&tangent))
             .unwrap();
         let biggest = e.jacobian.iter().fold(0.0f64, |a, b| a.max(b.abs()));
         let h = 1e-7;
