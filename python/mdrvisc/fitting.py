@@ -189,11 +189,11 @@ class FitResult:
         unit = "N" if self.control == "depth" else "m"
         lines = [f"FitResult: {type(self.medium).__name__} to {self.data.size} samples ({self.control} "
                  f"control), rms {self.rms:.3e} {unit}, {self.solves} solves, {self.wall_time:.3f} s",
-                 f"  {'parameter':<10}{'value':>14}{'stderr':>14}{'relative':>11}"]
+                 f"  {'parameter':<14}{'value':>10}{'stderr':>14}{'relative':>11}"]
         for name, value in self.parameters.items():
             err = self.stderr[name]
             rel = "held" if name not in self.free else f"{err / value:.2e}"
-            lines.append(f"  {name:<10}{value:>14.6g}{err:>14.3g}{rel:>11}")
+            lines.append(f"  {name:<14}{value:>10.6g}{err:>14.3g}{rel:>11}")
         for name in _RAW_NAMES:
             if name in self.__dict__:
                 err = self.stderr[name]

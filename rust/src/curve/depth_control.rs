@@ -267,7 +267,8 @@ struct Table<'a> {
 
 /// The state of one element (displacement w, Prony stresses q) and its derivatives along
 /// each of the padded tangents (in lanes; dq term by term), with the history term's
-/// derivatives of the current step and the change of dw in it.
+/// derivatives of the current step and the change of dw in it; and a copy of the state
+/// where the element last left contact.
 struct ElementState {
     m: usize,
     chunks: usize,
@@ -276,6 +277,31 @@ struct ElementState {
     dq: Vec<Lanes>,
     dh: Vec<Lanes>,
     d_dw: Vec<Lanes>,
+    saved_q: Vec<f64>,
+    saved_dw: Vec<Lanes>,
+    saved_dq: Vec<Lanes>,
+}
+
+/// Where an element's stepping stands.
+#[derive(Clone, Copy)]
+enum Phase {
+    /// In contact at every step since it first touched: only the table's `settled`
+    /// stress derivatives are nonzero.
+    Settled,
+    /// Out of contact since step `since` (index into the steps), displacement `w` before
+    /// it: its derivatives do not reach the force until it touches again, so only its
+    /// own state is stepped (the state before `since` is saved, to replay from).
+    Free { since: usize, w: f64 },
+    /// Every derivative stepped.
+    Full,
+}
+
+/// One step's scalar quantities of an element: the history term, whether it touches, its
+/// new displacement.
+struct Scalar {
+    hist: f64,
+    touching: bool,
+    w_new: f64,
 }
 
 impl ElementState {
@@ -289,6 +315,9 @@ impl ElementState {
             dq: vec![[0.0; LANES]; m * chunks],
             dh: vec![[0.0; LANES]; chunks],
             d_dw: vec![[0.0; LANES]; chunks],
+            saved_q: vec![0.0; m],
+            saved_dw: vec![[0.0; LANES]; chunks],
+            saved_dq: vec![[0.0; LANES]; m * chunks],
         }
     }
 
@@ -297,114 +326,213 @@ impl ElementState {
     /// of the depth along each tangent (constant over the history). Until the depth first
     /// passes g the element's state stays zero and its steps are skipped. While the element
     /// has stayed in contact since it first touched, only the stress derivatives of the
-    /// table's `settled` pattern are nonzero, and only those are updated.
+    /// table's `settled` pattern are updated; once it leaves contact, only its own state,
+    /// until it touches again, when its derivatives are stepped from where it left (the
+    /// same operations as if they had been stepped all along).
     fn run(&mut self, g: f64, table: &Table<'_>, sums: &mut Sums) {
-        let (m, chunks) = (self.m, self.chunks);
-        let pp = chunks * LANES;
+        let pp = self.chunks * LANES;
         self.q.iter_mut().for_each(|x| *x = 0.0);
         self.dw.iter_mut().for_each(|x| *x = [0.0; LANES]);
         self.dq.iter_mut().for_each(|x| *x = [0.0; LANES]);
         let Some(first) = table.steps.iter().position(|s| s.depth > g) else {
             return;
         };
-        let rates = table.rates;
         let mut w = 0.0;
-        let mut settled = true;
-        for step in &table.steps[first..] {
+        let mut phase = Phase::Settled;
+        for (i, step) in table.steps.iter().enumerate().skip(first) {
             let c = &table.coefficients[step.coefficients].1;
             let t = &table.tangential[step.coefficients];
             let depth = step.depth;
-            let mut hist = -c.relaxing * w;
-            for (e, q) in c.decay.iter().zip(&self.q) {
-                hist += e * q;
-            }
-            let inv = t.inv_g_eff;
-            let relaxed = g - hist * inv;
-            let touching = relaxed < depth;
-            let w_new = if touching { depth - g } else { relaxed - g };
-            let dw_step = w_new - w;
-            settled &= touching;
-            // dh = -d_relaxing w - relaxing dw + sum_k (d_decay_k q_k + decay_k dq_k)
-            for ((dh, dr), dw) in self.dh.iter_mut().zip(&t.d_relaxing).zip(&self.dw) {
-                for l in 0..LANES {
-                    dh[l] = -dr[l] * w - c.relaxing * dw[l];
+            let mut now = self.scalar(c, t, g, depth, w);
+            match phase {
+                Phase::Settled if now.touching => self.settled_step(c, t, table, w, now.w_new - w),
+                Phase::Settled | Phase::Full if !now.touching => {
+                    self.saved_q.copy_from_slice(&self.q);
+                    self.saved_dw.copy_from_slice(&self.dw);
+                    self.saved_dq.copy_from_slice(&self.dq);
+                    phase = Phase::Free { since: i, w };
                 }
-            }
-            if settled {
-                for (&(k, j), &(dd, _)) in table.settled.iter().zip(&t.settled) {
-                    let dq = self.dq[k * chunks + j / LANES][j % LANES];
-                    self.dh[j / LANES][j % LANES] += c.decay[k] * dq + dd * self.q[k];
-                }
-            } else {
-                for k in 0..m {
-                    let ek = c.decay[k];
-                    for (dh, dq) in self
-                        .dh
-                        .iter_mut()
-                        .zip(&self.dq[k * chunks..(k + 1) * chunks])
-                    {
-                        for l in 0..LANES {
-                            dh[l] += ek * dq[l];
-                        }
+                Phase::Free { .. } if !now.touching => {}
+                Phase::Free { since, w: w_then } => {
+                    // touching again: replay the free steps with the derivatives
+                    self.q.copy_from_slice(&self.saved_q);
+                    self.dw.copy_from_slice(&self.saved_dw);
+                    self.dq.copy_from_slice(&self.saved_dq);
+                    let mut w_replay = w_then;
+                    for past in &table.steps[since..i] {
+                        let c = &table.coefficients[past.coefficients].1;
+                        let t = &table.tangential[past.coefficients];
+                        let then = self.scalar(c, t, g, past.depth, w_replay);
+                        self.full_step(c, t, table.rates, w_replay, &then, None);
+                        self.advance(c, then.w_new - w_replay);
+                        w_replay = then.w_new;
                     }
-                    for &(j, dd, _) in &t.moving[k] {
-                        self.dh[j / LANES][j % LANES] += dd * self.q[k];
-                    }
+                    now = self.scalar(c, t, g, depth, w);
+                    phase = Phase::Full;
+                    let row = step.sample.map(|s| &mut sums.d_force[s * pp..(s + 1) * pp]);
+                    self.full_step(c, t, table.rates, w, &now, row.map(|r| (r, depth - g)));
+                }
+                Phase::Settled | Phase::Full => {
+                    let row = step.sample.map(|s| &mut sums.d_force[s * pp..(s + 1) * pp]);
+                    self.full_step(c, t, table.rates, w, &now, row.map(|r| (r, depth - g)));
                 }
             }
-            if let (true, Some(s)) = (touching, step.sample) {
-                sums.force[s] += c.g_eff * (depth - g) + hist;
+            if let (true, Some(s)) = (now.touching, step.sample) {
+                sums.force[s] += c.g_eff * (depth - g) + now.hist;
                 sums.contact[s] += 1;
-                let row = sums.d_force[s * pp..(s + 1) * pp].chunks_exact_mut(LANES);
-                for (((f, dg), rate), dh) in row.zip(&t.d_g_eff).zip(rates).zip(&self.dh) {
-                    for l in 0..LANES {
-                        f[l] += dg[l] * (depth - g) + c.g_eff * rate[l] + dh[l];
-                    }
+                if let Phase::Settled = phase {
+                    let row = sums.d_force[s * pp..(s + 1) * pp].chunks_exact_mut(LANES);
+                    add_derivatives(row, c, t, table.rates, &self.dh, depth - g);
                 }
             }
-            // a touching element's displacement follows the prescribed depth (which depends
-            // on the shift only); a free one's follows its relaxed surface
-            if touching {
-                for ((d_dw, dw), rate) in self.d_dw.iter_mut().zip(&mut self.dw).zip(rates) {
-                    for l in 0..LANES {
-                        d_dw[l] = rate[l] - dw[l];
-                        dw[l] = rate[l];
-                    }
-                }
-            } else {
-                let iter = self.d_dw.iter_mut().zip(&mut self.dw);
-                for (((d_dw, dw), dg), dh) in iter.zip(&t.d_g_eff).zip(&self.dh) {
-                    for l in 0..LANES {
-                        let new = (hist * dg[l] * inv - dh[l]) * inv;
-                        d_dw[l] = new - dw[l];
-                        dw[l] = new;
-                    }
+            self.advance(c, now.w_new - w);
+            w = now.w_new;
+        }
+    }
+
+    /// The step's history term, contact and new displacement from displacement `w`.
+    #[inline]
+    fn scalar(&self, c: &StepCoefficients, t: &Tangential, g: f64, depth: f64, w: f64) -> Scalar {
+        let mut hist = -c.relaxing * w;
+        for (e, q) in c.decay.iter().zip(&self.q) {
+            hist += e * q;
+        }
+        let relaxed = g - hist * t.inv_g_eff;
+        let touching = relaxed < depth;
+        let w_new = if touching { depth - g } else { relaxed - g };
+        Scalar {
+            hist,
+            touching,
+            w_new,
+        }
+    }
+
+    /// The stresses after a step that changes the displacement by `dw_step` (m).
+    #[inline]
+    fn advance(&mut self, c: &StepCoefficients, dw_step: f64) {
+        for k in 0..self.m {
+            self.q[k] = c.decay[k] * self.q[k] + c.gain[k] * dw_step;
+        }
+    }
+
+    /// The derivatives through a step in contact of a settled element (the stresses not
+    /// yet advanced): dh, then dw (the depth's), then the settled stress derivatives.
+    fn settled_step(
+        &mut self,
+        c: &StepCoefficients,
+        t: &Tangential,
+        table: &Table<'_>,
+        w: f64,
+        dw_step: f64,
+    ) {
+        let chunks = self.chunks;
+        for ((dh, dr), dw) in self.dh.iter_mut().zip(&t.d_relaxing).zip(&self.dw) {
+            for l in 0..LANES {
+                dh[l] = -dr[l] * w - c.relaxing * dw[l];
+            }
+        }
+        for (&(k, j), &(dd, _)) in table.settled.iter().zip(&t.settled) {
+            let dq = self.dq[k * chunks + j / LANES][j % LANES];
+            self.dh[j / LANES][j % LANES] += c.decay[k] * dq + dd * self.q[k];
+        }
+        for ((d_dw, dw), rate) in self.d_dw.iter_mut().zip(&mut self.dw).zip(table.rates) {
+            for l in 0..LANES {
+                d_dw[l] = rate[l] - dw[l];
+                dw[l] = rate[l];
+            }
+        }
+        for (&(k, j), &(dd, dg)) in table.settled.iter().zip(&t.settled) {
+            let d_dw = self.d_dw[j / LANES][j % LANES];
+            let dq = &mut self.dq[k * chunks + j / LANES][j % LANES];
+            *dq = dd * self.q[k] + c.decay[k] * *dq + dg * dw_step + c.gain[k] * d_dw;
+        }
+    }
+
+    /// The derivatives through any step (the stresses not yet advanced), adding the force's
+    /// derivatives to `row` (with the depth minus g) when given and in contact.
+    fn full_step(
+        &mut self,
+        c: &StepCoefficients,
+        t: &Tangential,
+        rates: &[Lanes],
+        w: f64,
+        now: &Scalar,
+        row: Option<(&mut [f64], f64)>,
+    ) {
+        let (m, chunks) = (self.m, self.chunks);
+        let dw_step = now.w_new - w;
+        // dh = -d_relaxing w - relaxing dw + sum_k (d_decay_k q_k + decay_k dq_k)
+        for ((dh, dr), dw) in self.dh.iter_mut().zip(&t.d_relaxing).zip(&self.dw) {
+            for l in 0..LANES {
+                dh[l] = -dr[l] * w - c.relaxing * dw[l];
+            }
+        }
+        for k in 0..m {
+            let ek = c.decay[k];
+            for (dh, dq) in self
+                .dh
+                .iter_mut()
+                .zip(&self.dq[k * chunks..(k + 1) * chunks])
+            {
+                for l in 0..LANES {
+                    dh[l] += ek * dq[l];
                 }
             }
-            if settled {
-                for (&(k, j), &(dd, dg)) in table.settled.iter().zip(&t.settled) {
-                    let d_dw = self.d_dw[j / LANES][j % LANES];
-                    let dq = &mut self.dq[k * chunks + j / LANES][j % LANES];
-                    *dq = dd * self.q[k] + c.decay[k] * *dq + dg * dw_step + c.gain[k] * d_dw;
-                }
-            } else {
-                for k in 0..m {
-                    let (qk, ek, gk) = (self.q[k], c.decay[k], c.gain[k]);
-                    let dq = &mut self.dq[k * chunks..(k + 1) * chunks];
-                    for (dq, d_dw) in dq.iter_mut().zip(&self.d_dw) {
-                        for l in 0..LANES {
-                            dq[l] = ek * dq[l] + gk * d_dw[l];
-                        }
-                    }
-                    for &(j, dd, dg) in &t.moving[k] {
-                        dq[j / LANES][j % LANES] += dd * qk + dg * dw_step;
-                    }
+            for &(j, dd, _) in &t.moving[k] {
+                self.dh[j / LANES][j % LANES] += dd * self.q[k];
+            }
+        }
+        if let (true, Some((row, pressed))) = (now.touching, row) {
+            add_derivatives(row.chunks_exact_mut(LANES), c, t, rates, &self.dh, pressed);
+        }
+        // a touching element's displacement follows the prescribed depth (which depends
+        // on the shift only); a free one's follows its relaxed surface
+        if now.touching {
+            for ((d_dw, dw), rate) in self.d_dw.iter_mut().zip(&mut self.dw).zip(rates) {
+                for l in 0..LANES {
+                    d_dw[l] = rate[l] - dw[l];
+                    dw[l] = rate[l];
                 }
             }
-            for k in 0..m {
-                self.q[k] = c.decay[k] * self.q[k] + c.gain[k] * dw_step;
+        } else {
+            let (hist, inv) = (now.hist, t.inv_g_eff);
+            let iter = self.d_dw.iter_mut().zip(&mut self.dw);
+            for (((d_dw, dw), dg), dh) in iter.zip(&t.d_g_eff).zip(&self.dh) {
+                for l in 0..LANES {
+                    let new = (hist * dg[l] * inv - dh[l]) * inv;
+                    d_dw[l] = new - dw[l];
+                    dw[l] = new;
+                }
             }
-            w = w_new;
+        }
+        for k in 0..m {
+            let (qk, ek, gk) = (self.q[k], c.decay[k], c.gain[k]);
+            let dq = &mut self.dq[k * chunks..(k + 1) * chunks];
+            for (dq, d_dw) in dq.iter_mut().zip(&self.d_dw) {
+                for l in 0..LANES {
+                    dq[l] = ek * dq[l] + gk * d_dw[l];
+                }
+            }
+            for &(j, dd, dg) in &t.moving[k] {
+                dq[j / LANES][j % LANES] += dd * qk + dg * dw_step;
+            }
+        }
+    }
+}
+
+/// Adds an element's force derivatives d(g_eff (depth - g) + hist) to a sample's row:
+/// `pressed` = depth - g (m), `dh` the history term's derivatives.
+fn add_derivatives<'a>(
+    row: impl Iterator<Item = &'a mut [f64]>,
+    c: &StepCoefficients,
+    t: &Tangential,
+    rates: &[Lanes],
+    dh: &[Lanes],
+    pressed: f64,
+) {
+    for (((f, dg), rate), dh) in row.zip(&t.d_g_eff).zip(rates).zip(dh) {
+        for l in 0..LANES {
+            f[l] += dg[l] * pressed + c.g_eff * rate[l] + dh[l];
         }
     }
 }
