@@ -1,5 +1,5 @@
 """Fitting a standard solid to a raw AFM force curve
-================================================
+=================================================
 
 A raw AFM curve as the instrument records it: the piezo displacement z (increasing towards
 the sample) and the cantilever deflection, with the cantilever's spring constant. A 5 um
