@@ -6,16 +6,38 @@ the same guess (the true values times 1.6, 0.6, 2.5, ...) and use the same eleme
 Targets: standard solid <= 0.2 s, Prony with 3 terms <= 1 s.
 
 The data come from ``mv.solve`` (MDR, n = 4000, dt = 1e-4 s): a benchmark of speed; the
-fit's accuracy against independent references is in ``tests/test_fit.py``. PyFMRheo is
-not compared here: its Ting fit covers the power law on a paraboloid or cone only.
+fit's accuracy against independent references is in ``tests/test_fit.py``.
 
-Run: ``python benchmarks/bench_fit.py [--repeats 3]``.
+A second table compares ``mv.fit`` with PyFMRheo's Ting fit on the curves PyFMRheo covers:
+a power-law medium G(t) = G0 (t / t0)^-beta (G0 = 1 kPa, beta = 0.2, t0 = 1 s) under a
+paraboloid (R = 5 um) and a cone (slope 0.5, half-angle 63.43 degrees), the same triangle
+at 1 um/s, 2,000 samples, 1 % noise (seed 0), data from ``mv.solve`` (MDR, n = 4000,
+dt = 1e-4 s). PyFMRheo runs in its own venv (``--pyfmrheo-python PATH``, or
+$MDRVISC_PYFMRHEO_PYTHON; without it the rows say "not run") through
+``pyfmrheo_worker.py``, whose docstring says what it runs and times. Conventions, from
+PyFMRheo 0.1.3's source: its E0 is Young's modulus at t0 with the Poisson ratio 0.5 (the
+paraboloid's coefficient 4/3 sqrt(R) / (1 - nu^2), the cone's 2/pi tan(theta) / (1 - nu^2),
+theta the half-angle), so E0 = 2 (1 + nu) G0 = 3 G0 with mdrvisc's incompressible medium;
+betaE is beta; its t0 is the same reference time (t measured from contact, given as
+1 s to both). Both fit two parameters (PyFMRheo's contact time and force offset held at
+0, mdrvisc's t0 held) from the same initial guess (G0 x 1.6, beta x 0.6). Columns: the
+fitted G0 (PyFMRheo's E0 / 3) and beta with their standard errors, their difference from
+mdrvisc's in PyFMRheo's standard errors, and PyFMRheo's closed form at the true values
+against the noise-free curve (largest deviation over the largest force, approach / retract).
+
+Run: ``python benchmarks/bench_fit.py [--repeats 3] [--pyfmrheo-python PATH]``.
 """
 
 from __future__ import annotations
 
 import argparse
+import json
+import math
+import os
+import subprocess
+import tempfile
 import time
+from pathlib import Path
 
 import numpy as np
 from scipy.optimize import least_squares
@@ -24,18 +46,23 @@ import mdrvisc as mv
 from _bench import best_of, header, table
 from mdrvisc.fitting import _medium, _parameters
 
+HERE = Path(__file__).resolve().parent
 RADIUS, RATE, T_PEAK, SAMPLES, N = 5e-6, 1e-6, 1.0, 2000, 500
+CONE_SLOPE = 0.5
+PYFMRHEO_PYTHON_ENV = "MDRVISC_PYFMRHEO_PYTHON"
 
 
-def curve(true):
+def curve(true, indenter=None, clean=False):
+    """Times, depths and 1 %-noise forces of the triangle (and the noise-free forces)."""
     t = np.linspace(0.0, 2.0 * T_PEAK, SAMPLES + 1)[1:]
-    scene = mv.Scene(indenter=mv.Sphere(radius=RADIUS), medium=true,
+    scene = mv.Scene(indenter=indenter or mv.Sphere(radius=RADIUS), medium=true,
                      depth=([0.0, T_PEAK, 2.0 * T_PEAK], [0.0, RATE * T_PEAK, 0.0]), duration=2.0 * T_PEAK,
                      times=t, dt=1e-4)
     force = mv.solve(scene, "mdr", 4000).force
     depth = np.where(t <= T_PEAK, RATE * t, RATE * (2 * T_PEAK - t))
     rng = np.random.default_rng(0)
-    return t, depth, force + 0.01 * force.max() * rng.standard_normal(t.size)
+    noisy = force + 0.01 * force.max() * rng.standard_normal(t.size)
+    return (t, depth, noisy, force) if clean else (t, depth, noisy)
 
 
 def scipy_fit(guess, t, depth, force):
@@ -57,10 +84,74 @@ def scipy_fit(guess, t, depth, force):
     return _medium(type(guess), dict(zip(names, np.exp(result.x)))), solves
 
 
+def pyfmrheo_fit(python, tip, tip_param, t, depth, force, clean, true, guess, repeats):
+    """PyFMRheo's Ting fit in its venv (pyfmrheo_worker.py): a dict of its results, or
+    {"failed": why}."""
+    with tempfile.TemporaryDirectory() as folder:
+        path = os.path.join(folder, "curve.npz")
+        np.savez(path, t=t, depth=depth, force=force, clean=clean, turn=int(np.argmax(depth)))
+        cmd = [python, str(HERE / "pyfmrheo_worker.py"), "--curve", path, "--tip", tip,
+               "--tip-param", repr(tip_param), "--rate", repr(RATE), "--t0", repr(true.t0),
+               "--e0", repr(3.0 * guess.G0), "--beta", repr(guess.beta), "--true-e0", repr(3.0 * true.G0),
+               "--true-beta", repr(true.beta), "--repeats", str(repeats)]
+        env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "VIRTUAL_ENV")}
+        try:
+            proc = subprocess.run(cmd, capture_output=True, text=True, timeout=600, env=env)
+        except subprocess.TimeoutExpired:
+            return {"failed": "timed out after 600 s"}
+    if proc.returncode != 0:
+        tail = (proc.stderr or proc.stdout).strip().splitlines()[-3:]
+        return {"failed": f"rc {proc.returncode}: " + " | ".join(tail)}
+    return json.loads(proc.stdout.strip().splitlines()[-1])
+
+
+def power_law_table(python, repeats) -> None:
+    true = mv.PowerLaw(G0=1e3, beta=0.2, t0=1.0)
+    guess = mv.PowerLaw(G0=1.6e3, beta=0.12, t0=1.0)
+    half_angle = math.degrees(math.atan(1.0 / CONE_SLOPE))
+    header(f"Power-law fits against PyFMRheo's Ting fit ({SAMPLES} samples, 1 % noise, MDR n = {2 * N} "
+           f"for mv.fit, best of {repeats})")
+    rows = []
+    for label, tip, name, param in (("paraboloid", mv.Paraboloid(c=1 / (2 * RADIUS)), "paraboloid", RADIUS),
+                                    ("cone", mv.Cone(slope=CONE_SLOPE), "cone", half_angle)):
+        t, depth, force, clean = curve(true, tip, clean=True)
+        ours_s, ours = best_of(
+            lambda tip=tip, t=t, d=depth, f=force: mv.fit(tip, guess, t, depth=d, force=f, n=N), repeats)
+        rows.append([label, "mv.fit", ours.solves, ours_s, ours.G0, ours.stderr["G0"], ours.beta,
+                     ours.stderr["beta"], None, None])
+        if python is None:
+            rows.append([label, "PyFMRheo (not run: no --pyfmrheo-python)"] + [None] * 8)
+            continue
+        theirs = pyfmrheo_fit(python, name, param, t, depth, force, clean, true, guess, repeats)
+        if "failed" in theirs:
+            rows.append([label, f"PyFMRheo (failed: {theirs['failed']})"] + [None] * 8)
+            continue
+        g0, g0_err = theirs["E0"] / 3.0, theirs["E0_stderr"] / 3.0
+        diff = max(abs(g0 - ours.G0) / g0_err, abs(theirs["betaE"] - ours.beta) / theirs["betaE_stderr"])
+        rows.append([label, f"PyFMRheo {theirs['version']} Ting", theirs["evaluations"], theirs["seconds"],
+                     g0, g0_err, theirs["betaE"], theirs["betaE_stderr"], diff,
+                     f"{theirs['deviation_approach']:.1e} / {theirs['deviation_retract']:.1e}"])
+        rows.append([label, "time ratio mv.fit / PyFMRheo", None, ours_s / theirs["seconds"]] + [None] * 6)
+    table(["tip", "method", "evaluations", "wall s", "G0 Pa", "+- Pa", "beta", "+-", "|diff| / their stderr",
+           "closed form at true vs data"], rows,
+          ["{}", "{}", "{}", "{:.4f}", "{:.2f}", "{:.2f}", "{:.5f}", "{:.5f}", "{:.1f}", "{}"])
+
+
 def main(argv=None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--repeats", type=int, default=3)
+    parser.add_argument("--pyfmrheo-python", default=os.environ.get(PYFMRHEO_PYTHON_ENV) or None,
+                        help=f"interpreter of a venv with PyFMRheo (default: ${PYFMRHEO_PYTHON_ENV}; without "
+                             "it PyFMRheo's rows say 'not run')")
+    parser.add_argument("--skip-targets", action="store_true", help="only the power-law table")
     args = parser.parse_args(argv)
+    if not args.skip_targets:
+        target_table(args.repeats)
+    power_law_table(args.pyfmrheo_python, args.repeats)
+
+
+def target_table(repeats) -> None:
+    args = argparse.Namespace(repeats=repeats)
     cases = [
         ("standard solid", mv.StandardSolid(G_inf=1e3, G1=2e3, tau1=0.2), 0.2),
         ("Prony, 3 terms", mv.Prony(G_inf=1e3, terms=((2e3, 0.01), (1.5e3, 0.08), (1e3, 0.5))), 1.0),

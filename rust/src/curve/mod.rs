@@ -193,7 +193,8 @@ impl Curve {
     /// The steps (end time in s, prescribed value at it) from the sample `from` to the
     /// sample `to`, both (time, value): `substeps` equal steps, or at t = 0 one step of
     /// length zero to a value already there (none for a medium with a dashpot under force
-    /// control, which takes a step force without moving; an error under depth control).
+    /// control, which takes a step force without moving; an error under depth control),
+    /// and none to a depth <= 0 (no contact).
     fn substeps_to(
         &self,
         r: &Rheology,
@@ -202,7 +203,8 @@ impl Curve {
     ) -> Result<Vec<(f64, f64)>> {
         let ((t_prev, value_prev), (t_sample, v_sample)) = (from, to);
         if t_sample == 0.0 {
-            if v_sample == 0.0 {
+            // at rest, no contact: nothing to step (a depth <= 0 touches no element)
+            if v_sample == 0.0 || (self.control == Control::Depth && v_sample < 0.0) {
                 return Ok(vec![]);
             }
             if r.eta == 0.0 {
@@ -231,19 +233,31 @@ impl Curve {
     /// The computed quantity at the sample times for the medium `r`, and its derivatives
     /// along each of `tangents` (derivatives of r's coefficients, same shape as r).
     pub fn evaluate(&self, r: &Rheology, tangents: &[Rheology]) -> Result<Evaluation> {
-        let m = r.terms.len();
-        for t in tangents {
-            if t.terms.len() != m {
-                return Err(Error::InvalidInput(format!(
-                    "a tangent has {} Prony terms, the medium {m}",
-                    t.terms.len()
-                )));
-            }
-        }
+        check_tangents(r, tangents)?;
         match self.control {
-            Control::Depth => self.evaluate_depth_control(r, tangents),
+            Control::Depth => self.evaluate_depth_control(r, tangents, None),
             Control::Force => self.evaluate_force_control(r, tangents),
         }
+    }
+
+    /// `evaluate` of a depth-controlled curve with `shift` (m) added to every prescribed
+    /// depth (a depth <= 0 at t = 0 is no contact), with the derivatives along the shift
+    /// (N/m) as a last Jacobian column after those of the tangents: the forward model of a
+    /// raw AFM curve, whose contact point offsets the depths.
+    pub fn evaluate_shifted(
+        &self,
+        r: &Rheology,
+        tangents: &[Rheology],
+        shift: f64,
+    ) -> Result<Evaluation> {
+        if self.control != Control::Depth {
+            return Err(Error::InvalidInput(
+                "a shift of the prescribed values needs a depth-controlled curve".into(),
+            ));
+        }
+        check_finite("depth shift", &[shift])?;
+        check_tangents(r, tangents)?;
+        self.evaluate_depth_control(r, tangents, Some(shift))
     }
 
     /// `evaluate` under force control: the depth of each step balances the prescribed force
@@ -380,6 +394,18 @@ impl Curve {
             value_prev = v_sample;
         }
         Ok(out)
+    }
+}
+
+/// Refuses tangents whose Prony terms do not match the medium's.
+fn check_tangents(r: &Rheology, tangents: &[Rheology]) -> Result<()> {
+    let m = r.terms.len();
+    match tangents.iter().find(|t| t.terms.len() != m) {
+        Some(t) => Err(Error::InvalidInput(format!(
+            "a tangent has {} Prony terms, the medium {m}",
+            t.terms.len()
+        ))),
+        None => Ok(()),
     }
 }
 

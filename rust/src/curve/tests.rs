@@ -136,3 +136,139 @@ fn derivatives_match_central_differences() {
         }
     }
 }
+
+/// The derivative along a depth shift against central differences of the shifted curve
+/// (step 1e-7 of a 0.3 peak depth: truncation and round-off ~1e-8 relative to the largest
+/// derivative), on a raw-curve-like history that starts out of contact (depths < 0 from
+/// t = 0) and separates on retraction; the rheology columns beside it against the unshifted
+/// curve of the shifted depths.
+#[test]
+fn shift_derivative_matches_central_differences() {
+    let (half, _, dx) = half_parabola(400, 1.0, 1.0);
+    let times: Vec<f64> = (0..=60).map(|k| 0.05 * k as f64).collect();
+    let depth: Vec<f64> = times
+        .iter()
+        .map(|&t| 0.3 * (t - 0.6).min(2.4 - t))
+        .collect();
+    let curve = Curve::new(
+        half.clone(),
+        dx,
+        times.clone(),
+        depth.clone(),
+        Control::Depth,
+        2,
+    )
+    .unwrap();
+    let r = standard_solid(1.0, 2.0, 0.3);
+    let tangent = Rheology {
+        g_inf: r.g_inf,
+        terms: vec![(0.0, 0.0)],
+        eta: 0.0,
+    };
+    for shift in [0.0, 0.05, -0.07] {
+        let e = curve
+            .evaluate_shifted(&r, std::slice::from_ref(&tangent), shift)
+            .unwrap();
+        let moved: Vec<f64> = depth.iter().map(|d| d + shift).collect();
+        let plain = Curve::new(half.clone(), dx, times.clone(), moved, Control::Depth, 2)
+            .unwrap()
+            .evaluate(&r, std::slice::from_ref(&tangent))
+            .unwrap();
+        let biggest = e.jacobian.iter().fold(0.0f64, |a, b| a.max(b.abs()));
+        let h = 1e-7;
+        let up = curve.evaluate_shifted(&r, &[], shift + h).unwrap().values;
+        let down = curve.evaluate_shifted(&r, &[], shift - h).unwrap().values;
+        for k in 0..times.len() {
+            assert!((e.values[k] - plain.values[k]).abs() <= 1e-12 * biggest);
+            assert!((e.jacobian[2 * k] - plain.jacobian[k]).abs() <= 1e-12 * biggest);
+            let numeric = (up[k] - down[k]) / (2.0 * h);
+            let analytic = e.jacobian[2 * k + 1];
+            assert!(
+                (numeric - analytic).abs() <= 1e-6 * biggest,
+                "shift {shift} sample {k}: {analytic} vs {numeric}"
+            );
+        }
+        assert_eq!(e.values[0], 0.0);
+        assert!(e.jacobian.iter().any(|&d| d > 0.0));
+    }
+    let force = Curve::new(half, dx, times, depth, Control::Force, 1).unwrap();
+    assert!(force.evaluate_shifted(&r, &[], 0.0).is_err());
+}
+
+/// Elements that leave contact and touch again (press, partly retract, press deeper): the
+/// derivatives stepped from where each left contact against central differences (step
+/// 1e-6, as above), with the values equal to the full profile's stepping.
+#[test]
+fn derivatives_through_a_second_contact() {
+    let (half, full, dx) = half_parabola(400, 1.0, 1.0);
+    let times: Vec<f64> = (1..=60).map(|k| 0.025 * k as f64).collect();
+    let depth: Vec<f64> = times
+        .iter()
+        .map(|&t| {
+            if t <= 0.5 {
+                0.3 * t
+            } else if t <= 0.9 {
+                0.15 - 0.3 * (t - 0.5)
+            } else {
+                0.03 + 0.4 * (t - 0.9)
+            }
+        })
+        .collect();
+    let build = |p: &[f64]| standard_solid(p[0].exp(), p[1].exp(), p[2].exp());
+    let params = [0.0, 0.7, -1.2];
+    let r = build(&params);
+    let zero = Rheology {
+        g_inf: 0.0,
+        terms: vec![(0.0, 0.0)],
+        eta: 0.0,
+    };
+    let mut tangents = vec![zero.clone(), zero.clone(), zero];
+    tangents[0].g_inf = r.g_inf;
+    tangents[1].terms[0].0 = r.terms[0].0;
+    tangents[2].terms[0].1 = r.terms[0].1;
+    let curve = Curve::new(half, dx, times.clone(), depth.clone(), Control::Depth, 1).unwrap();
+    let e = curve.evaluate_shifted(&r, &tangents, 0.0).unwrap();
+    let mut t_all = vec![0.0];
+    t_all.extend_from_slice(&times);
+    let mut v_all = vec![0.0];
+    v_all.extend_from_slice(&depth);
+    let loading = Loading::Depth(DepthHistory::piecewise_linear(t_all, v_all).unwrap());
+    let request = Request {
+        times: &times,
+        dt: 1.0,
+        fields_at: &[],
+        field_rates: false,
+    };
+    let (s, _) = run_mdr(&full, dx, &r, &loading, &request, &mut Silent).unwrap();
+    let scale = s.force.iter().fold(0.0f64, |a, b| a.max(b.abs()));
+    for (a, b) in e.values.iter().zip(&s.force) {
+        assert!((a - b).abs() <= 1e-12 * scale, "{a} vs {b}");
+    }
+    let biggest = e.jacobian.iter().fold(0.0f64, |a, b| a.max(b.abs()));
+    let p = 4;
+    let h = 1e-6;
+    for j in 0..p {
+        let (up, down) = if j < 3 {
+            let (mut u, mut d) = (params, params);
+            u[j] += h;
+            d[j] -= h;
+            (
+                curve.evaluate(&build(&u), &[]).unwrap().values,
+                curve.evaluate(&build(&d), &[]).unwrap().values,
+            )
+        } else {
+            (
+                curve.evaluate_shifted(&r, &[], h).unwrap().values,
+                curve.evaluate_shifted(&r, &[], -h).unwrap().values,
+            )
+        };
+        for k in 0..times.len() {
+            let numeric = (up[k] - down[k]) / (2.0 * h);
+            let analytic = e.jacobian[k * p + j];
+            assert!(
+                (numeric - analytic).abs() <= 1e-6 * biggest,
+                "param {j} sample {k}: {analytic} vs {numeric}"
+            );
+        }
+    }
+}

@@ -71,12 +71,15 @@ impl PyCurve {
     /// For each medium (JSON of a scene's medium table): the force (N, depth control) or
     /// depth (m, force control) at the samples, its derivatives with respect to the natural
     /// logarithms of the parameters named in `free` (samples x parameters), and the
-    /// elements of the half profile in contact.
+    /// elements of the half profile in contact. With `shift` (m; depth control only) every
+    /// prescribed depth is moved by it and the derivative along it (N/m) is a last column.
+    #[pyo3(signature = (media, free, shift=None))]
     fn evaluate<'py>(
         &self,
         py: Python<'py>,
         media: Vec<String>,
         free: Vec<String>,
+        shift: Option<f64>,
     ) -> PyResult<Vec<Evaluated<'py>>> {
         let (t_lo, t_hi) = self.inner.time_range();
         let parsed = media
@@ -93,11 +96,14 @@ impl PyCurve {
         let results = in_pool(py, || {
             parsed
                 .par_iter()
-                .map(|(r, tangents)| curve.evaluate(r, tangents))
+                .map(|(r, tangents)| match shift {
+                    Some(shift) => curve.evaluate_shifted(r, tangents, shift),
+                    None => curve.evaluate(r, tangents),
+                })
                 .collect::<crate::Result<Vec<_>>>()
         })?
         .map_err(|e| to_pyerr(py, e))?;
-        let (k, p) = (curve.len(), free.len());
+        let (k, p) = (curve.len(), free.len() + usize::from(shift.is_some()));
         results
             .into_iter()
             .map(|e| {

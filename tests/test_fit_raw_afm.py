@@ -1,0 +1,179 @@
+"""Fits to raw AFM curves (piezo displacement, cantilever deflection, spring constant) with
+the contact point and the deflection baseline fitted: curves made from closed forms
+independent of the fit's forward model (Ting's paraboloid, Lee-Radok for the cone and the
+power law, see test_fit.py), turned into a raw curve with a known contact point z_c,
+baseline b and spring constant k: deflection = F / k + b, z = z_c + indentation + F / k."""
+
+import numpy as np
+import pytest
+
+import mdrvisc as mv
+from mdrvisc.analytic import ting_paraboloid_triangle
+from test_fit import T_PEAK, R, V, cone_ramp_hold, power_law_ramp_hold
+
+# contact point (m), baseline (m), spring constant (N/m): the largest deflection change is
+# 7 % of the largest indentation. Its noise enters the depths too (errors in the variables):
+# with k = 0.05 N/m (deflection 0.7 times the indentation) and 1 % noise the moduli of the
+# standard solid below come out 2-3.5 % low (about 3 standard errors; seeds 5, 6), with
+# 0.5 N/m within 1 standard error.
+Z_C, BASELINE, K = 2.0e-6, 3.0e-8, 0.5
+T_C = 0.5037  # time of contact (s): between samples
+PARABOLOID = mv.Paraboloid(c=1 / (2 * R))
+
+
+def raw_curve(indentation, force, seed=None, level=0.01):
+    """Piezo and deflection of a curve of ``indentation`` (m, < 0 before contact) and
+    ``force`` (N); with ``seed``, Gaussian noise of ``level`` times the largest deflection
+    change on the deflection (the piezo is exact)."""
+    bend = force / K
+    deflection = bend + BASELINE
+    if seed is not None:
+        rng = np.random.default_rng(seed)
+        deflection = deflection + level * np.max(bend) * rng.standard_normal(bend.size)
+    return Z_C + indentation + bend, deflection
+
+
+def ting_raw(medium, samples=500, seed=None):
+    """Approach from 0.5 um above the surface at V, contact at T_C, Ting's triangle of
+    T_PEAK up and T_PEAK back (the indentation returns to zero), about ``samples`` samples
+    with one at the turning point (the forward model's history is linear between samples)."""
+    dt = (T_C + 2 * T_PEAK) / samples
+    t = T_C + T_PEAK + dt * np.arange(-round((T_C + T_PEAK) / dt), round(T_PEAK / dt) + 1)
+    s = t - T_C
+    indentation = np.where(s <= T_PEAK, V * s, V * (2 * T_PEAK - s))
+    assert np.min(np.abs(s - T_PEAK)) < 1e-12
+    force = np.zeros_like(t)
+    inside = s > 0
+    force[inside], _, _ = ting_paraboloid_triangle(s[inside], medium, R, V, T_PEAK)
+    z, deflection = raw_curve(indentation, force, seed)
+    return t, z, deflection, indentation
+
+
+def check_raw(result, true, percent=0.03, sigmas=3.0):
+    depth_max = V * T_PEAK
+    for name, value in true.items():
+        fitted, err = result.parameters[name], result.stderr[name]
+        assert abs(fitted - value) <= sigmas * err, f"{name}: {fitted} vs {value} +- {err}"
+        assert abs(fitted / value - 1.0) <= percent, f"{name}: {fitted} vs {value}"
+    err = result.stderr["contact_point"]
+    assert abs(result.contact_point - Z_C) <= sigmas * err, (result.contact_point, err)
+    assert abs(result.contact_point - Z_C) <= 0.01 * depth_max, result.contact_point
+    assert abs(result.baseline - BASELINE) <= sigmas * result.stderr["baseline"]
+
+
+# (a dashpot's force follows the contact's growth within each step and each element, a
+# first-order error in the step and the element: 40 substeps, as in test_fit.py, and 2000
+# elements; with 500 the parameters and the contact point are off by 1e-3)
+TING_MEDIA = [
+    (mv.Elastic(G=2e3), {}),
+    (mv.Viscous(eta=500.0), {"substeps": 40, "n": 2000}),
+    (mv.KelvinVoigt(G=1e3, eta=300.0), {"substeps": 40, "n": 2000}),
+    (mv.Maxwell(G=2e3, eta=600.0), {}),
+    (mv.StandardSolid(G_inf=1e3, G1=2e3, tau1=0.2), {}),
+    (mv.Prony(G_inf=1e3, terms=((2e3, 0.03), (1.5e3, 0.5))), {"terms": 2}),
+]
+
+
+@pytest.mark.parametrize("true, options", TING_MEDIA, ids=[type(m).__name__ for m, _ in TING_MEDIA])
+def test_noise_free_raw_curve_recovers_contact_point_and_medium(true, options):
+    """Every medium of Ting's paraboloid from the class alone, the contact point and the
+    baseline estimated from the curve. Measured worst: parameters 7.5e-5 (Kelvin-Voigt G;
+    4e-5 without a dashpot), contact point 5.8e-5 of the largest indentation (1.6e-7
+    without a dashpot), baseline 1e-5 of the largest deflection."""
+    t, z, deflection, _ = ting_raw(true)
+    result = mv.fit(PARABOLOID, type(true), t, piezo=z, deflection=deflection, spring_constant=K,
+                    **{"substeps": 8, **options})
+    assert result.converged, result.message
+    true_values = mv.fitting._parameters(true)
+    errors = {name: result.parameters[name] / value - 1 for name, value in true_values.items()}
+    print(type(true).__name__, errors, (result.contact_point - Z_C) / (V * T_PEAK),
+          (result.baseline - BASELINE) / np.ptp(deflection), result.solves)
+    assert max(abs(e) for e in errors.values()) < 3e-4, errors
+    assert abs(result.contact_point - Z_C) < 3e-4 * V * T_PEAK
+    assert abs(result.baseline - BASELINE) < 1e-4 * np.ptp(deflection)
+
+
+@pytest.mark.parametrize("offset", [0.0, -0.2, 0.2], ids=["estimated", "early", "late"])
+def test_noisy_raw_curve_within_three_standard_errors(offset):
+    """1 % deflection noise; the contact point estimated from the curve, or given 20 % of the
+    largest indentation too early or too late."""
+    true = mv.StandardSolid(G_inf=1e3, G1=2e3, tau1=0.2)
+    t, z, deflection, _ = ting_raw(true, 1000, seed=5)
+    guess = None if offset == 0.0 else Z_C + offset * V * T_PEAK
+    result = mv.fit(PARABOLOID, mv.StandardSolid, t, piezo=z, deflection=deflection, spring_constant=K,
+                    contact_point=guess)
+    print(result)
+    assert result.converged, result.message
+    check_raw(result, mv.fitting._parameters(true))
+
+
+def test_noisy_raw_cone_ramp_and_hold():
+    """A cone (Lee-Radok ramp and hold) on a Maxwell medium, 1 % deflection noise."""
+    true, slope = mv.Maxwell(G=2e3, eta=600.0), 0.5
+    t = np.linspace(0.0, T_C + 2.0, 600)
+    s = t - T_C
+    indentation = V * np.minimum(s, 1.0)
+    force = np.zeros_like(t)
+    force[s > 0] = cone_ramp_hold(s[s > 0], true, slope, 1.0)
+    z, deflection = raw_curve(indentation, force, seed=9)
+    result = mv.fit(mv.Cone(slope=slope), mv.Maxwell, t, piezo=z, deflection=deflection, spring_constant=K)
+    print(result)
+    check_raw(result, mv.fitting._parameters(true))
+
+
+def test_noisy_raw_power_law():
+    """A paraboloid on a power-law medium (Lee-Radok ramp and hold), 1 % deflection noise."""
+    true = mv.PowerLaw(G0=1e3, beta=0.2, t0=1.0)
+    t = np.linspace(0.0, T_C + 1.0, 300)
+    s = t - T_C
+    indentation = V * np.minimum(s, 0.5)
+    force = np.zeros_like(t)
+    force[s > 0] = power_law_ramp_hold(s[s > 0], true, 0.5)
+    z, deflection = raw_curve(indentation, force, seed=4)
+    result = mv.fit(PARABOLOID, mv.PowerLaw, t, piezo=z, deflection=deflection, spring_constant=K)
+    print(result)
+    check_raw(result, {"G0": 1e3, "beta": 0.2})
+
+
+def test_raw_curve_without_contact_is_refused():
+    t = np.linspace(0.0, 1.0, 200)
+    z = Z_C - 1e-6 + V * t
+    deflection = BASELINE + 1e-10 * np.random.default_rng(0).standard_normal(t.size)
+    with pytest.raises(mv.DataError, match="never reaches contact"):
+        mv.fit(PARABOLOID, mv.Elastic, t, piezo=z, deflection=deflection, spring_constant=K)
+
+
+def test_raw_curve_without_baseline_is_refused():
+    t, z, deflection, indentation = ting_raw(mv.Elastic(G=2e3), 500, seed=1)
+    inside = indentation > 0.05 * V
+    with pytest.raises(mv.DataError, match="contact-free start"):
+        mv.fit(PARABOLOID, mv.Elastic, t[inside], piezo=z[inside], deflection=deflection[inside],
+               spring_constant=K)
+    with pytest.raises(mv.DataError, match="contact-free start"):
+        mv.fit(PARABOLOID, mv.Elastic, t[:6], piezo=z[:6], deflection=deflection[:6], spring_constant=K)
+
+
+def test_raw_input_is_one_kind_or_the_other():
+    t, z, deflection, indentation = ting_raw(mv.Elastic(G=2e3), 100)
+    with pytest.raises(mv.InvalidInputError, match="spring_constant"):
+        mv.fit(PARABOLOID, mv.Elastic, t, piezo=z, deflection=deflection)
+    with pytest.raises(mv.InvalidInputError, match="raw AFM"):
+        mv.fit(PARABOLOID, mv.Elastic, t, depth=indentation, force=deflection, piezo=z)
+    with pytest.raises(mv.InvalidInputError, match="spring_constant must be > 0"):
+        mv.fit(PARABOLOID, mv.Elastic, t, piezo=z, deflection=deflection, spring_constant=-1.0)
+    with pytest.raises(mv.InvalidInputError, match="depth-controlled"):
+        mv.fit(PARABOLOID, mv.Elastic, t, piezo=z, deflection=deflection, spring_constant=K, control="force")
+
+
+def test_held_contact_point_and_table():
+    """Held at the true value: only the medium and the baseline are fitted; the table names
+    both."""
+    true = mv.StandardSolid(G_inf=1e3, G1=2e3, tau1=0.2)
+    t, z, deflection, _ = ting_raw(true, 500)
+    result = mv.fit(PARABOLOID, mv.StandardSolid, t, piezo=z, deflection=deflection, spring_constant=K,
+                    contact_point=Z_C, fixed=("contact_point",), substeps=8)
+    assert result.free == ["G_inf", "G1", "tau1", "baseline"]
+    assert result.contact_point == Z_C and result.stderr["contact_point"] == 0.0
+    text = repr(result)
+    assert "contact_point" in text and "baseline" in text and "held" in text
+    assert np.allclose(result.depth, z - Z_C - (deflection - result.baseline))
