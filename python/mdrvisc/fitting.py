@@ -19,6 +19,7 @@ problems have a handful of parameters, each evaluation is a full forward solve w
 Jacobian, and a small dense solver needs no run-time dependency beyond numpy.
 """
 
+import dataclasses
 import json
 import math
 import time
