@@ -74,14 +74,14 @@ def scipy_fit(guess, t, depth, force):
     def residuals(x):
         nonlocal solves
         solves += 1
-        medium = _medium(type(guess), {**base, **dict(zip(names, np.exp(x)))})
+        medium = _medium(type(guess), {**base, **dict(zip(names, np.exp(x)))}, guess.nu)
         history = (np.concatenate([[0.0], t]), np.concatenate([[0.0], depth]))
         scene = mv.Scene(indenter=mv.Sphere(radius=RADIUS), medium=medium, depth=history,
                          duration=float(t[-1]), times=t, dt=float(t[1] - t[0]))
         return (mv.solve(scene, "mdr", 2 * N).force - force) / force.max()
 
     result = least_squares(residuals, np.log([base[k] for k in names]), method="trf")
-    return _medium(type(guess), dict(zip(names, np.exp(result.x)))), solves
+    return _medium(type(guess), dict(zip(names, np.exp(result.x))), guess.nu), solves
 
 
 def pyfmrheo_fit(python, tip, tip_param, t, depth, force, clean, true, guess, repeats):
@@ -161,7 +161,8 @@ def target_table(repeats) -> None:
     for label, true, target in cases:
         t, depth, force = curve(true)
         factors = np.resize([1.6, 0.6, 2.5, 0.7], len(_parameters(true)))
-        guess = _medium(type(true), {k: v * f for (k, v), f in zip(_parameters(true).items(), factors)})
+        scaled = {k: v * f for (k, v), f in zip(_parameters(true).items(), factors)}
+        guess = _medium(type(true), scaled, true.nu)
         ours_s, ours = best_of(lambda g=guess, t=t, d=depth, f=force: mv.fit(
             mv.Sphere(radius=RADIUS), g, t, depth=d, force=f, n=N), args.repeats)
         start = time.perf_counter()
