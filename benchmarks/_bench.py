@@ -157,3 +157,25 @@ def interleaved(funcs: dict, rounds: int, warmup: bool = True) -> dict:
 def inner_count(seconds_per_call: float, target: float = 0.02) -> int:
     """Calls per sample so that a sample lasts about ``target`` seconds."""
     return max(1, int(target / max(seconds_per_call, 1e-7)))
+
+
+def pressure_for_fraction(pressure_at, fraction: float, estimate: float,
+                          tries: int = 8) -> tuple[float, list[str]]:
+    """Mean pressure (Pa) at which ``pressure_at(pbar)`` (a contact's pressure field) has the
+    contact fraction ``fraction`` to 1 %: secant steps on the fraction from ``estimate``.
+    Returns it and a log line per step."""
+    log, points = [], []
+    pbar = estimate
+    for _ in range(tries):
+        p = pressure_at(pbar)
+        got = float((p > 0).sum()) / p.size
+        log.append(f"pbar {pbar:.6g} Pa -> {got:.4f}")
+        points.append((pbar, got))
+        if abs(got / fraction - 1.0) < 0.01:
+            break
+        if len(points) == 1:
+            pbar *= fraction / got
+        else:
+            (p0, f0), (p1, f1) = points[-2:]
+            pbar = p1 + (fraction - f1) * (p1 - p0) / (f1 - f0) if f1 != f0 else p1
+    return pbar, log

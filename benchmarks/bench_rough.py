@@ -79,7 +79,7 @@ from pathlib import Path
 import numpy as np
 
 import mdrvisc as mv
-from _bench import best_of, header, load, table
+from _bench import best_of, header, load, pressure_for_fraction, table
 
 HERE = Path(__file__).resolve().parent
 EDGE, G = 1.0, 1.0
@@ -141,21 +141,8 @@ def calibrate(seed: int, fraction: float) -> tuple[float, list[str]]:
     contact fraction ``fraction``: secant steps on the contact fraction from the estimate
     fraction = 2 pbar / (E* rms slope)."""
     z = self_affine(512, seed)
-    log, points = [], []
-    pbar = fraction * E_STAR * RMS_SLOPE / 2.0
-    for _ in range(6):
-        p = pressure(mv_solve(z, "periodic", pbar * EDGE**2, 1e-6))
-        got = float(np.count_nonzero(p > 0)) / p.size
-        log.append(f"pbar {pbar:.6g} Pa -> {got:.4f}")
-        points.append((pbar, got))
-        if abs(got / fraction - 1.0) < 0.01:
-            break
-        if len(points) == 1:
-            pbar *= fraction / got
-        else:
-            (p0, f0), (p1, f1) = points[-2:]
-            pbar = p1 + (fraction - f1) * (p1 - p0) / (f1 - f0) if f1 != f0 else p1
-    return pbar, log
+    return pressure_for_fraction(lambda pbar: pressure(mv_solve(z, "periodic", pbar * EDGE**2, 1e-6)),
+                                 fraction, fraction * E_STAR * RMS_SLOPE / 2.0, tries=6)
 
 
 def deviation(p: np.ndarray, p_ref: np.ndarray) -> tuple[float, float]:

@@ -79,7 +79,7 @@ from pathlib import Path
 import numpy as np
 
 import mdrvisc as mv
-from _bench import header, load, table
+from _bench import header, load, pressure_for_fraction, table
 
 HERE = Path(__file__).resolve().parent
 EDGE = 1.0
@@ -102,23 +102,13 @@ def calibrate(z: np.ndarray, g: float, fraction: float) -> tuple[float, list[str
     has the contact fraction ``fraction`` (tol 1e-6): secant steps from the estimate
     fraction = 2 pbar / (E* rms slope)."""
     n = z.shape[0]
-    log, points = [], []
-    pbar = fraction * 4.0 * g * RMS_SLOPE / 2.0
-    for _ in range(8):
+
+    def pressure_at(pbar):
         r = mv.arrays.contact(z.max() - z, EDGE / n, g, force=pbar * EDGE**2, tol=1e-6,
                               deflection=False, periodic=True)
-        p = np.asarray(r.fields[0.0].pressure)
-        got = float(np.count_nonzero(p > 0)) / p.size
-        log.append(f"pbar {pbar:.6g} Pa -> {got:.4f}")
-        points.append((pbar, got))
-        if abs(got / fraction - 1.0) < 0.01:
-            break
-        if len(points) == 1:
-            pbar *= fraction / got
-        else:
-            (p0, f0), (p1, f1) = points[-2:]
-            pbar = p1 + (fraction - f1) * (p1 - p0) / (f1 - f0) if f1 != f0 else p1
-    return pbar, log
+        return np.asarray(r.fields[0.0].pressure)
+
+    return pressure_for_fraction(pressure_at, fraction, fraction * 4.0 * g * RMS_SLOPE / 2.0)
 
 
 def mv_creep(z, medium, pbar, duration, steps, tol):
