@@ -8,8 +8,10 @@ the load average is printed before and after each table so that a disturbed run 
 from __future__ import annotations
 
 import hashlib
+import json
 import os
 import platform
+import subprocess
 import sys
 import time
 from pathlib import Path
@@ -179,3 +181,18 @@ def pressure_for_fraction(pressure_at, fraction: float, estimate: float,
             (p0, f0), (p1, f1) = points[-2:]
             pbar = p1 + (fraction - f1) * (p1 - p0) / (f1 - f0) if f1 != f0 else p1
     return pbar, log
+
+
+def run_worker(cmd: list[str], timeout: float) -> dict:
+    """Runs a peer's worker script ``cmd`` (its venv's python first) outside this venv (no
+    PYTHONPATH, no VIRTUAL_ENV) and returns the JSON of its last output line, or
+    ``{"failed": why}`` when it timed out or exited with an error."""
+    env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "VIRTUAL_ENV")}
+    try:
+        proc = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout, env=env)
+    except subprocess.TimeoutExpired:
+        return {"failed": f"timed out after {timeout:.0f} s"}
+    if proc.returncode != 0:
+        tail = (proc.stderr or proc.stdout).strip().splitlines()[-3:]
+        return {"failed": f"rc {proc.returncode}: " + " | ".join(tail)}
+    return json.loads(proc.stdout.strip().splitlines()[-1])

@@ -31,10 +31,8 @@ Run: ``python benchmarks/bench_fit.py [--repeats 3] [--pyfmrheo-python PATH]``.
 from __future__ import annotations
 
 import argparse
-import json
 import math
 import os
-import subprocess
 import tempfile
 import time
 from pathlib import Path
@@ -43,7 +41,7 @@ import numpy as np
 from scipy.optimize import least_squares
 
 import mdrvisc as mv
-from _bench import best_of, header, table
+from _bench import best_of, header, run_worker, table
 from mdrvisc.fitting import _medium, _parameters
 
 HERE = Path(__file__).resolve().parent
@@ -94,15 +92,7 @@ def pyfmrheo_fit(python, tip, tip_param, t, depth, force, clean, true, guess, re
                "--tip-param", repr(tip_param), "--rate", repr(RATE), "--t0", repr(true.t0),
                "--e0", repr(3.0 * guess.G0), "--beta", repr(guess.beta), "--true-e0", repr(3.0 * true.G0),
                "--true-beta", repr(true.beta), "--repeats", str(repeats)]
-        env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "VIRTUAL_ENV")}
-        try:
-            proc = subprocess.run(cmd, capture_output=True, text=True, timeout=600, env=env)
-        except subprocess.TimeoutExpired:
-            return {"failed": "timed out after 600 s"}
-    if proc.returncode != 0:
-        tail = (proc.stderr or proc.stdout).strip().splitlines()[-3:]
-        return {"failed": f"rc {proc.returncode}: " + " | ".join(tail)}
-    return json.loads(proc.stdout.strip().splitlines()[-1])
+        return run_worker(cmd, 600.0)
 
 
 def power_law_table(python, repeats) -> None:

@@ -49,7 +49,7 @@ from pathlib import Path
 import numpy as np
 
 import mdrvisc as mv
-from _bench import best_of, header, load, table
+from _bench import best_of, header, load, run_worker, table
 
 HERE = Path(__file__).resolve().parent
 EDGE, RADIUS, G = 2.56, 10.0, 1.0
@@ -111,15 +111,9 @@ def run_peer(code: str, n: int, tol: float, repeats: int, python: str, folder: s
     cmd = [python, str(HERE / "peers_worker.py"), "--code", code, "--n", str(n), "--tol",
            repr(tol), "--force", repr(FORCE), "--edge", repr(EDGE), "--radius", repr(RADIUS),
            "--e-star", repr(E_STAR), "--repeats", str(repeats), "--out", folder]
-    env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "VIRTUAL_ENV")}
-    try:
-        proc = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout, env=env)
-    except subprocess.TimeoutExpired:
-        return dict(code=code, n=n, failed=f"timed out after {timeout:.0f} s")
-    if proc.returncode != 0:
-        tail = (proc.stderr or proc.stdout).strip().splitlines()[-3:]
-        return dict(code=code, n=n, failed=f"rc {proc.returncode}: " + " | ".join(tail))
-    res = json.loads(proc.stdout.strip().splitlines()[-1])
+    res = run_worker(cmd, timeout)
+    if "failed" in res:
+        return dict(code=code, n=n, **res)
     res["pressure"] = np.load(res.pop("pressure_file"))
     return res
 

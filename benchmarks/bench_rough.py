@@ -68,10 +68,8 @@ and size. Run: ``python benchmarks/bench_rough.py --peers-python PATH [--sizes 5
 from __future__ import annotations
 
 import argparse
-import json
 import os
 import shutil
-import subprocess
 import sys
 import tempfile
 from pathlib import Path
@@ -79,7 +77,7 @@ from pathlib import Path
 import numpy as np
 
 import mdrvisc as mv
-from _bench import best_of, header, load, pressure_for_fraction, table
+from _bench import best_of, header, load, pressure_for_fraction, run_worker, table
 
 HERE = Path(__file__).resolve().parent
 EDGE, G = 1.0, 1.0
@@ -172,15 +170,9 @@ def run_peer(code, variant, mode, n, heights, force, tol, repeats, single_above,
         cmd += ["--variant", variant]
     if apply:
         cmd += ["--apply", apply]
-    env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "VIRTUAL_ENV")}
-    try:
-        proc = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout, env=env)
-    except subprocess.TimeoutExpired:
-        return dict(failed=f"timed out after {timeout:.0f} s")
-    if proc.returncode != 0:
-        tail = (proc.stderr or proc.stdout).strip().splitlines()[-3:]
-        return dict(failed=f"rc {proc.returncode}: " + " | ".join(tail))
-    res = json.loads(proc.stdout.strip().splitlines()[-1])
+    res = run_worker(cmd, timeout)
+    if "failed" in res:
+        return res
     res["pressure"] = np.load(res.pop("pressure_file"))
     if "deflection_file" in res:
         res["deflection"] = np.load(res.pop("deflection_file"))

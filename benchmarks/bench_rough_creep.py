@@ -67,7 +67,6 @@ PATH`` or $MDRVISC_PEERS_PYTHON). Run: ``python benchmarks/bench_rough_creep.py
 from __future__ import annotations
 
 import argparse
-import json
 import os
 import shutil
 import subprocess
@@ -79,7 +78,7 @@ from pathlib import Path
 import numpy as np
 
 import mdrvisc as mv
-from _bench import header, load, pressure_for_fraction, table
+from _bench import header, load, pressure_for_fraction, run_worker, table
 
 HERE = Path(__file__).resolve().parent
 EDGE = 1.0
@@ -141,15 +140,7 @@ def one_thread(args, pbar, steps) -> float:
 
 def peer(args, *worker_args, timeout=3600.0) -> dict:
     cmd = [args.peers_python, str(HERE / "creep_worker.py"), *map(str, worker_args)]
-    env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "VIRTUAL_ENV")}
-    try:
-        proc = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout, env=env)
-    except subprocess.TimeoutExpired:
-        return dict(failed=f"timed out after {timeout:.0f} s")
-    if proc.returncode != 0:
-        tail = (proc.stderr or proc.stdout).strip().splitlines()[-3:]
-        return dict(failed=f"rc {proc.returncode}: " + " | ".join(tail))
-    return json.loads(proc.stdout.strip().splitlines()[-1])
+    return run_worker(cmd, timeout)
 
 
 def tamaas_creep(args, heights_file, folder, pbar, steps, repeats, tag) -> dict:
