@@ -4,11 +4,14 @@ independent of the fit's forward model (Ting's paraboloid, Lee-Radok for the con
 power law, see test_fit.py), turned into a raw curve with a known contact point z_c,
 baseline b and spring constant k: deflection = F / k + b, z = z_c + indentation + F / k."""
 
+import json
+
 import numpy as np
 import pytest
 
 import mdrvisc as mv
 from mdrvisc.analytic import ting_paraboloid_triangle
+from mdrvisc.cli import main
 from test_fit import T_PEAK, R, V, cone_ramp_hold, power_law_ramp_hold
 
 # contact point (m), baseline (m), spring constant (N/m): the largest deflection change is
@@ -177,3 +180,26 @@ def test_held_contact_point_and_table():
     text = repr(result)
     assert "contact_point" in text and "baseline" in text and "held" in text
     assert np.allclose(result.depth, z - Z_C - (deflection - result.baseline))
+
+
+def test_command_line_fits_a_raw_curve(tmp_path, capsys):
+    """``mdrvisc fit`` on a CSV of t, piezo, deflection with --spring-constant: the medium and
+    the contact point of Ting's curve (noise-free; the same accuracy as the Python call, see
+    the first test), in the table and the JSON; without the spring constant the missing
+    columns are named with the hint."""
+    true = mv.StandardSolid(G_inf=1e3, G1=2e3, tau1=0.2)
+    t, z, deflection, _ = ting_raw(true)
+    path = tmp_path / "raw.csv"
+    np.savetxt(path, np.column_stack([t, z, deflection]), delimiter=",", header="t,piezo,deflection",
+               comments="")
+    args = [str(path), "--indenter", f"paraboloid:c={1 / (2 * R)}", "--model", "standardsolid",
+            "--spring-constant", str(K), "--substeps", "8"]
+    assert main(["fit", *args]) == 0
+    assert "contact_point" in capsys.readouterr().out
+    assert main(["fit", *args, "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    for name, value in mv.fitting._parameters(true).items():
+        assert abs(out["parameters"][name] / value - 1) < 3e-4, (name, out["parameters"][name])
+    assert abs(out["contact_point"] - Z_C) < 3e-4 * V * T_PEAK
+    assert main(["fit", *args[:-4]]) == 2
+    assert "needs --spring-constant" in capsys.readouterr().err

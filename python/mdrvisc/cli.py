@@ -1,7 +1,7 @@
 """Command line: ``mdrvisc paper [--out DIR] [--quick] [--no-study] [--json]`` and
 ``mdrvisc run SCENE.toml [--json]`` and ``mdrvisc sweep SWEEP.toml [--scheduler ADDRESS]
 [--store DIR] [--json]`` and ``mdrvisc fit DATA.csv --indenter sphere:radius=5e-6 --model
-standardsolid [--control depth] [--json]`` (also ``python -m mdrvisc ...``).
+standardsolid [--control depth] [--spring-constant K] [--json]`` (also ``python -m mdrvisc ...``).
 
 Results go to stdout (tables, or one JSON document with ``--json``), progress to stderr.
 Bad input exits with status 2 and an ``error: ...`` line on stderr.
@@ -82,7 +82,8 @@ def _parser():
                        help="no progress bar (by default a bar with the time left on stderr)")
     fitting = commands.add_parser(
         "fit", help="fit a medium to an indentation curve: a CSV file with columns t (s), depth (m), "
-                    "force (N) and optionally weight")
+                    "force (N) and optionally weight; or a raw AFM curve: t, piezo (m, towards the "
+                    "sample), deflection (m) with --spring-constant, the contact point fitted")
     fitting.add_argument("data", help="CSV file with a header row naming its columns")
     fitting.add_argument("--indenter", required=True,
                          help="tip as NAME:KEY=VALUE,..., e.g. sphere:radius=5e-6, paraboloid:c=1e5, "
@@ -95,6 +96,9 @@ def _parser():
                          help="what was prescribed (default depth: the forces are fitted)")
     fitting.add_argument("--nu", type=float, default=0.5,
                          help="Poisson ratio of the medium, held in the fit (default 0.5, incompressible)")
+    fitting.add_argument("--spring-constant", type=float, default=None,
+                         help="cantilever spring constant (N/m) of a raw AFM curve (columns piezo, "
+                              "deflection)")
     fitting.add_argument("--terms", type=int, default=2, help="Prony terms (--model prony)")
     fitting.add_argument("--substeps", type=int, default=1, help="time steps per sample interval")
     fitting.add_argument("--json", action="store_true", help="print the result as JSON")
@@ -129,14 +133,19 @@ def _fit(args):
         raise InvalidInputError(f"--model: unknown medium {args.model!r}; one of {sorted(classes)}")
     data = np.genfromtxt(args.data, delimiter=",", names=True)
     names = data.dtype.names or ()
-    missing = [c for c in ("t", "depth", "force") if c not in names]
+    raw = args.spring_constant is not None
+    missing = [c for c in (("t", "piezo", "deflection") if raw else ("t", "depth", "force"))
+               if c not in names]
     if missing:
-        raise InvalidInputError(f"{args.data}: missing columns {missing} (has {list(names)})")
+        hint = "" if raw or "piezo" not in names else " (a raw AFM curve needs --spring-constant)"
+        raise InvalidInputError(f"{args.data}: missing columns {missing} (has {list(names)}){hint}")
+    curve = ({"piezo": np.atleast_1d(data["piezo"]), "deflection": np.atleast_1d(data["deflection"]),
+              "spring_constant": args.spring_constant} if raw else
+             {"depth": np.atleast_1d(data["depth"]), "force": np.atleast_1d(data["force"])})
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", IdentifiabilityWarning)
         weights = np.atleast_1d(data["weight"]) if "weight" in names else None
-        result = fit(_indenter(args.indenter), model, np.atleast_1d(data["t"]),
-                     depth=np.atleast_1d(data["depth"]), force=np.atleast_1d(data["force"]),
+        result = fit(_indenter(args.indenter), model, np.atleast_1d(data["t"]), **curve,
                      control=args.control, nu=args.nu, terms=args.terms, substeps=args.substeps,
                      weights=weights)
     for w in caught:
@@ -148,7 +157,8 @@ def _fit(args):
             "free": result.free, "correlation": result.correlation.tolist(), "rms": result.rms,
             "control": result.control, "solves": result.solves, "iterations": result.iterations,
             "wall_time": result.wall_time, "converged": result.converged, "message": result.message,
-            "warnings": result.warnings})))
+            "warnings": result.warnings,
+            **({"contact_point": result.contact_point, "baseline": result.baseline} if raw else {})})))
     else:
         print(repr(result))
 
