@@ -424,6 +424,11 @@ mod periodic_tests {
     use crate::monitor::Silent;
     use std::f64::consts::PI;
 
+    /// The static elastic (G = 1 Pa) solve of the cell `grid` for `target`, no deflection.
+    fn cell(grid: &Grid, target: Target, opts: &SolverOptions) -> StaticContact {
+        solve_periodic(grid, 1.0, target, false, opts, &mut Silent).unwrap()
+    }
+
     /// Westergaard's wavy surface h(x) = g (1 - cos(2 pi x / lambda)) on an n x ny cell of
     /// one wavelength, element centres at (i - n/2 + 1/2) dx (the crest between the two
     /// middle elements); shear modulus 1 Pa, so E* = 4 Pa and p* = pi E* g / lambda.
@@ -539,30 +544,14 @@ mod periodic_tests {
         for ratio in [0.1, 0.3086582838174551, 0.7] {
             let pbar = ratio * w.p_star();
             let closed = w.g * (1.0 - ratio * (1.0 - f64::ln(ratio)));
-            let by_force = solve_periodic(
-                &grid,
-                1.0,
-                Target::Force(w.force(pbar)),
-                false,
-                &tight(),
-                &mut Silent,
-            )
-            .unwrap();
+            let by_force = cell(&grid, Target::Force(w.force(pbar)), &tight());
             let sep = periodic::mean_separation(&grid.height, by_force.summary.depth);
             assert!(
                 (sep / closed - 1.0).abs() < 3e-5,
                 "{ratio}: {sep} vs {closed}"
             );
             let depth = periodic::depth_at_mean_separation(&grid.height, closed);
-            let by_depth = solve_periodic(
-                &grid,
-                1.0,
-                Target::Depth(depth),
-                false,
-                &tight(),
-                &mut Silent,
-            )
-            .unwrap();
+            let by_depth = cell(&grid, Target::Depth(depth), &tight());
             let f = by_depth.summary.force / w.force(pbar);
             // measured 1.6e-5, 6.8e-6, 5.9e-7
             assert!((f - 1.0).abs() < 1e-4, "{ratio}: force ratio {f}");
@@ -571,9 +560,7 @@ mod periodic_tests {
                 precondition: false,
                 ..tight()
             };
-            let by_plain =
-                solve_periodic(&grid, 1.0, Target::Depth(depth), false, &plain, &mut Silent)
-                    .unwrap();
+            let by_plain = cell(&grid, Target::Depth(depth), &plain);
             let f = by_plain.summary.force / w.force(pbar);
             assert!((f - 1.0).abs() < 1e-4, "{ratio}: plain force ratio {f}");
         }
@@ -619,16 +606,15 @@ mod periodic_tests {
             ..SolverOptions::default()
         };
         let force = 2e-3;
-        let nested =
-            solve_periodic(&grid, 1.0, Target::Force(force), false, &opts, &mut Silent).unwrap();
+        let nested = cell(&grid, Target::Force(force), &opts);
         let depth = nested.summary.depth;
         let plain = SolverOptions {
             precondition: false,
             ..opts
         };
         for target in [Target::Force(force), Target::Depth(depth)] {
-            let nested = solve_periodic(&grid, 1.0, target, false, &opts, &mut Silent).unwrap();
-            let single = solve_periodic(&grid, 1.0, target, false, &plain, &mut Silent).unwrap();
+            let nested = cell(&grid, target, &opts);
+            let single = cell(&grid, target, &plain);
             let fraction = nested.summary.contact_count as f64 / (n * n) as f64;
             assert!(
                 (0.1..0.2).contains(&fraction),
@@ -700,7 +686,7 @@ mod periodic_tests {
         let force = 16.0 * a.powi(3) / (3.0 * radius);
         let p0 = 3.0 * force / (2.0 * PI * a * a);
         let target = Target::Force(force);
-        let per = solve_periodic(&grid, 1.0, target, false, &tight(), &mut Silent).unwrap();
+        let per = cell(&grid, target, &tight());
         let free = solve(&grid, 1.0, target, None, false, &tight(), &mut Silent).unwrap();
         assert_eq!(per.summary.contact_count, free.summary.contact_count);
         let (mut worst, mut l1, mut norm) = (0.0f64, 0.0, 0.0);
@@ -729,25 +715,14 @@ mod periodic_tests {
         let w = Wavy::new(256);
         let grid = w.grid();
         let pbar = 0.02 * w.p_star();
-        let depth = {
-            let r = solve_periodic(
-                &grid,
-                1.0,
-                Target::Force(w.force(pbar)),
-                false,
-                &tight(),
-                &mut Silent,
-            )
-            .unwrap();
-            r.summary.depth
-        };
+        let depth = cell(&grid, Target::Force(w.force(pbar)), &tight()).summary.depth;
         for target in [Target::Force(w.force(pbar)), Target::Depth(depth)] {
             let run = |active_limit| {
                 let opts = SolverOptions {
                     active_limit,
                     ..tight()
                 };
-                solve_periodic(&grid, 1.0, target, false, &opts, &mut Silent).unwrap()
+                cell(&grid, target, &opts)
             };
             let (dense, pk) = (run(Some(2000)), run(Some(0)));
             assert!(dense.summary.dense && !pk.summary.dense, "{target:?}");
