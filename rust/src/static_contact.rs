@@ -715,7 +715,9 @@ mod periodic_tests {
         let w = Wavy::new(256);
         let grid = w.grid();
         let pbar = 0.02 * w.p_star();
-        let depth = cell(&grid, Target::Force(w.force(pbar)), &tight()).summary.depth;
+        let depth = cell(&grid, Target::Force(w.force(pbar)), &tight())
+            .summary
+            .depth;
         for target in [Target::Force(w.force(pbar)), Target::Depth(depth)] {
             let run = |active_limit| {
                 let opts = SolverOptions {
