@@ -7,7 +7,8 @@
 //! all tangents is one loop the compiler vectorises; the few tangents that move a term's
 //! own coefficients add their terms after it.
 
-use super::{Curve, Evaluation, StepCoefficients};
+use super::steps::{Step, Steps};
+use super::{Curve, Evaluation, Forward, StepCoefficients};
 use crate::error::Result;
 use crate::rheology::Rheology;
 use rayon::prelude::*;
@@ -104,16 +105,6 @@ fn settled_pattern(tangential: &[Tangential], rates: &[f64], m: usize) -> Vec<(u
     pattern
 }
 
-/// One step of the prescribed depth history.
-struct Step {
-    /// Index of the step's coefficients (one set per distinct step length).
-    coefficients: usize,
-    /// Depth at the end of the step (m).
-    depth: f64,
-    /// The sample whose last step this is.
-    sample: Option<usize>,
-}
-
 /// What a block of elements adds to each sample: force (N per unit weight), its derivative
 /// along each tangent (row-major, sample by tangent) and the elements in contact.
 struct Sums {
@@ -169,35 +160,17 @@ impl Curve {
         }
         let tangents = &all[..];
         let shift = shift.unwrap_or(0.0);
+        if self.hereditary {
+            if let Some(e) = self.evaluate_hereditary(r, tangents, &rates, shift)? {
+                return Ok(e);
+            }
+        }
         let p = tangents.len();
         let samples = self.times.len();
-        let mut steps = vec![];
-        let mut coefficients: Vec<(f64, StepCoefficients)> = vec![];
-        let (mut t_prev, mut value_prev) = (0.0, 0.0);
-        for (s, (&t_sample, &v_sample)) in self.times.iter().zip(&self.values).enumerate() {
-            let v_sample = v_sample + shift;
-            let substeps = self.substeps_to(r, (t_prev, value_prev), (t_sample, v_sample))?;
-            let last = substeps.len();
-            let mut clock = t_prev;
-            for (j, (t, depth)) in substeps.into_iter().enumerate() {
-                let h = t - clock;
-                clock = t;
-                let index = match coefficients.iter().position(|(hh, _)| *hh == h) {
-                    Some(index) => index,
-                    None => {
-                        coefficients.push((h, StepCoefficients::new(r, tangents, h)));
-                        coefficients.len() - 1
-                    }
-                };
-                steps.push(Step {
-                    coefficients: index,
-                    depth,
-                    sample: (j + 1 == last).then_some(s),
-                });
-            }
-            t_prev = t_sample;
-            value_prev = v_sample;
-        }
+        let Steps {
+            steps,
+            coefficients,
+        } = self.depth_steps(r, tangents, shift)?;
         // an element never reached by the indenter keeps a zero state
         let deepest = steps
             .iter()
@@ -249,6 +222,7 @@ impl Curve {
                 .flat_map(|row| row[..p].iter().map(|f| weight * f))
                 .collect(),
             contact: total.contact,
+            forward: Forward::Elements,
         })
     }
 }

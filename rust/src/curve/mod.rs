@@ -15,6 +15,8 @@ use crate::error::{check_finite, check_positive, Error, Result};
 use crate::rheology::Rheology;
 
 mod depth_control;
+mod hereditary;
+mod steps;
 
 /// What the curve prescribes (the other quantity is computed).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -36,6 +38,19 @@ pub struct Curve {
     values: Vec<f64>,
     control: Control,
     substeps: usize,
+    /// Whether a depth-controlled curve may be evaluated by Ting's solution.
+    hereditary: bool,
+}
+
+/// How a curve was evaluated.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Forward {
+    /// Ting's solution: the MDR elements' forces integrated over the contact in closed
+    /// form (depth control, a depth that rises and then falls, a profile rising away from
+    /// its centre).
+    Hereditary,
+    /// The MDR elements stepped one by one (any history).
+    Elements,
 }
 
 /// The curve's computed quantity at the sample times and its derivatives.
@@ -47,6 +62,8 @@ pub struct Evaluation {
     pub jacobian: Vec<f64>,
     /// Elements in contact at each sample time (of the half profile).
     pub contact: Vec<usize>,
+    /// How the curve was evaluated.
+    pub forward: Forward,
 }
 
 /// Coefficients of one step of length h and their derivatives along each tangent.
@@ -163,7 +180,14 @@ impl Curve {
             values,
             control,
             substeps,
+            hereditary: true,
         })
+    }
+
+    /// The same curve, always evaluated by stepping the elements.
+    pub fn elements_only(mut self) -> Self {
+        self.hereditary = false;
+        self
     }
 
     /// The shortest and the longest step time (s): the range over which a medium's series
@@ -269,6 +293,7 @@ impl Curve {
             values: Vec::with_capacity(k_out),
             jacobian: Vec::with_capacity(k_out * p),
             contact: Vec::with_capacity(k_out),
+            forward: Forward::Elements,
         };
         let (mut w, mut q) = (vec![0.0; n], vec![0.0; n * m]);
         let (mut dw, mut dq) = (vec![0.0; n * p], vec![0.0; n * m * p]);
@@ -449,5 +474,7 @@ fn depth_for(relaxed: &[f64], target: f64, guess: f64) -> f64 {
     crate::mdr::depth_on_sorted(&sorted, &prefix, target).0
 }
 
+#[cfg(test)]
+mod hereditary_tests;
 #[cfg(test)]
 mod tests;

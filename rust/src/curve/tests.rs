@@ -22,8 +22,9 @@ fn standard_solid(g_inf: f64, g1: f64, tau: f64) -> Rheology {
     Rheology::new(g_inf, vec![(g1, tau)], 0.0).unwrap()
 }
 
-/// The curve equals `run_mdr` on the full profile with the same steps, under depth and
-/// under force control (the same stepping, halved by symmetry): agreement to round-off.
+/// The curve's elements equal `run_mdr` on the full profile with the same steps, under
+/// depth and under force control (the same stepping, halved by symmetry): agreement to
+/// round-off.
 #[test]
 fn curve_equals_the_full_profile_stepping() {
     let (half, full, dx) = half_parabola(500, 1.0, 1.0);
@@ -35,9 +36,11 @@ fn curve_equals_the_full_profile_stepping() {
         .map(|&t| 0.3 * (t * 2.0).sin().max(0.0))
         .collect();
     for (control, values) in [(Control::Depth, &depth), (Control::Force, &force)] {
-        let curve =
-            Curve::new(half.clone(), dx, times.clone(), values.clone(), control, 1).unwrap();
+        let curve = Curve::new(half.clone(), dx, times.clone(), values.clone(), control, 1)
+            .unwrap()
+            .elements_only();
         let e = curve.evaluate(&r, &[]).unwrap();
+        assert_eq!(e.forward, Forward::Elements);
         let mut t_all = vec![0.0];
         t_all.extend_from_slice(&times);
         let mut v_all = vec![0.0];
@@ -66,7 +69,8 @@ fn curve_equals_the_full_profile_stepping() {
 
 /// Forward-mode derivatives against central differences of the curve itself in each
 /// log-parameter (step 1e-6: truncation and round-off ~1e-9 relative to the largest
-/// derivative), under depth and force control, standard solid and Kelvin-Voigt.
+/// derivative), under depth control (Ting's solution and the elements) and force control,
+/// standard solid and Kelvin-Voigt.
 #[test]
 fn derivatives_match_central_differences() {
     let (half, _, dx) = half_parabola(400, 1.0, 1.0);
@@ -109,12 +113,22 @@ fn derivatives_match_central_differences() {
         (sls, vec![0.0, 0.7, -1.2], &sls_tangents),
         (kv, vec![0.3, -2.0], &kv_tangents),
     ];
+    let runs = [
+        (Control::Depth, &depth, Forward::Hereditary),
+        (Control::Depth, &depth, Forward::Elements),
+        (Control::Force, &force, Forward::Elements),
+    ];
     for (build, params, tangents_of) in cases {
-        for (control, values) in [(Control::Depth, &depth), (Control::Force, &force)] {
+        for (control, values, forward) in runs {
             let curve =
                 Curve::new(half.clone(), dx, times.clone(), values.clone(), control, 2).unwrap();
+            let curve = match forward {
+                Forward::Hereditary => curve,
+                Forward::Elements => curve.elements_only(),
+            };
             let r = build(&params);
             let e = curve.evaluate(&r, &tangents_of(&r)).unwrap();
+            assert_eq!(e.forward, forward);
             let p = params.len();
             let biggest = e.jacobian.iter().fold(0.0f64, |a, b| a.max(b.abs()));
             for j in 0..p {
@@ -141,24 +155,36 @@ fn derivatives_match_central_differences() {
 /// (step 1e-7 of a 0.3 peak depth: truncation and round-off ~1e-8 relative to the largest
 /// derivative), on a raw-curve-like history that starts out of contact (depths < 0 from
 /// t = 0) and separates on retraction; the rheology columns beside it against the unshifted
-/// curve of the shifted depths.
+/// curve of the shifted depths; by Ting's solution and by the elements.
 #[test]
 fn shift_derivative_matches_central_differences() {
+    for forward in [Forward::Hereditary, Forward::Elements] {
+        shift_derivative_by(forward);
+    }
+}
+
+fn shift_derivative_by(forward: Forward) {
     let (half, _, dx) = half_parabola(400, 1.0, 1.0);
     let times: Vec<f64> = (0..=60).map(|k| 0.05 * k as f64).collect();
     let depth: Vec<f64> = times
         .iter()
         .map(|&t| 0.3 * (t - 0.6).min(2.4 - t))
         .collect();
-    let curve = Curve::new(
-        half.clone(),
-        dx,
-        times.clone(),
-        depth.clone(),
-        Control::Depth,
-        2,
-    )
-    .unwrap();
+    let only = |c: Curve| match forward {
+        Forward::Hereditary => c,
+        Forward::Elements => c.elements_only(),
+    };
+    let curve = only(
+        Curve::new(
+            half.clone(),
+            dx,
+            times.clone(),
+            depth.clone(),
+            Control::Depth,
+            2,
+        )
+        .unwrap(),
+    );
     let r = standard_solid(1.0, 2.0, 0.3);
     let tangent = Rheology {
         g_inf: r.g_inf,
@@ -170,10 +196,11 @@ fn shift_derivative_matches_central_differences() {
             .evaluate_shifted(&r, std::slice::from_ref(&tangent), shift)
             .unwrap();
         let moved: Vec<f64> = depth.iter().map(|d| d + shift).collect();
-        let plain = Curve::new(half.clone(), dx, times.clone(), moved, Control::Depth, 2)
-            .unwrap()
-            .evaluate(&r, std::slice::from_ref(&tangent))
-            .unwrap();
+        let plain =
+            only(Curve::new(half.clone(), dx, times.clone(), moved, Control::Depth, 2).unwrap())
+                .evaluate(&r, std::slice::from_ref(&tangent))
+                .unwrap();
+        assert_eq!((e.forward, plain.forward), (forward, forward));
         let biggest = e.jacobian.iter().fold(0.0f64, |a, b| a.max(b.abs()));
         let h = 1e-7;
         let up = curve.evaluate_shifted(&r, &[], shift + h).unwrap().values;
@@ -195,9 +222,10 @@ fn shift_derivative_matches_central_differences() {
     assert!(force.evaluate_shifted(&r, &[], 0.0).is_err());
 }
 
-/// Elements that leave contact and touch again (press, partly retract, press deeper): the
-/// derivatives stepped from where each left contact against central differences (step
-/// 1e-6, as above), with the values equal to the full profile's stepping.
+/// Elements that leave contact and touch again (press, partly retract, press deeper; no
+/// case for Ting's solution, so the elements are stepped): the derivatives stepped from
+/// where each left contact against central differences (step 1e-6, as above), with the
+/// values equal to the full profile's stepping.
 #[test]
 fn derivatives_through_a_second_contact() {
     let (half, full, dx) = half_parabola(400, 1.0, 1.0);
@@ -228,6 +256,7 @@ fn derivatives_through_a_second_contact() {
     tangents[2].terms[0].1 = r.terms[0].1;
     let curve = Curve::new(half, dx, times.clone(), depth.clone(), Control::Depth, 1).unwrap();
     let e = curve.evaluate_shifted(&r, &tangents, 0.0).unwrap();
+    assert_eq!(e.forward, Forward::Elements);
     let mut t_all = vec![0.0];
     t_all.extend_from_slice(&times);
     let mut v_all = vec![0.0];
