@@ -34,8 +34,9 @@ def levenberg_marquardt(fun: Residuals, x0: np.ndarray, *, max_iter: int = 100, 
     """Minimise 0.5 |r(x)|^2 from ``x0``; ``fun(x)`` returns ``(r, J)``.
 
     Stops when a step changes no coordinate by more than ``xtol`` (absolute: the coordinates
-    are logarithms), when an accepted step lowers the cost by less than ``ftol`` of it, or
-    when the scaled gradient is below ``gtol``; after ``max_iter`` iterations it stops with
+    are logarithms), when an accepted step lowers the cost, or the linear model predicts it
+    to lower the cost, by less than ``ftol`` of it, or when the scaled gradient is below
+    ``gtol``; after ``max_iter`` iterations it stops with
     ``converged`` false.
     """
     x = np.asarray(x0, dtype=float).copy()
@@ -63,10 +64,13 @@ def levenberg_marquardt(fun: Residuals, x0: np.ndarray, *, max_iter: int = 100, 
                 step *= max_step / biggest
             if biggest <= xtol:
                 return Solution(x, r, jac, evaluations, iteration, True, "step below tolerance")
+            predicted = -(g @ step) - 0.5 * step @ a @ step
+            if predicted <= ftol * cost:
+                return Solution(x, r, jac, evaluations, iteration, True,
+                                "predicted cost reduction below tolerance")
             r_new, jac_new = fun(x + step)
             evaluations += 1
             cost_new = 0.5 * float(r_new @ r_new) if np.all(np.isfinite(r_new)) else np.inf
-            predicted = -(g @ step) - 0.5 * step @ a @ step
             ratio = (cost - cost_new) / predicted if predicted > 0 else -1.0
             if ratio > 1e-4:
                 x = x + step

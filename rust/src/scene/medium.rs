@@ -368,6 +368,7 @@ impl Medium {
                     d_log_beta.eta *= beta;
                     for t in &mut d_log_beta.terms {
                         t.0 *= beta;
+                        t.1 *= beta;
                     }
                     vec![scaled(1.0), d_log_beta, scaled(beta)]
                 }
@@ -515,6 +516,46 @@ fn prony_creep(r: &Rheology, t: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The power law's tangents in ln G0, ln beta and ln t0 against central differences of
+    /// its series' coefficients (step 1e-6: ~1e-10 relative truncation), the slow term's
+    /// relaxation time included.
+    #[test]
+    fn power_law_tangents_match_central_differences() {
+        let at = |p: [f64; 3]| Medium::PowerLaw {
+            g0: p[0].exp(),
+            beta: p[1].exp(),
+            t0: p[2].exp(),
+            nu: 0.3,
+        };
+        let (t_lo, t_hi) = (1e-3, 2.0);
+        let base = [1e3f64.ln(), 0.2f64.ln(), 0.7f64.ln()];
+        let (_, tangents) = at(base).rheology_tangents(t_lo, t_hi).unwrap();
+        let coefficients = |r: &Rheology| {
+            let mut v = vec![r.g_inf, r.eta];
+            v.extend(r.terms.iter().flat_map(|&(g, tau)| [g, tau]));
+            v
+        };
+        let h = 1e-6;
+        for (j, tangent) in tangents.iter().enumerate() {
+            let (mut up, mut down) = (base, base);
+            up[j] += h;
+            down[j] -= h;
+            let plus = coefficients(&at(up).rheology_over(t_lo, t_hi).unwrap());
+            let minus = coefficients(&at(down).rheology_over(t_lo, t_hi).unwrap());
+            for (k, (analytic, (a, b))) in coefficients(tangent)
+                .iter()
+                .zip(plus.iter().zip(&minus))
+                .enumerate()
+            {
+                let numeric = (a - b) / (2.0 * h);
+                assert!(
+                    (analytic - numeric).abs() <= 1e-7 * a.abs().max(numeric.abs()),
+                    "parameter {j}, coefficient {k}: {analytic} vs {numeric}"
+                );
+            }
+        }
+    }
 
     /// The stepped Prony compliance of a one-term series is the standard solid's closed form.
     #[test]
