@@ -280,19 +280,6 @@ def fit(indenter: Indenter, model: _Medium | type, t: ArrayLike, *, depth: Array
     substeps : int
         Time steps per sample interval (the stepping's error falls as substeps^-2 while the
         contact grows).
-
-    Notes
-    -----
-    The forward model is MDR. Under depth control, with a depth that rises and then falls
-    (approach, hold, retract: a single maximum) and a tip whose MDR profile rises away from
-    its axis, it is Ting's solution: the elements' forces integrated over the contact in
-    closed form, so the cost does not grow with ``n`` (which then samples the profile's
-    area function, error ~(dx / a)^2) and a 2,000-sample curve takes about a millisecond.
-    Otherwise (force control, several load cycles, a depth that wiggles, as depths computed
-    from noisy raw deflections do) the n elements are stepped one by one, each with its
-    own history (contact-edge error ~dx / a). Ting's solution assumes, as his paper does,
-    that a contact that has let go on retraction does not touch again while the depth
-    falls.
     max_iter : int
         Most Levenberg-Marquardt iterations.
 
@@ -306,6 +293,19 @@ def fit(indenter: Indenter, model: _Medium | type, t: ArrayLike, *, depth: Array
         Data not finite, times not strictly increasing, arrays of different lengths, no
         contact at all, fewer usable samples than free parameters; a raw AFM curve whose
         deflection never leaves its baseline or that has no contact-free start.
+
+    Notes
+    -----
+    The forward model is MDR. Under depth control, with a depth that rises and then falls
+    (approach, hold, retract: a single maximum) and a tip whose MDR profile rises away from
+    its axis, it is Ting's solution: the elements' forces integrated over the contact in
+    closed form, so the cost does not grow with ``n`` (which then samples the profile's
+    area function, error ~(dx / a)^2) and a 2,000-sample curve takes about a millisecond.
+    Otherwise (force control, several load cycles, a depth that wiggles, as depths computed
+    from noisy raw deflections do) the n elements are stepped one by one, each with its
+    own history (contact-edge error ~dx / a). Ting's solution assumes, as his paper does,
+    that a contact that has let go on retraction does not touch again while the depth
+    falls.
     """
     start = time.perf_counter()
     if control not in ("depth", "force"):
