@@ -22,6 +22,20 @@ fn standard_solid(g_inf: f64, g1: f64, tau: f64) -> Rheology {
     Rheology::new(g_inf, vec![(g1, tau)], 0.0).unwrap()
 }
 
+/// The derivatives of a standard solid's coefficients in ln G_inf, ln G1 and ln tau1.
+fn standard_solid_tangents(r: &Rheology) -> Vec<Rheology> {
+    let zero = Rheology {
+        g_inf: 0.0,
+        terms: vec![(0.0, 0.0)],
+        eta: 0.0,
+    };
+    let mut t = vec![zero.clone(), zero.clone(), zero];
+    t[0].g_inf = r.g_inf;
+    t[1].terms[0].0 = r.terms[0].0;
+    t[2].terms[0].1 = r.terms[0].1;
+    t
+}
+
 /// The curve's elements equal `run_mdr` on the full profile with the same steps, under
 /// depth and under force control (the same stepping, halved by symmetry): agreement to
 /// round-off.
@@ -84,19 +98,6 @@ fn derivatives_match_central_differences() {
     // the media of log-parameters, and their derivatives in each
     let sls: Build = |p| standard_solid(p[0].exp(), p[1].exp(), p[2].exp());
     let kv: Build = |p| Rheology::new(p[0].exp(), vec![], p[1].exp()).unwrap();
-    let sls_tangents = |r: &Rheology| {
-        let (g, tau) = r.terms[0];
-        let zero = Rheology {
-            g_inf: 0.0,
-            terms: vec![(0.0, 0.0)],
-            eta: 0.0,
-        };
-        let mut t = vec![zero.clone(), zero.clone(), zero];
-        t[0].g_inf = r.g_inf;
-        t[1].terms[0].0 = g;
-        t[2].terms[0].1 = tau;
-        t
-    };
     let kv_tangents = |r: &Rheology| {
         let zero = Rheology {
             g_inf: 0.0,
@@ -110,7 +111,7 @@ fn derivatives_match_central_differences() {
     };
     type Tangents<'a> = &'a dyn Fn(&Rheology) -> Vec<Rheology>;
     let cases: [(Build, Vec<f64>, Tangents); 2] = [
-        (sls, vec![0.0, 0.7, -1.2], &sls_tangents),
+        (sls, vec![0.0, 0.7, -1.2], &standard_solid_tangents),
         (kv, vec![0.3, -2.0], &kv_tangents),
     ];
     let runs = [
@@ -245,15 +246,7 @@ fn derivatives_through_a_second_contact() {
     let build = |p: &[f64]| standard_solid(p[0].exp(), p[1].exp(), p[2].exp());
     let params = [0.0, 0.7, -1.2];
     let r = build(&params);
-    let zero = Rheology {
-        g_inf: 0.0,
-        terms: vec![(0.0, 0.0)],
-        eta: 0.0,
-    };
-    let mut tangents = vec![zero.clone(), zero.clone(), zero];
-    tangents[0].g_inf = r.g_inf;
-    tangents[1].terms[0].0 = r.terms[0].0;
-    tangents[2].terms[0].1 = r.terms[0].1;
+    let tangents = standard_solid_tangents(&r);
     let curve = Curve::new(half, dx, times.clone(), depth.clone(), Control::Depth, 1).unwrap();
     let e = curve.evaluate_shifted(&r, &tangents, 0.0).unwrap();
     assert_eq!(e.forward, Forward::Elements);
