@@ -273,7 +273,8 @@ def fit(indenter: Indenter, model: _Medium | type, t: ArrayLike, *, depth: Array
         Prony terms when ``model`` is the :class:`Prony` class. Terms whose relaxation times
         lie within a factor of a few of each other, or outside the data's span, are not
         identified (:class:`IdentifiabilityWarning`): k >= 2 needs data that cover every
-        time with a few samples and low noise.
+        time with a few samples and low noise; a quick ramp and a long hold (relaxation)
+        separates the times far better than an approach and retract at one speed.
     n : int
         Elements of the half 1D profile, which reaches 1.1 (depth control) or 1.5 (force
         control, raw AFM curves) times the largest contact radius of the data.
