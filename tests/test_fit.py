@@ -283,6 +283,7 @@ def test_creep_fit_under_force_control():
     result = mv.fit(mv.Paraboloid(c=1 / (2 * R)), mv.StandardSolid, t, depth=depth, force=force,
                     control="force", substeps=4)
     assert max(abs(e) for e in relative_errors(result, mv.fitting._parameters(true)).values()) < 1e-4
+    assert result.forward == "elements"  # force control: no closed form over the contact
 
 
 def test_result_table_and_held_parameters():
@@ -295,6 +296,7 @@ def test_result_table_and_held_parameters():
     assert isinstance(result.medium, mv.StandardSolid)
     text = repr(result)
     assert "held" in text and "G_inf" in text and "StandardSolid" in text
+    assert result.forward == "hereditary" and "(hereditary)" in text
     mv.Scene(indenter=mv.Paraboloid(c=1 / (2 * R)), medium=result.medium, force=1e-9, duration=1.0)
 
 
@@ -504,7 +506,7 @@ def test_derived_modulus_column_is_the_forward_models_own(medium):
     derived = _moduli(_parameters(medium))[0]
     asked = [name for name in free if name != derived]
     model = [json.dumps(medium._model())]
-    values, full, _ = curve.evaluate(model, free)[0]
-    _, jac, _ = curve.evaluate(model, asked)[0]
+    values, full, _, _ = curve.evaluate(model, free)[0]
+    _, jac, _, _ = curve.evaluate(model, asked)[0]
     rebuilt = _with_derived(values, jac, free, asked)
     assert np.max(np.abs(rebuilt - full)) <= 1e-10 * np.max(np.abs(full))

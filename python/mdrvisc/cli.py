@@ -156,6 +156,7 @@ def _fit(args):
             "nu": result.nu, "young_moduli": result.young_moduli, "young_stderr": result.young_stderr,
             "free": result.free, "correlation": result.correlation.tolist(), "rms": result.rms,
             "control": result.control, "solves": result.solves, "iterations": result.iterations,
+            "forward": result.forward,
             "wall_time": result.wall_time, "converged": result.converged, "message": result.message,
             "warnings": result.warnings,
             **({"contact_point": result.contact_point, "baseline": result.baseline} if raw else {})})))

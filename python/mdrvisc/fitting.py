@@ -165,6 +165,10 @@ class FitResult:
         Forward solves (each with its derivatives).
     iterations : int
         Levenberg-Marquardt iterations.
+    forward : str
+        The forward model that ran: "hereditary" (Ting's solution: depth control, a depth
+        that rises and then falls, a tip whose MDR profile rises away from its axis) or
+        "elements" (the MDR elements stepped one by one; see :func:`fit`'s notes).
     wall_time : float
         Seconds the fit took.
     converged : bool
@@ -196,7 +200,8 @@ class FitResult:
     def __repr__(self) -> str:
         unit = "N" if self.control == "depth" else "m"
         lines = [f"FitResult: {type(self.medium).__name__} to {self.data.size} samples ({self.control} "
-                 f"control), rms {self.rms:.3e} {unit}, {self.solves} solves, {self.wall_time:.3f} s",
+                 f"control), rms {self.rms:.3e} {unit}, {self.solves} solves ({self.forward}), "
+                 f"{self.wall_time:.3f} s",
                  f"  {'parameter':<14}{'value':>14}{'stderr':>14}{'relative':>11}"]
         young = {"E" + name[1:]: name for name in self.parameters if name.startswith("G")}
         rows = [(name, value, self.stderr[name], name) for name, value in self.parameters.items()]
@@ -403,13 +408,13 @@ def fit(indenter: Indenter, model: _Medium | type, t: ArrayLike, *, depth: Array
             return failed()
         media = [json.dumps(medium._model())]
         if raw is None:
-            values, jac, contact = curve.evaluate(media, asked)[0]
+            values, jac, contact, _ = curve.evaluate(media, asked)[0]
             r = values - measured
         else:
             z_c, b = raw.at(x[p:], free_raw)
             if raw.depth_at_start(z_c, b) > 0:
                 return failed()  # in contact before the first sample
-            values, jac, contact = curve.evaluate(media, asked, raw.shift(z_c, b))[0]
+            values, jac, contact, _ = curve.evaluate(media, asked, raw.shift(z_c, b))[0]
             r = values - raw.force(b)
         jac = _with_derived(values, jac, free, asked)
         if raw is not None:
@@ -431,10 +436,10 @@ def fit(indenter: Indenter, model: _Medium | type, t: ArrayLike, *, depth: Array
     medium = medium_at(solution.x)
     media = [json.dumps(medium._model())]
     if raw is None:
-        values, _, contact = curve.evaluate(media, [])[0]
+        values, _, contact, forward = curve.evaluate(media, [])[0]
     else:
         z_c, b = raw.at(solution.x[p:], free_raw)
-        values, _, contact = curve.evaluate(media, [], raw.shift(z_c, b))[0]
+        values, _, contact, forward = curve.evaluate(media, [], raw.shift(z_c, b))[0]
         d, measured = raw.depth(z_c, b), raw.force(b)
         before = int(np.count_nonzero(d[:int(np.argmax(raw.z)) + 1] <= 0))
         if before < _BASELINE_SAMPLES:
@@ -483,7 +488,7 @@ def fit(indenter: Indenter, model: _Medium | type, t: ArrayLike, *, depth: Array
         nu=nu, young_moduli=young_moduli, young_stderr=young_stderr,
         t=t, data=measured, model=values, residuals=residual,
         rms=float(np.sqrt(np.sum(w * residual**2) / np.sum(w))), control=control, solves=solves + 1,
-        iterations=solution.iterations, wall_time=time.perf_counter() - start,
+        iterations=solution.iterations, forward=forward, wall_time=time.perf_counter() - start,
         converged=solution.converged, message=solution.message, warnings=messages, **afm)
 
 
@@ -660,7 +665,7 @@ def _estimate(curve, cls, force, w, span, step, terms, nu):
     candidates = _guesses(cls, span, step, terms, nu)
     evaluated = curve.evaluate([json.dumps(m._model()) for m in candidates], [])
     best, best_cost = None, math.inf
-    for medium, (values, _, _) in zip(candidates, evaluated):
+    for medium, (values, _, _, _) in zip(candidates, evaluated):
         norm = float(np.sum(w * values * values))
         if not norm > 0:
             continue

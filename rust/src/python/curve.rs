@@ -4,7 +4,7 @@
 
 use super::convert::slice1;
 use super::monitor::{in_pool, to_pyerr};
-use crate::curve::{Control, Curve};
+use crate::curve::{Control, Curve, Forward};
 use crate::error::Error;
 use crate::scene::Medium;
 use numpy::{IntoPyArray, PyArray1, PyArray2, PyReadonlyArray1};
@@ -12,11 +12,12 @@ use pyo3::prelude::*;
 use rayon::prelude::*;
 
 /// One evaluation: the computed values at the samples, their derivatives (samples x
-/// parameters), the elements in contact.
+/// parameters), the elements in contact, and how the curve was evaluated.
 type Evaluated<'py> = (
     Bound<'py, PyArray1<f64>>,
     Bound<'py, PyArray2<f64>>,
     Bound<'py, PyArray1<u64>>,
+    &'static str,
 );
 
 /// An indentation curve prepared once: the half MDR profile (m, at x = (i + 1/2) dx), the
@@ -71,7 +72,8 @@ impl PyCurve {
     /// For each medium (JSON of a scene's medium table): the force (N, depth control) or
     /// depth (m, force control) at the samples, its derivatives with respect to the natural
     /// logarithms of the parameters named in `free` (samples x parameters), and the
-    /// elements of the half profile in contact. With `shift` (m; depth control only) every
+    /// elements of the half profile in contact, and the forward model that ran
+    /// ("hereditary": Ting's solution; "elements": the elements stepped). With `shift` (m; depth control only) every
     /// prescribed depth is moved by it and the derivative along it (N/m) is a last column.
     #[pyo3(signature = (media, free, shift=None))]
     fn evaluate<'py>(
@@ -110,10 +112,15 @@ impl PyCurve {
                 let jacobian = numpy::ndarray::Array2::from_shape_vec((k, p), e.jacobian)
                     .map_err(|err| to_pyerr(py, Error::InvalidInput(err.to_string())))?;
                 let contact: Vec<u64> = e.contact.iter().map(|&c| c as u64).collect();
+                let forward = match e.forward {
+                    Forward::Hereditary => "hereditary",
+                    Forward::Elements => "elements",
+                };
                 Ok((
                     e.values.into_pyarray(py),
                     jacobian.into_pyarray(py),
                     contact.into_pyarray(py),
+                    forward,
                 ))
             })
             .collect()
