@@ -247,9 +247,12 @@ def fit(indenter: Indenter, model: _Medium | type, t: ArrayLike, *, depth: Array
         A raw AFM curve instead of ``depth`` and ``force``: the piezo displacement z (m),
         increasing towards the sample; the cantilever deflection (m), positive when the
         sample pushes the tip back (repulsion); the cantilever's spring constant k (N/m).
-        The indentation is (z - z_c) - (deflection - b) and the force k (deflection - b),
-        with the contact point z_c and the deflection baseline b fitted together with the
-        medium (before contact the model's force is zero, so the baseline is fitted to the
+        The model is the cantilever in series with the sample: the piezo's travel past the
+        contact point, z - z_c, drives the tip through the spring k, and the model's force
+        k (z - z_c - indentation) is fitted to the measured one, k (deflection - b), so the
+        deflection's noise stays in the data and does not enter the indentation. The
+        contact point z_c and the deflection baseline b are fitted together with the medium
+        (before contact the model's force is zero, so the baseline is fitted to the
         pre-contact deflection; it is a constant: remove a tilt or virtual deflection
         first). Depth control only; no adhesion is modelled (give adhesive parts of a
         retract zero weight). The first tenth of the approach (the samples up to the
@@ -307,9 +310,9 @@ def fit(indenter: Indenter, model: _Medium | type, t: ArrayLike, *, depth: Array
     its axis, it is Ting's solution: the elements' forces integrated over the contact in
     closed form, so the cost does not grow with ``n`` (which then samples the profile's
     area function, error ~(dx / a)^2) and a 2,000-sample curve takes about a millisecond.
-    Otherwise (force control, several load cycles, a depth that wiggles, as depths computed
-    from noisy raw deflections do) the n elements are stepped one by one, each with its
-    own history (contact-edge error ~dx / a). Ting's solution assumes, as his paper does,
+    Otherwise (force control, raw AFM curves, several load cycles, a depth that wiggles)
+    the n elements are stepped one by one, each with its own history (contact-edge error
+    ~dx / a). Ting's solution assumes, as his paper does,
     that a contact that has let go on retraction does not touch again while the depth
     falls.
     """
@@ -347,6 +350,8 @@ def fit(indenter: Indenter, model: _Medium | type, t: ArrayLike, *, depth: Array
     if np.any(w < 0) or not np.any(w > 0):
         raise DataError("fit: weights must be >= 0 and not all zero")
     prescribed, measured = (d, f) if control == "depth" else (f, d)
+    if raw is not None:
+        prescribed = raw.z - raw.contact_point  # the drive past the contact point's guess
 
     # the model: its class, initial guess, free and held parameters
     if isinstance(model, type):
@@ -366,7 +371,8 @@ def fit(indenter: Indenter, model: _Medium | type, t: ArrayLike, *, depth: Array
 
     # the forward model on the half profile, prepared once
     margin = "force" if raw is not None else control
-    curve, estimate = _curves(indenter, t, d, prescribed, control, margin, n, substeps)
+    curve, estimate = _curves(indenter, t, d, prescribed, "spring" if raw is not None else control, margin, n,
+                              substeps, raw.k if raw is not None else None)
     span = float(t[-1])
     step = float(np.min(np.diff(np.concatenate([[0.0], t[t > 0]])), initial=span))
     if guess is None:
@@ -412,9 +418,9 @@ def fit(indenter: Indenter, model: _Medium | type, t: ArrayLike, *, depth: Array
             r = values - measured
         else:
             z_c, b = raw.at(x[p:], free_raw)
-            if raw.depth_at_start(z_c, b) > 0:
+            if raw.z[0] > z_c:
                 return failed()  # in contact before the first sample
-            values, jac, contact, _ = curve.evaluate(media, asked, raw.shift(z_c, b))[0]
+            values, jac, contact, _ = curve.evaluate(media, asked, raw.shift(z_c))[0]
             r = values - raw.force(b)
         jac = _with_derived(values, jac, free, asked)
         if raw is not None:
@@ -439,7 +445,7 @@ def fit(indenter: Indenter, model: _Medium | type, t: ArrayLike, *, depth: Array
         values, _, contact, forward = curve.evaluate(media, [])[0]
     else:
         z_c, b = raw.at(solution.x[p:], free_raw)
-        values, _, contact, forward = curve.evaluate(media, [], raw.shift(z_c, b))[0]
+        values, _, contact, forward = curve.evaluate(media, [], raw.shift(z_c))[0]
         d, measured = raw.depth(z_c, b), raw.force(b)
         before = int(np.count_nonzero(d[:int(np.argmax(raw.z)) + 1] <= 0))
         if before < _BASELINE_SAMPLES:
@@ -605,20 +611,18 @@ class _AfmCurve:
         """Force (N): k (deflection - b)."""
         return self.k * (self.deflection - b)
 
-    def shift(self, z_c: float, b: float) -> float:
-        """What z_c and b add to every depth of the guess's history (m)."""
-        return (self.contact_point - z_c) + (b - self.baseline)
-
-    def depth_at_start(self, z_c: float, b: float) -> float:
-        return float(self.z[0] - z_c - (self.deflection[0] - b))
+    def shift(self, z_c: float) -> float:
+        """What z_c adds to every drive z - z_c of the guess's (m)."""
+        return self.contact_point - z_c
 
     def jacobian(self, jac: np.ndarray, free: list[str]) -> np.ndarray:
         """The Jacobian of model - data in the fit's coordinates from the curve's: the
         medium's columns and the shift's last column dF/dshift (N/m); d/dz_c = -dF/dshift,
-        d/db = dF/dshift + k (the data's force falls as b rises), times the scales."""
+        d/db = k (the data's force falls as b rises; the model's does not move), times the
+        scales."""
         d_shift = jac[:, -1]
         columns = {"contact_point": -d_shift * self.depth_scale,
-                   "baseline": (d_shift + self.k) * self.deflection_scale}
+                   "baseline": np.full_like(d_shift, self.k * self.deflection_scale)}
         return np.column_stack([jac[:, :-1]] + [columns[name] for name in free])
 
 
@@ -635,11 +639,11 @@ def _identifiability(free: list[str], log_err: np.ndarray, correlation: np.ndarr
     return out
 
 
-def _curves(indenter, t, depth, prescribed, control, margin, n, substeps):
-    """The forward model of the fit (control as given) and a depth-controlled one at the
-    measured depths on at most ``_ESTIMATE_SAMPLES`` of the samples (for the initial
-    estimate, with their indices), on the half 1D profile of n elements reaching
-    ``_MARGIN[margin]`` times the largest contact radius of the depths."""
+def _curves(indenter, t, depth, prescribed, control, margin, n, substeps, stiffness=None):
+    """The forward model of the fit (control as given; "spring" with ``stiffness``) and a
+    depth-controlled one at the measured depths on at most ``_ESTIMATE_SAMPLES`` of the
+    samples (for the initial estimate, with their indices), on the half 1D profile of n
+    elements reaching ``_MARGIN[margin]`` times the largest contact radius of the depths."""
     deepest = float(np.max(depth))
     try:
         a = indenter.contact_radius_at_depth(deepest)
@@ -651,7 +655,7 @@ def _curves(indenter, t, depth, prescribed, control, margin, n, substeps):
     dx = half / n
     core = _core.Indenter.from_json(json.dumps(indenter._model(half)))
     profile = core.profile_1d((np.arange(n) + 0.5) * dx)
-    curve = _core.Curve(profile, dx, t, prescribed, control, substeps)
+    curve = _core.Curve(profile, dx, t, prescribed, control, substeps, stiffness)
     some = np.unique(np.linspace(0, t.size - 1, min(t.size, _ESTIMATE_SAMPLES)).round().astype(int))
     return curve, (_core.Curve(profile, dx, t[some], depth[some], "depth", 1), some)
 

@@ -14,17 +14,22 @@
 use crate::error::{check_finite, check_positive, Error, Result};
 use crate::rheology::Rheology;
 
+mod balance;
 mod depth_control;
 mod hereditary;
 mod steps;
 
 /// What the curve prescribes (the other quantity is computed).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Control {
     /// Depth (m) prescribed, force (N) computed.
     Depth,
     /// Force (N) prescribed, depth (m) computed.
     Force,
+    /// A drive u (m) prescribed that pushes the indenter through a spring of this stiffness
+    /// (N/m), the force k (u - depth) computed: an AFM cantilever on its piezo (u is the
+    /// piezo's travel past the contact point, k the cantilever's spring constant).
+    Spring(f64),
 }
 
 /// A prepared curve: the half profile, the samples and the steps between them.
@@ -173,6 +178,9 @@ impl Curve {
         if substeps == 0 {
             return Err(Error::InvalidInput("substeps must be >= 1".into()));
         }
+        if let Control::Spring(k) = control {
+            check_positive("spring stiffness", k)?;
+        }
         Ok(Curve {
             g,
             dx,
@@ -228,7 +236,8 @@ impl Curve {
         let ((t_prev, value_prev), (t_sample, v_sample)) = (from, to);
         if t_sample == 0.0 {
             // at rest, no contact: nothing to step (a depth <= 0 touches no element)
-            if v_sample == 0.0 || (self.control == Control::Depth && v_sample < 0.0) {
+            let driven = matches!(self.control, Control::Depth | Control::Spring(_));
+            if v_sample == 0.0 || (driven && v_sample < 0.0) {
                 return Ok(vec![]);
             }
             if r.eta == 0.0 {
@@ -237,6 +246,11 @@ impl Curve {
             if self.control == Control::Depth {
                 return Err(Error::InvalidInput(
                     "a depth already there at t = 0 needs an infinite force on a medium with a dashpot: start the samples from depth 0 or after t = 0".into(),
+                ));
+            }
+            if let Control::Spring(_) = self.control {
+                return Err(Error::InvalidInput(
+                    "a drive already past the contact at t = 0 would press a medium with a dashpot by a jump: start the samples before contact or after t = 0".into(),
                 ));
             }
             return Ok(vec![]);
@@ -260,165 +274,29 @@ impl Curve {
         check_tangents(r, tangents)?;
         match self.control {
             Control::Depth => self.evaluate_depth_control(r, tangents, None),
-            Control::Force => self.evaluate_force_control(r, tangents),
+            Control::Force | Control::Spring(_) => self.evaluate_balance(r, tangents, None),
         }
     }
 
-    /// `evaluate` of a depth-controlled curve with `shift` (m) added to every prescribed
-    /// depth (a depth <= 0 at t = 0 is no contact), with the derivatives along the shift
-    /// (N/m) as a last Jacobian column after those of the tangents: the forward model of a
-    /// raw AFM curve, whose contact point offsets the depths.
+    /// `evaluate` of a depth- or spring-controlled curve with `shift` (m) added to every
+    /// prescribed depth or drive (a value <= 0 at t = 0 is no contact), with the derivatives
+    /// along the shift (N/m) as a last Jacobian column after those of the tangents: the
+    /// forward model of a raw AFM curve, whose contact point offsets the depths.
     pub fn evaluate_shifted(
         &self,
         r: &Rheology,
         tangents: &[Rheology],
         shift: f64,
     ) -> Result<Evaluation> {
-        if self.control != Control::Depth {
-            return Err(Error::InvalidInput(
-                "a shift of the prescribed values needs a depth-controlled curve".into(),
-            ));
-        }
         check_finite("depth shift", &[shift])?;
         check_tangents(r, tangents)?;
-        self.evaluate_depth_control(r, tangents, Some(shift))
-    }
-
-    /// `evaluate` under force control: the depth of each step balances the prescribed force
-    /// over all elements, so the elements are stepped together, one step at a time.
-    fn evaluate_force_control(&self, r: &Rheology, tangents: &[Rheology]) -> Result<Evaluation> {
-        let (n, m, p) = (self.g.len(), r.terms.len(), tangents.len());
-        let k_out = self.times.len();
-        let mut out = Evaluation {
-            values: Vec::with_capacity(k_out),
-            jacobian: Vec::with_capacity(k_out * p),
-            contact: Vec::with_capacity(k_out),
-            forward: Forward::Elements,
-        };
-        let (mut w, mut q) = (vec![0.0; n], vec![0.0; n * m]);
-        let (mut dw, mut dq) = (vec![0.0; n * p], vec![0.0; n * m * p]);
-        // elements from `reach` on have never touched: their state is zero and their relaxed
-        // surface the profile, lowest_from[i] = min_{j >= i} g_j tells when one may touch
-        let (mut relaxed, mut history) = (self.g.clone(), vec![0.0; n]);
-        let mut lowest_from = vec![f64::INFINITY; n + 1];
-        for i in (0..n).rev() {
-            lowest_from[i] = lowest_from[i + 1].min(self.g[i]);
+        match self.control {
+            Control::Depth => self.evaluate_depth_control(r, tangents, Some(shift)),
+            Control::Spring(_) => self.evaluate_balance(r, tangents, Some(shift)),
+            Control::Force => Err(Error::InvalidInput(
+                "a shift of the prescribed values needs a depth- or spring-controlled curve".into(),
+            )),
         }
-        let mut reach = 1;
-        let mut d_history = vec![0.0; n * p];
-        let mut d_value = vec![0.0; p];
-        let mut d_depth = vec![0.0; p];
-        let mut in_contact = Vec::with_capacity(n);
-        // each element stands for itself and its mirror image
-        let weight = 8.0 * self.dx;
-        let mut depth = 0.0;
-        let mut t_prev = 0.0;
-        let mut value_prev = 0.0;
-        let mut coefficients: Option<(f64, StepCoefficients)> = None;
-        for (&t_sample, &v_sample) in self.times.iter().zip(&self.values) {
-            let substeps = self.substeps_to(r, (t_prev, value_prev), (t_sample, v_sample))?;
-            let mut count = 0;
-            let mut value = self.g.iter().copied().fold(f64::INFINITY, f64::min);
-            d_value.iter_mut().for_each(|v| *v = 0.0);
-            let mut clock = t_prev;
-            for (t, prescribed) in substeps {
-                let h = t - clock;
-                clock = t;
-                let fresh = !matches!(&coefficients, Some((hh, _)) if *hh == h);
-                if fresh {
-                    coefficients = Some((h, StepCoefficients::new(r, tangents, h)));
-                }
-                let c = &coefficients.as_ref().expect("set above").1;
-                for i in 0..reach {
-                    let qi = &q[i * m..(i + 1) * m];
-                    let mut hist = -c.relaxing * w[i];
-                    for (e, qk) in c.decay.iter().zip(qi) {
-                        hist += e * qk;
-                    }
-                    history[i] = hist;
-                    relaxed[i] = self.g[i] - hist / c.g_eff;
-                    for j in 0..p {
-                        let dqi = &dq[(i * p + j) * m..(i * p + j + 1) * m];
-                        let mut dh = -c.d_relaxing[j] * w[i] - c.relaxing * dw[i * p + j];
-                        for k in 0..m {
-                            dh += c.d_decay[j * m + k] * qi[k] + c.decay[k] * dqi[k];
-                        }
-                        d_history[i * p + j] = dh;
-                    }
-                }
-                // the depth that balances the force, and its derivatives
-                let target = prescribed / (weight * c.g_eff);
-                loop {
-                    depth = depth_for(&relaxed[..reach], target, depth);
-                    if reach == n || lowest_from[reach] >= depth {
-                        break;
-                    }
-                    while reach < n && lowest_from[reach] < depth {
-                        reach += 1;
-                    }
-                }
-                in_contact.clear();
-                in_contact.extend((0..reach).filter(|&i| relaxed[i] < depth));
-                if in_contact.is_empty() {
-                    // the indenter rests on the lowest relaxed point
-                    let i = argmin(&relaxed[..reach]);
-                    for j in 0..p {
-                        d_depth[j] = -(d_history[i * p + j] * c.g_eff - history[i] * c.d_g_eff[j])
-                            / (c.g_eff * c.g_eff);
-                    }
-                } else {
-                    for (j, dd) in d_depth.iter_mut().enumerate() {
-                        let sum: f64 = in_contact
-                            .iter()
-                            .map(|&i| c.d_g_eff[j] * (depth - self.g[i]) + d_history[i * p + j])
-                            .sum();
-                        *dd = -sum / (c.g_eff * in_contact.len() as f64);
-                    }
-                }
-                count = 0;
-                for i in 0..reach {
-                    let touching = relaxed[i] < depth;
-                    let w_new = if touching {
-                        count += 1;
-                        depth - self.g[i]
-                    } else {
-                        relaxed[i] - self.g[i]
-                    };
-                    let dw_step = w_new - w[i];
-                    for j in 0..p {
-                        let dw_new = if touching {
-                            d_depth[j]
-                        } else {
-                            -(d_history[i * p + j] * c.g_eff - history[i] * c.d_g_eff[j])
-                                / (c.g_eff * c.g_eff)
-                        };
-                        let d_dw = dw_new - dw[i * p + j];
-                        let dqi = &mut dq[(i * p + j) * m..(i * p + j + 1) * m];
-                        let qi = &q[i * m..(i + 1) * m];
-                        for k in 0..m {
-                            dqi[k] = c.d_decay[j * m + k] * qi[k]
-                                + c.decay[k] * dqi[k]
-                                + c.d_gain[j * m + k] * dw_step
-                                + c.gain[k] * d_dw;
-                        }
-                        dw[i * p + j] = dw_new;
-                    }
-                    let qi = &mut q[i * m..(i + 1) * m];
-                    for ((qk, e), gain) in qi.iter_mut().zip(&c.decay).zip(&c.gain) {
-                        *qk = e * *qk + gain * dw_step;
-                    }
-                    w[i] = w_new;
-                }
-                value = depth;
-                d_value.copy_from_slice(&d_depth);
-            }
-            out.values.push(value);
-            out.jacobian.extend_from_slice(&d_value);
-            out.contact.push(count);
-            t_prev = t_sample;
-            value_prev = v_sample;
-        }
-        Ok(out)
     }
 }
 
@@ -434,47 +312,9 @@ fn check_tangents(r: &Rheology, tangents: &[Rheology]) -> Result<()> {
     }
 }
 
-/// Index of the smallest entry.
-fn argmin(v: &[f64]) -> usize {
-    v.iter()
-        .enumerate()
-        .min_by(|a, b| a.1.total_cmp(b.1))
-        .map_or(0, |(i, _)| i)
-}
-
-/// Depth d with sum max(d - s_i, 0) = `target` (m): the lowest s when target <= 0; else
-/// Newton's method on the convex piecewise-linear sum from `guess`, which ends in finitely
-/// many steps (from above it descends monotonically; from below the first step lands
-/// above), and the sorted exact root should it not within 100 steps.
-fn depth_for(relaxed: &[f64], target: f64, guess: f64) -> f64 {
-    let lowest = relaxed.iter().copied().fold(f64::INFINITY, f64::min);
-    if target <= 0.0 {
-        return lowest;
-    }
-    let mut d = guess.max(lowest);
-    let mut last = (usize::MAX, f64::NAN);
-    for _ in 0..100 {
-        let (mut count, mut sum) = (0usize, 0.0);
-        for &s in relaxed {
-            if s <= d {
-                count += 1;
-                sum += s;
-            }
-        }
-        if (count, sum) == last {
-            return d;
-        }
-        last = (count, sum);
-        d = (target + sum) / count as f64;
-    }
-    let mut sorted = relaxed.to_vec();
-    sorted.sort_unstable_by(f64::total_cmp);
-    let mut prefix = Vec::with_capacity(sorted.len() + 1);
-    crate::mdr::prefix_sums(&sorted, &mut prefix);
-    crate::mdr::depth_on_sorted(&sorted, &prefix, target).0
-}
-
 #[cfg(test)]
 mod hereditary_tests;
+#[cfg(test)]
+mod spring_tests;
 #[cfg(test)]
 mod tests;

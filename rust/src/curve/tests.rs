@@ -23,7 +23,7 @@ fn standard_solid(g_inf: f64, g1: f64, tau: f64) -> Rheology {
 }
 
 /// The derivatives of a standard solid's coefficients in ln G_inf, ln G1 and ln tau1.
-fn standard_solid_tangents(r: &Rheology) -> Vec<Rheology> {
+pub(super) fn standard_solid_tangents(r: &Rheology) -> Vec<Rheology> {
     let zero = Rheology {
         g_inf: 0.0,
         terms: vec![(0.0, 0.0)],
@@ -62,6 +62,7 @@ fn curve_equals_the_full_profile_stepping() {
         let loading = match control {
             Control::Depth => Loading::Depth(DepthHistory::piecewise_linear(t_all, v_all).unwrap()),
             Control::Force => Loading::Force(ForceHistory::piecewise_linear(t_all, v_all).unwrap()),
+            Control::Spring(_) => unreachable!("run_mdr has no spring"),
         };
         let request = Request {
             times: &times,
@@ -73,6 +74,7 @@ fn curve_equals_the_full_profile_stepping() {
         let reference = match control {
             Control::Depth => &s.force,
             Control::Force => &s.depth,
+            Control::Spring(_) => unreachable!("run_mdr has no spring"),
         };
         let scale = reference.iter().fold(0.0f64, |a, b| a.max(b.abs()));
         for (a, b) in e.values.iter().zip(reference) {

@@ -21,7 +21,8 @@ type Evaluated<'py> = (
 );
 
 /// An indentation curve prepared once: the half MDR profile (m, at x = (i + 1/2) dx), the
-/// samples (s) and the prescribed depth (m, control "depth") or force (N, "force").
+/// samples (s) and the prescribed depth (m, control "depth"), force (N, "force") or drive
+/// through a spring of `stiffness` (m and N/m, "spring": an AFM cantilever on its piezo).
 #[pyclass(name = "Curve", module = "mdrvisc._core", frozen)]
 pub(crate) struct PyCurve {
     inner: Curve,
@@ -30,7 +31,8 @@ pub(crate) struct PyCurve {
 #[pymethods]
 impl PyCurve {
     #[new]
-    #[pyo3(signature = (profile, dx, times, values, control, substeps=1))]
+    #[pyo3(signature = (profile, dx, times, values, control, substeps=1, stiffness=None))]
+    #[allow(clippy::too_many_arguments)]
     fn new(
         py: Python<'_>,
         profile: PyReadonlyArray1<'_, f64>,
@@ -39,15 +41,17 @@ impl PyCurve {
         values: PyReadonlyArray1<'_, f64>,
         control: &str,
         substeps: usize,
+        stiffness: Option<f64>,
     ) -> PyResult<Self> {
-        let control = match control {
-            "depth" => Control::Depth,
-            "force" => Control::Force,
-            other => {
+        let control = match (control, stiffness) {
+            ("depth", None) => Control::Depth,
+            ("force", None) => Control::Force,
+            ("spring", Some(k)) => Control::Spring(k),
+            (other, k) => {
                 return Err(to_pyerr(
                     py,
                     Error::InvalidInput(format!(
-                        "control must be \"depth\" or \"force\", got {other:?}"
+                        "control must be \"depth\" or \"force\", or \"spring\" with a stiffness (N/m); got {other:?} with stiffness {k:?}"
                     )),
                 ))
             }
@@ -69,12 +73,12 @@ impl PyCurve {
         self.inner.time_range()
     }
 
-    /// For each medium (JSON of a scene's medium table): the force (N, depth control) or
-    /// depth (m, force control) at the samples, its derivatives with respect to the natural
+    /// For each medium (JSON of a scene's medium table): the force (N, depth and spring
+    /// control) or depth (m, force control) at the samples, its derivatives with respect to the natural
     /// logarithms of the parameters named in `free` (samples x parameters), and the
     /// elements of the half profile in contact, and the forward model that ran
-    /// ("hereditary": Ting's solution; "elements": the elements stepped). With `shift` (m; depth control only) every
-    /// prescribed depth is moved by it and the derivative along it (N/m) is a last column.
+    /// ("hereditary": Ting's solution; "elements": the elements stepped). With `shift` (m; depth and spring control)
+    /// every prescribed depth or drive is moved by it and the derivative along it (N/m) is a last column.
     #[pyo3(signature = (media, free, shift=None))]
     fn evaluate<'py>(
         &self,
