@@ -3,7 +3,7 @@
 //! elements are stepped together, one step at a time; the derivatives follow the stepping
 //! (the contact set piecewise constant in the parameters).
 
-use super::{Control, Curve, Evaluation, Forward, StepCoefficients};
+use super::{with_shift_tangent, Control, Curve, Evaluation, Forward, StepCoefficients};
 use crate::error::Result;
 use crate::rheology::Rheology;
 
@@ -22,16 +22,7 @@ impl Curve {
             Control::Spring(k) => k,
             _ => 0.0,
         };
-        let mut all = tangents.to_vec();
-        let mut rates = vec![0.0; tangents.len()];
-        if shift.is_some() {
-            all.push(Rheology {
-                g_inf: 0.0,
-                terms: vec![(0.0, 0.0); r.terms.len()],
-                eta: 0.0,
-            });
-            rates.push(1.0);
-        }
+        let (all, rates) = with_shift_tangent(r, tangents, shift.is_some());
         let tangents = &all[..];
         let shift = shift.unwrap_or(0.0);
         let (n, m, p) = (self.g.len(), r.terms.len(), tangents.len());

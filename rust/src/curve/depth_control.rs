@@ -8,7 +8,7 @@
 //! own coefficients add their terms after it.
 
 use super::steps::{Step, Steps};
-use super::{Curve, Evaluation, Forward, StepCoefficients};
+use super::{with_shift_tangent, Curve, Evaluation, Forward, StepCoefficients};
 use crate::error::Result;
 use crate::rheology::Rheology;
 use rayon::prelude::*;
@@ -148,16 +148,7 @@ impl Curve {
         tangents: &[Rheology],
         shift: Option<f64>,
     ) -> Result<Evaluation> {
-        let mut all = tangents.to_vec();
-        let mut rates = vec![0.0; tangents.len()];
-        if shift.is_some() {
-            all.push(Rheology {
-                g_inf: 0.0,
-                terms: vec![(0.0, 0.0); r.terms.len()],
-                eta: 0.0,
-            });
-            rates.push(1.0);
-        }
+        let (all, rates) = with_shift_tangent(r, tangents, shift.is_some());
         let tangents = &all[..];
         let shift = shift.unwrap_or(0.0);
         if self.hereditary {

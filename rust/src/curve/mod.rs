@@ -300,6 +300,27 @@ impl Curve {
     }
 }
 
+/// The tangents and the prescribed values' derivative along each (0), with, when `shift`,
+/// a last tangent for the shift of the prescribed values: a zero rheology whose values move
+/// at unit rate.
+fn with_shift_tangent(
+    r: &Rheology,
+    tangents: &[Rheology],
+    shift: bool,
+) -> (Vec<Rheology>, Vec<f64>) {
+    let mut all = tangents.to_vec();
+    let mut rates = vec![0.0; tangents.len()];
+    if shift {
+        all.push(Rheology {
+            g_inf: 0.0,
+            terms: vec![(0.0, 0.0); r.terms.len()],
+            eta: 0.0,
+        });
+        rates.push(1.0);
+    }
+    (all, rates)
+}
+
 /// Refuses tangents whose Prony terms do not match the medium's.
 fn check_tangents(r: &Rheology, tangents: &[Rheology]) -> Result<()> {
     let m = r.terms.len();
