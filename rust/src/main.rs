@@ -4,9 +4,9 @@
 //! and failed solves exit with status 2. `--help` and `--version` as usual.
 
 use clap::{Parser, Subcommand};
-use mdrvisc::monitor::Monitor;
+use mdrvisc::model::{RunSettings, Scene, SceneFile};
 use mdrvisc::paper;
-use mdrvisc::scene::{self, RunSettings, Scene, SceneFile};
+use mdrvisc::support::monitor::Monitor;
 use std::io::{IsTerminal, Write};
 use std::process::ExitCode;
 use std::time::Instant;
@@ -187,7 +187,7 @@ fn run(
     let mut documents = vec![];
     for (name, scene, settings) in &runs {
         let mut progress = Progress::new(show_progress);
-        let report = scene::run(scene, settings, &mut progress);
+        let report = mdrvisc::run::run(scene, settings, &mut progress);
         progress.close();
         let report = report.map_err(|e| format!("{name}: {e}"))?;
         if json {
@@ -221,7 +221,7 @@ fn main() -> ExitCode {
     };
     // On a worker of the pool, the solvers' parallel loops split without waking the main
     // thread.
-    let result = mdrvisc::pool::run(work).unwrap_or_else(|e| Err(e.to_string()));
+    let result = mdrvisc::support::pool::run(work).unwrap_or_else(|e| Err(e.to_string()));
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {

@@ -2,8 +2,8 @@
 //! paraboloids of its Section 6, with the paper's resolutions. The binary's `paper` command
 //! and the Python package's `mdrvisc.paper` both run these.
 
-use crate::scene::medium::INCOMPRESSIBLE;
-use crate::scene::{History, Indenter, Medium, Method, Output, RunSettings, Scene};
+use crate::model::medium::INCOMPRESSIBLE;
+use crate::model::{History, Indenter, Medium, Method, Output, RunSettings, Scene};
 
 /// Curvature parameters c (1/m) of the paraboloids of Section 6.
 pub const CURVATURES: [f64; 5] = [0.05, 0.2, 1.0, 5.0, 20.0];

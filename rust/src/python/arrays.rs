@@ -5,19 +5,20 @@
 use super::convert::{grid_from, history, options, slice1};
 use super::monitor::{in_pool, to_pyerr, PyMonitor};
 use super::report::PyReport;
-use crate::contact::{Target, DENSE_LIMIT};
-use crate::error::{check_finite, Error};
-use crate::grid::Grid;
-use crate::integrator::ExplicitControl;
-use crate::operator::{DenseOperator, FftOperator, SurfaceOperator};
-use crate::periodic::PeriodicOperator;
-use crate::scene::assemble::{bem_static_report, bem_viscous_report, report, Wanted};
-use crate::scene::report::FieldSet;
-use crate::scene::run::viscous_bem;
-use crate::scene::{Integrator, Method, RunSettings};
-use crate::static_contact;
-use crate::transforms;
-use crate::viscous::{self, ViscousRequest};
+use crate::bem::contact::Target;
+use crate::bem::static_contact;
+use crate::bem::viscous::{self, ViscousRequest};
+use crate::halfspace::operator::{DenseOperator, FftOperator, SurfaceOperator};
+use crate::halfspace::periodic::PeriodicOperator;
+use crate::mdr::transforms;
+use crate::model::grid::Grid;
+use crate::model::settings::ExplicitControl;
+use crate::model::settings::DENSE_LIMIT;
+use crate::model::{Integrator, Method, RunSettings};
+use crate::run::assemble::{bem_static_report, bem_viscous_report, report, Wanted};
+use crate::run::report::FieldSet;
+use crate::run::viscous_bem;
+use crate::support::error::{check_finite, Error};
 use numpy::{
     IntoPyArray, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods,
 };
@@ -26,7 +27,7 @@ use std::sync::Mutex;
 use std::time::Instant;
 
 /// Settings of a BEM run on a given grid (n: its longer side).
-fn grid_settings(grid: &Grid, solver: crate::contact::SolverOptions) -> RunSettings {
+fn grid_settings(grid: &Grid, solver: crate::model::settings::SolverOptions) -> RunSettings {
     let mut s = RunSettings::new(Method::Bem, grid.nx.max(grid.ny));
     s.solver = solver;
     s
@@ -271,9 +272,9 @@ impl PySurfaceOperator {
         py.detach(|| {
             let mut guard = self.op.lock().unwrap_or_else(|e| e.into_inner());
             let op: &mut (dyn SurfaceOperator + Send) = &mut **guard;
-            crate::pool::run(|| op.apply(p, u))?;
+            crate::support::pool::run(|| op.apply(p, u))?;
             // pressures and element sizes near the range of physical inputs can overflow
-            crate::error::check_finite("deflection K[p] (overflows double precision)", u)
+            crate::support::error::check_finite("deflection K[p] (overflows double precision)", u)
         })
         .map_err(|e| to_pyerr(py, e))
     }

@@ -2,10 +2,10 @@
 //! the argument.
 
 use super::monitor::to_pyerr;
-use crate::contact::SolverOptions;
-use crate::error::Error;
-use crate::grid::Grid;
-use crate::loading::ForceHistory;
+use crate::model::grid::Grid;
+use crate::model::loading::ForceHistory;
+use crate::model::settings::SolverOptions;
+use crate::support::error::Error;
 use numpy::{PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 

@@ -1,12 +1,12 @@
-//! The fit's forward model: a prepared indentation curve (`crate::curve::Curve`) evaluated
+//! The fit's forward model: a prepared indentation curve (`crate::mdr::curve::Curve`) evaluated
 //! for media given as the scene model's JSON, with derivatives in the logarithms of the
 //! named parameters; the media of one call run in parallel with the GIL released.
 
 use super::convert::slice1;
 use super::monitor::{in_pool, to_pyerr};
-use crate::curve::{Control, Curve, Forward};
-use crate::error::Error;
-use crate::scene::Medium;
+use crate::mdr::curve::{Control, Curve, Forward};
+use crate::model::Medium;
+use crate::support::error::Error;
 use numpy::{IntoPyArray, PyArray1, PyArray2, PyReadonlyArray1};
 use pyo3::prelude::*;
 use rayon::prelude::*;

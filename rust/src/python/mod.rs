@@ -27,10 +27,10 @@ mod core_module {
     use super::surfaces::self_affine;
     /// Largest magnitude of a physical input (and inverse of the smallest nonzero one).
     #[pymodule_export]
-    const MAGNITUDE: f64 = crate::error::MAGNITUDE;
+    const MAGNITUDE: f64 = crate::support::error::MAGNITUDE;
     /// tan(psi) / tan(alpha) of the cone MDR solves in place of a four-sided pyramid.
     #[pymodule_export]
-    const EQUIVALENT_CONE_FACTOR: f64 = crate::scene::pyramid::EQUIVALENT_CONE_FACTOR;
+    const EQUIVALENT_CONE_FACTOR: f64 = crate::model::indenter::pyramid::EQUIVALENT_CONE_FACTOR;
     #[pymodule_export]
     use super::report::{PyFieldSet, PyReport};
     #[pymodule_export]

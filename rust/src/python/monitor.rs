@@ -3,8 +3,8 @@
 //! while the calling thread serves Ctrl-C and the progress callbacks, so that Python code
 //! never runs on, or holds, a worker of the pool.
 
-use crate::error::Error;
-use crate::monitor::Monitor;
+use crate::support::error::Error;
+use crate::support::monitor::Monitor;
 use pyo3::prelude::*;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::{self, RecvTimeoutError};
@@ -95,7 +95,7 @@ impl PyMonitor {
         py: Python<'_>,
         f: impl FnOnce(&mut dyn Monitor) -> crate::Result<T> + Send,
     ) -> PyResult<T> {
-        let pool = crate::pool::get().map_err(|e| to_pyerr(py, e))?;
+        let pool = crate::support::pool::get().map_err(|e| to_pyerr(py, e))?;
         let cancel = Arc::new(AtomicBool::new(false));
         let (tx, rx) = mpsc::channel();
         let mut forward = Forward {
@@ -152,6 +152,6 @@ impl PyMonitor {
 /// (for short computations that serve no progress callback; the others use
 /// `PyMonitor::run`).
 pub(crate) fn in_pool<T: Send>(py: Python<'_>, f: impl FnOnce() -> T + Send) -> PyResult<T> {
-    py.detach(|| crate::pool::run(f))
+    py.detach(|| crate::support::pool::run(f))
         .map_err(|e| to_pyerr(py, e))
 }

@@ -8,11 +8,11 @@ use pyo3::prelude::*;
 #[pyfunction]
 #[pyo3(signature = (n=None))]
 pub(crate) fn set_num_threads(py: Python<'_>, n: Option<usize>) -> PyResult<()> {
-    crate::pool::set_num_threads(n).map_err(|e| to_pyerr(py, e))
+    crate::support::pool::set_num_threads(n).map_err(|e| to_pyerr(py, e))
 }
 
 /// The worker threads computations run on.
 #[pyfunction]
 pub(crate) fn num_threads(py: Python<'_>) -> PyResult<usize> {
-    crate::pool::num_threads().map_err(|e| to_pyerr(py, e))
+    crate::support::pool::num_threads().map_err(|e| to_pyerr(py, e))
 }

@@ -1,7 +1,7 @@
 //! The typed results of the bindings: `Report` (series and the run's numbers) and
 //! `FieldSet` (fields at one time), numpy arrays out.
 
-use crate::scene::{FieldSet, Report};
+use crate::run::report::{FieldSet, Report};
 use numpy::{IntoPyArray, PyArray1, PyArrayMethods};
 use pyo3::prelude::*;
 
@@ -167,7 +167,7 @@ impl PyReport {
     /// Units of the quantities, {name: unit}.
     #[staticmethod]
     fn units() -> Vec<(&'static str, &'static str)> {
-        crate::scene::report::UNITS.to_vec()
+        crate::run::report::UNITS.to_vec()
     }
     /// One line: method, resolution, steps, solves, iterations, residual, wall time.
     fn summary(&self) -> String {

@@ -3,11 +3,11 @@
 
 use super::monitor::{to_pyerr, PyMonitor};
 use super::report::PyReport;
-use crate::contact::DENSE_LIMIT;
-use crate::error::Error;
-use crate::integrator::ExplicitControl;
+use crate::model::settings::ExplicitControl;
+use crate::model::settings::DENSE_LIMIT;
+use crate::model::{file, Indenter, Integrator, Method, RunSettings, Scene, SceneFile};
 use crate::paper;
-use crate::scene::{self, file, Indenter, Integrator, Method, RunSettings, Scene, SceneFile};
+use crate::support::error::Error;
 use numpy::{IntoPyArray, PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1};
 use pyo3::prelude::*;
 
@@ -111,7 +111,7 @@ impl PyScene {
         Bound<'py, PyArray2<f64>>,
         Bound<'py, PyArray2<bool>>,
     )> {
-        let grid = scene::sizing::bem_grid(&self.inner, n).map_err(|e| to_pyerr(py, e))?;
+        let grid = crate::run::sizing::bem_grid(&self.inner, n).map_err(|e| to_pyerr(py, e))?;
         let x: Vec<f64> = (0..grid.nx)
             .map(|i| (i as f64 - 0.5 * (grid.nx as f64 - 1.0)) * grid.dx)
             .collect();
@@ -132,7 +132,7 @@ impl PyScene {
         py: Python<'py>,
         n: usize,
     ) -> PyResult<(Bound<'py, PyArray1<f64>>, f64, Bound<'py, PyArray1<f64>>)> {
-        let half = scene::sizing::mdr_half_length(&self.inner).map_err(|e| to_pyerr(py, e))?;
+        let half = crate::run::sizing::mdr_half_length(&self.inner).map_err(|e| to_pyerr(py, e))?;
         let (g, dx) = self
             .inner
             .indenter
@@ -147,13 +147,13 @@ impl PyScene {
     /// Upper bounds of the depth (m) at the output times that size the BEM windows of a
     /// viscous scene under a force (NaN where none applies).
     fn depth_bounds<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        let b = scene::sizing::depth_bounds(&self.inner).map_err(|e| to_pyerr(py, e))?;
+        let b = crate::run::sizing::depth_bounds(&self.inner).map_err(|e| to_pyerr(py, e))?;
         Ok(b.into_pyarray(py))
     }
 
     /// The largest radius (m) at which a solve evaluates the indenter.
     fn extent_needed(&self, py: Python<'_>) -> PyResult<f64> {
-        scene::sizing::extent_needed(&self.inner).map_err(|e| to_pyerr(py, e))
+        crate::run::sizing::extent_needed(&self.inner).map_err(|e| to_pyerr(py, e))
     }
 }
 
@@ -247,7 +247,7 @@ pub(crate) fn run_scene(
     };
     let scene = scene.inner.clone();
     let report =
-        PyMonitor::new(progress).run(py, |monitor| scene::run(&scene, &settings, monitor))?;
+        PyMonitor::new(progress).run(py, |monitor| crate::run::run(&scene, &settings, monitor))?;
     Ok(PyReport { inner: report })
 }
 

@@ -1,8 +1,8 @@
 //! Bindings of the random-surface generator: numpy height maps out.
 
 use super::monitor::{in_pool, to_pyerr};
-use crate::error::Error;
-use crate::surfaces::{self, Roughness, SelfAffine};
+use crate::model::surfaces::{self, Roughness, SelfAffine};
+use crate::support::error::Error;
 use numpy::{IntoPyArray, PyArrayMethods};
 use pyo3::prelude::*;
 

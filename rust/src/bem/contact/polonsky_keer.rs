@@ -1,0 +1,376 @@
+//! The Polonsky–Keer (1999) constrained conjugate gradient for frictionless normal contact,
+//! under force or depth control, optionally preconditioned by the inverse-kernel stencil.
+
+use super::{ContactSolver, ContactSummary, Problem, Target};
+use crate::halfspace::influence;
+use crate::halfspace::operator::SurfaceOperator;
+use crate::model::settings::SolverOptions;
+use crate::support::error::{Error, Result};
+use crate::support::monitor::Monitor;
+
+impl<O: SurfaceOperator> ContactSolver<O> {
+    /// Polonsky–Keer on `pb`: starts from the solver's pressure with `warm` (rescaled to the
+    /// target force), else from a uniform pressure (force control) or the pressures that
+    /// close each overlap alone (depth control), and iterates until the relative change of
+    /// the pressure is below `opts.tol`.
+    pub(super) fn solve_polonsky_keer(
+        &mut self,
+        pb: &Problem,
+        warm: bool,
+        opts: &SolverOptions,
+        monitor: &mut dyn Monitor,
+    ) -> Result<ContactSummary> {
+        let Problem {
+            h,
+            allowed,
+            n_allowed,
+            compliance,
+            target,
+            reference,
+            gap_tol,
+        } = *pb;
+        let n = self.p.len();
+        let area = self.op.dx() * self.op.dx();
+        let force = match target {
+            Target::Force(w) => Some(w),
+            Target::Depth(_) => None,
+        };
+        let tuning = self.tuning;
+        let self_influence = influence::coefficient(0, 0, self.op.dx());
+        if !warm {
+            match target {
+                Target::Force(w) => {
+                    let start = w / (n_allowed as f64 * area);
+                    for (p, &a) in self.p.iter_mut().zip(allowed) {
+                        *p = if a { start } else { 0.0 };
+                    }
+                }
+                // Each overlapping element alone: the pressure that closes its own gap.
+                Target::Depth(d) => {
+                    for i in 0..n {
+                        self.p[i] = if allowed[i] {
+                            (d - h[i]).max(0.0) / (compliance * self_influence)
+                        } else {
+                            0.0
+                        };
+                    }
+                }
+            }
+        }
+        for (p, &a) in self.p.iter_mut().zip(allowed) {
+            if !a || *p < 0.0 {
+                *p = 0.0;
+            }
+        }
+        if let Some(w) = force {
+            let sum: f64 = self.p.iter().sum();
+            self.p.iter_mut().for_each(|v| *v *= w / area / sum);
+        }
+        let mut delta = 0.0;
+        let mut g_old = 1.0;
+        let mut residual = f64::INFINITY;
+        // u = K[p] is refreshed by an operator apply when the active set changed and every
+        // `refresh_every` iterations (bounding round-off drift); otherwise it follows p by the
+        // same linear update, so most iterations cost one apply.
+        self.op.apply(&self.p, &mut self.u);
+        // Under force control, the mean gap over the set as the last linear update of u
+        // left it (None after a refresh).
+        let mut next_shift = None;
+        for it in 1..=opts.max_iter {
+            let shift = match (target, next_shift.take()) {
+                (Target::Depth(d), _) => d,
+                (Target::Force(_), Some(s)) => s,
+                (Target::Force(_), None) => {
+                    let [s, k] = self.pass_sums(|c| {
+                        let mut acc = [0.0; 2];
+                        for j in 0..c.p.len() {
+                            if c.p[j] > 0.0 {
+                                acc[0] += compliance * c.u[j] + h[c.lo + j];
+                                acc[1] += 1.0;
+                            }
+                        }
+                        acc
+                    });
+                    mean(s, k)
+                }
+            };
+            // The search direction follows z = M g on the contact set: M = 1, or the
+            // inverse-kernel stencil (projected to zero mean under force control, where the
+            // force constraint confines p's changes to that subspace). g is written on the
+            // allowed elements, its restriction to the set into r (free until the apply).
+            let [gsum] = self.pass_sums(|c| {
+                let mut acc = [0.0];
+                for j in 0..c.p.len() {
+                    let i = c.lo + j;
+                    c.g[j] = if allowed[i] {
+                        compliance * c.u[j] + h[i] - shift
+                    } else {
+                        0.0
+                    };
+                    c.r[j] = if c.p[j] > 0.0 { c.g[j] } else { 0.0 };
+                    acc[0] += c.r[j] * c.r[j];
+                }
+                acc
+            });
+            let (zbar, gz) = if opts.precondition {
+                self.op.precondition(&self.r, &mut self.z);
+                let [zsum, gz, g_lin, count] = self.pass_sums(|c| {
+                    let mut acc = [0.0; 4];
+                    for j in 0..c.p.len() {
+                        if c.p[j] > 0.0 {
+                            acc[0] += c.z[j];
+                            acc[1] += c.g[j] * c.z[j];
+                            acc[2] += c.g[j];
+                            acc[3] += 1.0;
+                        }
+                    }
+                    acc
+                });
+                let zbar = match target {
+                    Target::Force(_) => zsum / count.max(1.0),
+                    Target::Depth(_) => 0.0,
+                };
+                (zbar, gz - zbar * g_lin)
+            } else {
+                (0.0, gsum)
+            };
+            let beta = if delta > 0.0 && g_old > 0.0 {
+                gz / g_old
+            } else {
+                0.0
+            };
+            g_old = gz;
+            let precondition = opts.precondition;
+            self.pass_sums(|c| {
+                let z = if precondition { &*c.z } else { &*c.g };
+                for ((t, &p), &z) in c.t.iter_mut().zip(&*c.p).zip(z) {
+                    *t = if p > 0.0 { z - zbar + beta * *t } else { 0.0 };
+                }
+                [0.0; 0]
+            });
+            self.op.apply(&self.t, &mut self.r);
+            // Over the contact set, in one pass: sums of r, g t, r t and t; then the step
+            // tau = sum g t / sum (c r - rbar) t, with rbar the mean of c r under force control.
+            let [r_sum, count, num, rt, t_sum] = self.pass_sums(|c| {
+                let mut acc = [0.0; 5];
+                for j in 0..c.p.len() {
+                    if c.p[j] > 0.0 {
+                        acc[0] += c.r[j];
+                        acc[1] += 1.0;
+                        acc[2] += c.g[j] * c.t[j];
+                        acc[3] += c.r[j] * c.t[j];
+                        acc[4] += c.t[j];
+                    }
+                }
+                acc
+            });
+            let rbar = match target {
+                Target::Force(_) => compliance * r_sum / count.max(1.0),
+                Target::Depth(_) => 0.0,
+            };
+            let den = compliance * rt - rbar * t_sum;
+            let tau = if den > 0.0 { num / den } else { 0.0 };
+            // A degenerate CG step (e.g. a one-element contact, where g = 0 on the set) would
+            // never admit the overlapping elements: seed them with pressures proportional to
+            // their overlap, carrying `seed_fraction` of the load, and let the iteration grow
+            // them.
+            let tau_overlap = if tau > 0.0 {
+                tau
+            } else {
+                let (load, deficit) =
+                    (0..n)
+                        .filter(|&i| allowed[i])
+                        .fold((0.0, 0.0), |(l, d), i| {
+                            (
+                                l + self.p[i],
+                                if self.p[i] <= 0.0 && self.g[i] < -gap_tol {
+                                    d - self.g[i]
+                                } else {
+                                    d
+                                },
+                            )
+                        });
+                if deficit > 0.0 {
+                    tuning.seed_fraction * load / deficit
+                } else {
+                    0.0
+                }
+            };
+            let [sum, overlaps, clamps] = self.pass_sums(|c| {
+                let mut acc = [0.0; 3];
+                c.p_old.copy_from_slice(c.p);
+                for j in 0..c.p.len() {
+                    let i = c.lo + j;
+                    if !allowed[i] {
+                        continue;
+                    }
+                    if c.p[j] > 0.0 {
+                        let v = c.p[j] - tau * c.t[j];
+                        if v <= 0.0 {
+                            acc[2] += 1.0;
+                        }
+                        c.p[j] = v.max(0.0);
+                    } else if c.g[j] < -gap_tol {
+                        c.p[j] = -tau_overlap * c.g[j];
+                        acc[1] += 1.0;
+                    }
+                    acc[0] += c.p[j];
+                }
+                acc
+            });
+            let overlap = overlaps > 0.0;
+            let mut clamped = clamps > 0.0;
+            delta = if overlap { 0.0 } else { 1.0 };
+            let mut factor = 1.0;
+            match force {
+                Some(w) if sum > 0.0 => factor = w / area / sum,
+                Some(w) => {
+                    let imin = argmin_gap(&self.g, allowed);
+                    self.p[imin] = w / area;
+                    clamped = true;
+                }
+                // Everything released while elements still overlap: restart from the
+                // pressures that close each overlap alone.
+                None if sum == 0.0 && (0..n).any(|i| allowed[i] && self.g[i] < -gap_tol) => {
+                    for i in (0..n).filter(|&i| allowed[i]) {
+                        self.p[i] = (-self.g[i]).max(0.0) / (compliance * self_influence);
+                    }
+                    clamped = true;
+                }
+                None => {}
+            }
+            // Rescale to the force, measure the change, and follow u = K[p] linearly unless
+            // it is refreshed, in one pass; a linear update also sums the next mean gap.
+            let refresh = overlap || clamped || it % tuning.refresh_every == 0;
+            let [total, change, gap_sum, count] = self.pass_sums(|c| {
+                let mut acc = [0.0; 4];
+                for j in 0..c.p.len() {
+                    let v = c.p[j] * factor;
+                    c.p[j] = v;
+                    acc[0] += v;
+                    acc[1] += (v - c.p_old[j]).abs();
+                    if !refresh {
+                        c.u[j] = factor * (c.u[j] - tau * c.r[j]);
+                        if v > 0.0 {
+                            acc[2] += compliance * c.u[j] + h[c.lo + j];
+                            acc[3] += 1.0;
+                        }
+                    }
+                }
+                acc
+            });
+            if refresh {
+                self.op.apply(&self.p, &mut self.u);
+            } else {
+                next_shift = Some(mean(gap_sum, count));
+            }
+            residual = if total > 0.0 {
+                change / total.max(reference / area)
+            } else {
+                0.0
+            };
+            if it % tuning.progress_every == 0 {
+                monitor.progress("contact iterations", it, opts.max_iter)?;
+            }
+            if residual < opts.tol {
+                // u = K[p] to round-off: refreshed, or linearly updated fewer than
+                // `refresh_every` times since the last refresh.
+                self.u.iter_mut().for_each(|v| *v *= compliance);
+                let depth = match target {
+                    Target::Force(_) => {
+                        let (s, c) = self
+                            .u
+                            .iter()
+                            .zip(h)
+                            .zip(&self.p)
+                            .filter(|(_, &p)| p > 0.0)
+                            .fold((0.0, 0usize), |(s, c), ((u, h), _)| (s + u + h, c + 1));
+                        s / c.max(1) as f64
+                    }
+                    Target::Depth(d) => d,
+                };
+                return Ok(ContactSummary {
+                    depth,
+                    force: total * area,
+                    iterations: it,
+                    residual,
+                    contact_count: self.p.iter().filter(|&&p| p > 0.0).count(),
+                    dense: false,
+                });
+            }
+        }
+        Err(Error::NotConverged {
+            what: "Polonsky-Keer contact solve".into(),
+            iterations: opts.max_iter,
+            residual,
+        })
+    }
+}
+
+/// `sum / count`, or 0 for an empty set.
+fn mean(sum: f64, count: f64) -> f64 {
+    if count > 0.0 {
+        sum / count
+    } else {
+        0.0
+    }
+}
+
+/// Index of the allowed element with the smallest gap.
+fn argmin_gap(g: &[f64], allowed: &[bool]) -> usize {
+    (0..g.len())
+        .filter(|&i| allowed[i])
+        .min_by(|&a, &b| g[a].total_cmp(&g[b]))
+        .unwrap_or(0)
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::bem::contact::tests::{hertz_grid, max_abs_diff, solve_with};
+    use crate::bem::contact::Target;
+    use crate::model::settings::SolverOptions;
+
+    /// Preconditioned and plain Polonsky–Keer reach the same contact (to the tolerance)
+    /// under force and depth control, the preconditioned one in at most 1/2 (force) or 2/3
+    /// (depth) of the iterations.
+    #[test]
+    fn preconditioning_keeps_the_contact_and_saves_iterations() {
+        let n = 96;
+        let (h, dx) = hertz_grid(n, 1.0);
+        for target in [Target::Force(1.6), Target::Depth(0.45)] {
+            let run = |precondition| {
+                let opts = SolverOptions {
+                    active_limit: Some(0),
+                    precondition,
+                    ..SolverOptions::default()
+                };
+                solve_with(&h, n, dx, target, &opts)
+            };
+            let ((plain, p_plain), (pre, p_pre)) = (run(false), run(true));
+            assert!(
+                pre.contact_count > 1500,
+                "{target:?}: {}",
+                pre.contact_count
+            );
+            assert_eq!(plain.contact_count, pre.contact_count, "{target:?}");
+            let peak = p_plain.iter().fold(0.0f64, |m, &v| m.max(v));
+            let diff = max_abs_diff(&p_plain, &p_pre);
+            assert!(diff < 1e-8 * peak, "{target:?}: {diff} vs {peak}");
+            assert!((plain.depth - pre.depth).abs() < 1e-9 * plain.depth.abs());
+            assert!((plain.force - pre.force).abs() < 1e-9 * plain.force);
+            // measured 24 vs 50 (force) and 43 vs 68 (depth): the stencil's symbol does not
+            // vanish at k = 0, which the force constraint projects out and depth control
+            // does not
+            let gain = match target {
+                Target::Force(_) => 2.0,
+                Target::Depth(_) => 1.5,
+            };
+            assert!(
+                gain * pre.iterations as f64 <= plain.iterations as f64,
+                "{target:?}: {} preconditioned vs {} plain",
+                pre.iterations,
+                plain.iterations
+            );
+        }
+    }
+}

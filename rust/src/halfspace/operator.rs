@@ -1,0 +1,654 @@
+//! The surface operator: deflections of a non-periodic half-space (G = 1 Pa) under
+//! element pressures, by zero-padded FFT convolution (DC-FFT) or by a dense matrix (faer).
+//!
+//! Grids are row-major: element (ix, iy) at index iy * nx + ix, centres dx apart.
+//!
+//! Kept in one file past 500 lines: both operators apply the same kernel, and the tests
+//! check one against the other.
+
+use crate::halfspace::influence::{self, KernelTable};
+use crate::support::error::{check_positive, Error, Result};
+use faer::{Accum, ColMut, ColRef, Mat, Par};
+use rayon::prelude::*;
+use realfft::{ComplexToReal, RealFftPlanner, RealToComplex};
+use rustfft::num_complex::Complex;
+use rustfft::{Fft, FftPlanner};
+use std::sync::Arc;
+
+/// A linear map from element pressures (Pa) to element-centre deflections (m) at G = 1 Pa.
+pub trait SurfaceOperator {
+    /// Number of elements along x.
+    fn nx(&self) -> usize;
+    /// Number of elements along y.
+    fn ny(&self) -> usize;
+    /// Element side (m).
+    fn dx(&self) -> f64;
+    /// Writes K[p] into `u` (both nx * ny long).
+    fn apply(&mut self, p: &[f64], u: &mut [f64]);
+    /// The operator's matrix (m/Pa at G = 1) among the elements `idx` (grid indices), for
+    /// dense solves on a contact set.
+    fn submatrix(&mut self, idx: &[usize]) -> Result<Mat<f64>>;
+    /// Writes z = S g, S the conjugate gradients' preconditioner (an approximate inverse of
+    /// the operator times dx, `precondition`): by default the inverse-kernel stencil with
+    /// g zero beyond the grid.
+    fn precondition(&mut self, g: &[f64], z: &mut [f64]) {
+        crate::halfspace::precondition::apply(self.nx(), self.ny(), g, z);
+    }
+}
+
+/// Smallest even m >= n of the form 2^a 3^b 5^c with c <= 1 (n itself when n <= 1): the
+/// lengths at which rustfft and realfft run fastest. Odd lengths take realfft's slow path,
+/// and factors 7 and 25 cost 15-50 % more per point than the next such size up
+/// (`benchmarks/bench_operator.py --sizes`, 129..257).
+fn fast_size(n: usize) -> usize {
+    if n <= 1 {
+        return 1;
+    }
+    let mut m = n + n % 2;
+    loop {
+        let mut r = m;
+        for f in [2, 3] {
+            while r % f == 0 {
+                r /= f;
+            }
+        }
+        if r == 1 || r == 5 {
+            return m;
+        }
+        m += 2;
+    }
+}
+
+/// Padded length for a linear convolution over `n` elements with an even kernel: offsets
+/// +(n-1) and -(n-1) may share a slot, so 2n - 2 suffices (1 for a single element).
+pub fn padded_size(n: usize) -> usize {
+    fast_size(2 * n - 2)
+}
+
+/// Rows or columns moved together in the blocked transposes.
+const TILE: usize = 16;
+
+/// Per-worker buffers, allocated once with the operator.
+struct Worker {
+    real: Vec<f64>,
+    /// TILE half-spectra of rows, for the blocked transpose.
+    halves: Vec<Complex<f64>>,
+    r2c_scratch: Vec<Complex<f64>>,
+    c2r_scratch: Vec<Complex<f64>>,
+    col_scratch: Vec<Complex<f64>>,
+}
+
+/// FFT plan caches (rustfft and realfft planners keep every length they planned), shared by
+/// the operators of one run.
+pub struct FftPlans {
+    real: RealFftPlanner<f64>,
+    complex: FftPlanner<f64>,
+}
+
+impl Default for FftPlans {
+    fn default() -> Self {
+        FftPlans {
+            real: RealFftPlanner::new(),
+            complex: FftPlanner::new(),
+        }
+    }
+}
+
+/// Largest grid (elements) of an FFT operator: 4096 x 4096, whose zero-padded spectra and
+/// buffers take a few GB.
+pub const MAX_FFT_ELEMENTS: usize = 1 << 24;
+/// Largest grid (elements) of a dense operator: its matrix of 8 n^2 bytes is 2 GB.
+pub const MAX_DENSE_ELEMENTS: usize = 1 << 14;
+
+/// Fails unless the `nx` x `ny` grid is non-empty and holds at most `limit` elements, before
+/// anything of that size is allocated.
+fn check_elements(nx: usize, ny: usize, limit: usize, what: &str) -> Result<()> {
+    match nx.checked_mul(ny) {
+        Some(n) if n > 0 && n <= limit => Ok(()),
+        _ => Err(Error::InvalidInput(format!(
+            "the {what} takes 1 to {limit} elements, got nx = {nx}, ny = {ny}"
+        ))),
+    }
+}
+
+/// DC-FFT operator: the kernel spectrum is computed once, FFT plans and buffers live with
+/// the operator, and rows and columns are transformed in parallel with rayon.
+pub struct FftOperator {
+    nx: usize,
+    ny: usize,
+    dx: f64,
+    mx: usize,
+    my: usize,
+    half: usize,
+    r2c: Arc<dyn RealToComplex<f64>>,
+    c2r: Arc<dyn ComplexToReal<f64>>,
+    col_fwd: Arc<dyn Fft<f64>>,
+    col_inv: Arc<dyn Fft<f64>>,
+    /// Real kernel spectrum, transposed (half x my), normalisation included.
+    spectrum: Vec<f64>,
+    /// The largest grid whose offsets the spectrum's kernel table held.
+    covered: (usize, usize),
+    cols: Vec<Complex<f64>>,
+    workers: Vec<Worker>,
+}
+
+/// Memory of an FFT operator per element of its padded grid (bytes): the kernel's spectrum
+/// and the column buffer (12), the kernel table and its transform on the way (12).
+const BYTES_PER_PADDED_ELEMENT: f64 = 24.0;
+
+impl FftOperator {
+    /// Builds the operator for an `nx` x `ny` grid of square elements of side `dx` (m).
+    pub fn new(nx: usize, ny: usize, dx: f64) -> Result<Self> {
+        check_positive("element size dx", dx)?;
+        check_elements(nx, ny, MAX_FFT_ELEMENTS, "FFT operator")?;
+        let padded = (padded_size(nx) * padded_size(ny)) as f64;
+        crate::support::memory::check(
+            &format!("a {nx} x {ny} surface operator"),
+            BYTES_PER_PADDED_ELEMENT * padded,
+        )?;
+        Self::with_kernel(
+            nx,
+            ny,
+            &KernelTable::new(nx, ny, dx),
+            &mut FftPlans::default(),
+        )
+    }
+
+    /// Builds the operator for an `nx` x `ny` grid from a kernel table that covers it (its
+    /// element size) and a plan cache: the windows of a grid share the grid's table, and
+    /// FFT lengths planned once are not planned again.
+    pub fn with_kernel(
+        nx: usize,
+        ny: usize,
+        table: &KernelTable,
+        plans: &mut FftPlans,
+    ) -> Result<Self> {
+        if nx == 0 || ny == 0 {
+            return Err(Error::InvalidInput(format!(
+                "grid size must be at least 1 x 1, got {nx} x {ny}"
+            )));
+        }
+        if !table.covers(nx, ny) {
+            return Err(Error::InvalidInput(format!(
+                "the kernel table does not cover a {nx} x {ny} grid"
+            )));
+        }
+        let mut op = Self::unfilled(
+            nx,
+            ny,
+            table.dx(),
+            (padded_size(nx), padded_size(ny)),
+            plans,
+        );
+        op.covered = table.extent();
+        op.spectrum = op.kernel_spectrum(table);
+        Ok(op)
+    }
+
+    /// The circular convolution of period `mx` x `my` (>= nx, ny) on an `nx` x `ny` grid
+    /// whose kernel has the real, even spectrum `symbol(kx, ky)` (m/Pa at G = 1; kx in
+    /// 0..=mx/2, ky in 0..my, unnormalised DFT indices). With (mx, my) = (nx, ny) it is the
+    /// operator of a periodic cell.
+    pub(crate) fn with_symbol(
+        nx: usize,
+        ny: usize,
+        dx: f64,
+        (mx, my): (usize, usize),
+        symbol: impl Fn(usize, usize) -> f64,
+        plans: &mut FftPlans,
+    ) -> Self {
+        let mut op = Self::unfilled(nx, ny, dx, (mx, my), plans);
+        let norm = 1.0 / (mx * my) as f64;
+        for kx in 0..op.half {
+            for ky in 0..my {
+                op.spectrum[kx * my + ky] = symbol(kx, ky) * norm;
+            }
+        }
+        op
+    }
+
+    /// The spectrum of `symbol` in the layout and normalisation of this operator's own, for
+    /// [`FftOperator::convolve_with`].
+    pub(crate) fn spectrum_of(&self, symbol: impl Fn(usize, usize) -> f64) -> Vec<f64> {
+        let (my, norm) = (self.my, 1.0 / (self.mx * self.my) as f64);
+        (0..self.half * my)
+            .map(|i| symbol(i / my, i % my) * norm)
+            .collect()
+    }
+
+    /// Writes into `u` the circular convolution of `p` with the kernel whose spectrum is
+    /// `spectrum` (made by [`FftOperator::spectrum_of`]): the same plans and buffers as
+    /// `apply`, another kernel. The spectra are swapped in and out, not copied.
+    pub(crate) fn convolve_with(&mut self, spectrum: &mut Vec<f64>, p: &[f64], u: &mut [f64]) {
+        assert_eq!(spectrum.len(), self.spectrum.len(), "spectrum length");
+        std::mem::swap(&mut self.spectrum, spectrum);
+        self.apply(p, u);
+        std::mem::swap(&mut self.spectrum, spectrum);
+    }
+
+    /// Plans, buffers and a zero spectrum for an `nx` x `ny` grid in the period `mx` x `my`.
+    fn unfilled(
+        nx: usize,
+        ny: usize,
+        dx: f64,
+        (mx, my): (usize, usize),
+        plans: &mut FftPlans,
+    ) -> Self {
+        let half = mx / 2 + 1;
+        let r2c = plans.real.plan_fft_forward(mx);
+        let c2r = plans.real.plan_fft_inverse(mx);
+        let col_fwd = plans.complex.plan_fft_forward(my);
+        let col_inv = plans.complex.plan_fft_inverse(my);
+        let nworkers = rayon::current_num_threads().max(1) * 2;
+        let workers = (0..nworkers)
+            .map(|_| Worker {
+                real: vec![0.0; mx],
+                halves: vec![Complex::default(); TILE * half],
+                r2c_scratch: r2c.make_scratch_vec(),
+                c2r_scratch: c2r.make_scratch_vec(),
+                col_scratch: vec![Complex::default(); col_fwd.get_inplace_scratch_len()],
+            })
+            .collect();
+        FftOperator {
+            nx,
+            ny,
+            dx,
+            mx,
+            my,
+            half,
+            r2c,
+            c2r,
+            col_fwd,
+            col_inv,
+            spectrum: vec![0.0; half * my],
+            covered: (nx, ny),
+            cols: vec![Complex::default(); half * my],
+            workers,
+        }
+    }
+
+    /// Padded FFT sizes (x, y).
+    pub fn padded(&self) -> (usize, usize) {
+        (self.mx, self.my)
+    }
+
+    /// Makes this the operator of an `nx` x `ny` grid with the same padded sizes (its
+    /// kernel table must have covered that grid), keeping spectrum, plans and buffers.
+    pub fn resize(&mut self, nx: usize, ny: usize) -> Result<()> {
+        if (padded_size(nx), padded_size(ny)) != (self.mx, self.my)
+            || nx > self.covered.0
+            || ny > self.covered.1
+        {
+            return Err(Error::InvalidInput(format!(
+                "a {nx} x {ny} grid does not pad to {} x {} or exceeds the kernel table ({:?})",
+                self.mx, self.my, self.covered
+            )));
+        }
+        self.nx = nx;
+        self.ny = ny;
+        Ok(())
+    }
+
+    /// The spectrum of the circulant kernel of period (mx, my): the coefficient at offset
+    /// min(i, m - i) in each direction, wherever the table holds it. Offsets from n to m - n
+    /// never meet in a linear convolution over n elements, so it serves every grid of the
+    /// same padded sizes (see `resize`).
+    fn kernel_spectrum(&mut self, table: &KernelTable) -> Vec<f64> {
+        let (mx, my) = (self.mx, self.my);
+        let fold = |i: usize, m: usize| if i <= m / 2 { i } else { m - i };
+        let mut padded = vec![0.0; mx * my];
+        for iy in 0..my {
+            for ix in 0..mx {
+                let (kx, ky) = (fold(ix, mx), fold(iy, my));
+                if table.covers(kx + 1, ky + 1) {
+                    padded[iy * mx + ix] = table.get(kx, ky);
+                }
+            }
+        }
+        self.rows_forward(&padded, mx, my);
+        self.columns(Columns::Forward { nrows: my });
+        let norm = 1.0 / (mx * my) as f64;
+        self.cols.iter().map(|c| c.re * norm).collect()
+    }
+
+    /// Row R2C of `nrows` rows of `src` (row stride `stride`), written transposed into
+    /// `cols` TILE rows at a time (rows nrows.. of `cols` are left as they were).
+    fn rows_forward(&mut self, src: &[f64], stride: usize, nrows: usize) {
+        let (half, my, ncols_in) = (self.half, self.my, stride.min(self.mx));
+        let nw = self.workers.len();
+        let r2c = &self.r2c;
+        let chunk = nrows.div_ceil(nw).max(1);
+        let cols = ColumnWriter(self.cols.as_mut_ptr());
+        self.workers.par_iter_mut().enumerate().for_each(|(c, w)| {
+            let (lo, hi) = (c * chunk, ((c + 1) * chunk).min(nrows));
+            for b in (lo..hi).step_by(TILE) {
+                let end = (b + TILE).min(hi);
+                for iy in b..end {
+                    let spec = &mut w.halves[(iy - b) * half..(iy - b + 1) * half];
+                    w.real[..ncols_in].copy_from_slice(&src[iy * stride..iy * stride + ncols_in]);
+                    w.real[ncols_in..].fill(0.0);
+                    r2c.process_with_scratch(&mut w.real, spec, &mut w.r2c_scratch)
+                        .expect("buffer sizes are fixed at construction");
+                }
+                for kx in 0..half {
+                    for iy in b..end {
+                        // SAFETY: rows lo..hi belong to this worker alone, so element
+                        // (kx, iy) of `cols` is written by one thread; kx < half and
+                        // iy < nrows <= my keep it inside the buffer (half * my).
+                        unsafe { cols.write(kx * my + iy, w.halves[(iy - b) * half + kx]) };
+                    }
+                }
+            }
+        });
+    }
+
+    /// The column pass over `cols`, in parallel over blocks of columns: each column is
+    /// transformed while it is in cache (for a convolution: forward, times the kernel
+    /// spectrum, inverse).
+    fn columns(&mut self, pass: Columns) {
+        let (half, my) = (self.half, self.my);
+        let nw = self.workers.len();
+        let (col_fwd, col_inv, spectrum) = (&self.col_fwd, &self.col_inv, &self.spectrum);
+        let chunk = half.div_ceil(nw).max(1);
+        self.cols
+            .par_chunks_mut(chunk * my)
+            .zip(self.workers.par_iter_mut())
+            .enumerate()
+            .for_each(|(c, (out, w))| {
+                for (k, col) in out.chunks_mut(my).enumerate() {
+                    if let Columns::Forward { nrows } | Columns::Convolve { nrows } = pass {
+                        col[nrows..].fill(Complex::default());
+                        col_fwd.process_with_scratch(col, &mut w.col_scratch);
+                    }
+                    if let Columns::Convolve { .. } = pass {
+                        let kx = c * chunk + k;
+                        let s = &spectrum[kx * my..(kx + 1) * my];
+                        col.iter_mut().zip(s).for_each(|(v, &s)| *v *= s);
+                    }
+                    if let Columns::Convolve { .. } | Columns::Inverse = pass {
+                        col_inv.process_with_scratch(col, &mut w.col_scratch);
+                    }
+                }
+            });
+    }
+}
+
+/// What `FftOperator::columns` does to each column (`nrows`: the rows the row pass wrote;
+/// the rest are zeroed first).
+#[derive(Clone, Copy)]
+enum Columns {
+    /// Forward FFT.
+    Forward { nrows: usize },
+    /// Forward FFT, multiplication by the kernel spectrum, inverse FFT.
+    Convolve { nrows: usize },
+    /// Inverse FFT.
+    Inverse,
+}
+
+/// Raw access to the column buffer for the transposed writes of `FftOperator::rows_forward`,
+/// where each worker writes the rows it transformed and no element twice.
+#[derive(Clone, Copy)]
+struct ColumnWriter(*mut Complex<f64>);
+
+// SAFETY: only used for writes to disjoint elements from the workers of one parallel loop,
+// while the buffer it points into is exclusively borrowed by `rows_forward`.
+unsafe impl Send for ColumnWriter {}
+unsafe impl Sync for ColumnWriter {}
+
+impl ColumnWriter {
+    /// Writes `v` at element `i`.
+    ///
+    /// # Safety
+    /// `i` must lie inside the buffer and no other thread may access element `i` meanwhile.
+    unsafe fn write(self, i: usize, v: Complex<f64>) {
+        unsafe { *self.0.add(i) = v };
+    }
+}
+
+impl FftOperator {
+    /// Row C2R of the first ny rows of `cols` (after the column pass), writing their first
+    /// nx columns into `u`.
+    fn rows_inverse(&mut self, u: &mut [f64]) {
+        let (nx, ny, half, my, mx) = (self.nx, self.ny, self.half, self.my, self.mx);
+        let nw = self.workers.len();
+        let cols = &self.cols;
+        let c2r = &self.c2r;
+        let chunk = ny.div_ceil(nw).max(1);
+        u.par_chunks_mut(chunk * nx)
+            .zip(self.workers.par_iter_mut())
+            .enumerate()
+            .for_each(|(c, (out, w))| {
+                // Gather TILE rows at a time: each column segment is read contiguously.
+                let nrow = out.len() / nx;
+                for b in (0..nrow).step_by(TILE) {
+                    let end = (b + TILE).min(nrow);
+                    let iy0 = c * chunk + b;
+                    for kx in 0..half {
+                        let seg = &cols[kx * my + iy0..kx * my + iy0 + (end - b)];
+                        for (r, v) in seg.iter().enumerate() {
+                            w.halves[r * half + kx] = *v;
+                        }
+                    }
+                    for r in 0..end - b {
+                        let spec = &mut w.halves[r * half..(r + 1) * half];
+                        spec[0].im = 0.0;
+                        if mx % 2 == 0 {
+                            spec[half - 1].im = 0.0;
+                        }
+                        c2r.process_with_scratch(spec, &mut w.real, &mut w.c2r_scratch)
+                            .expect("buffer sizes are fixed at construction");
+                        out[(b + r) * nx..(b + r + 1) * nx].copy_from_slice(&w.real[..nx]);
+                    }
+                }
+            });
+    }
+
+    /// Coefficients (Pa/m at G = 1) of the inverse of this operator's circulant embedding
+    /// for offsets 0..=radius in x and y (row-major, (radius + 1)^2, even in each offset):
+    /// p = sum of them times u over the neighbourhood. Away from the grid's edges they are
+    /// those of the inverse of the infinite-lattice operator (to ~5 digits from 33 x 33 on,
+    /// for odd grids, whose padded size 2n - 2 leaves no zero gap in the kernel).
+    pub fn inverse_kernel(&mut self, radius: usize) -> Result<Vec<f64>> {
+        let (nx, ny) = (self.nx, self.ny);
+        if radius >= nx.min(ny) {
+            return Err(Error::InvalidInput(format!(
+                "inverse-kernel radius {radius} must be below the grid size {nx} x {ny}"
+            )));
+        }
+        // The transform of a unit pressure at the origin is 1: the inverse's spectrum is the
+        // reciprocal of the kernel's (spectrum holds it divided by mx my; the C2R and column
+        // inverses are unnormalised).
+        let norm = (self.mx * self.my) as f64;
+        for (c, &s) in self.cols.iter_mut().zip(&self.spectrum) {
+            *c = Complex::new(1.0 / (s * norm * norm), 0.0);
+        }
+        let mut u = vec![0.0; nx * ny];
+        self.columns(Columns::Inverse);
+        self.rows_inverse(&mut u);
+        let w = radius + 1;
+        Ok((0..w * w).map(|i| u[(i / w) * nx + i % w]).collect())
+    }
+}
+
+impl SurfaceOperator for FftOperator {
+    fn nx(&self) -> usize {
+        self.nx
+    }
+    fn ny(&self) -> usize {
+        self.ny
+    }
+    fn dx(&self) -> f64 {
+        self.dx
+    }
+
+    fn apply(&mut self, p: &[f64], u: &mut [f64]) {
+        assert_eq!(p.len(), self.nx * self.ny, "pressure length");
+        assert_eq!(u.len(), self.nx * self.ny, "deflection length");
+        self.rows_forward(p, self.nx, self.ny);
+        self.columns(Columns::Convolve { nrows: self.ny });
+        self.rows_inverse(u);
+    }
+
+    /// Love's coefficients among `idx` (`DenseOperator::subset_matrix`); for an operator
+    /// built by `with_symbol`, the caller's type supplies its own.
+    fn submatrix(&mut self, idx: &[usize]) -> Result<Mat<f64>> {
+        DenseOperator::subset_matrix(self.nx, self.dx, idx)
+    }
+}
+
+/// Dense influence matrix between chosen elements of a grid (faer), for small grids, for
+/// direct solves on a contact set and for cross-checking the FFT operator.
+pub struct DenseOperator {
+    nx: usize,
+    ny: usize,
+    dx: f64,
+    matrix: Mat<f64>,
+}
+
+impl DenseOperator {
+    /// Full matrix of an `nx` x `ny` grid (size (nx ny)^2: small grids only).
+    pub fn new(nx: usize, ny: usize, dx: f64) -> Result<Self> {
+        check_elements(nx, ny, MAX_DENSE_ELEMENTS, "dense operator")?;
+        let all: Vec<usize> = (0..nx * ny).collect();
+        let matrix = Self::subset_matrix(nx, dx, &all)?;
+        Ok(DenseOperator { nx, ny, dx, matrix })
+    }
+
+    /// Influence matrix (m/Pa at G = 1) among the elements `idx` of a grid `nx` wide.
+    pub fn subset_matrix(nx: usize, dx: f64, idx: &[usize]) -> Result<Mat<f64>> {
+        check_positive("element size dx", dx)?;
+        if nx == 0 {
+            return Err(Error::InvalidInput("grid width nx must be >= 1".into()));
+        }
+        let pos: Vec<(usize, usize)> = idx.iter().map(|&i| (i % nx, i / nx)).collect();
+        let span = |f: fn(&(usize, usize)) -> usize| {
+            let lo = pos.iter().map(f).min().unwrap_or(0);
+            pos.iter().map(f).max().unwrap_or(0) - lo + 1
+        };
+        // The kernel depends on the offset only: tabulate it once over the set's extent.
+        let (kx, ky) = (span(|p| p.0), span(|p| p.1));
+        let table = influence::quarter_kernel(kx, ky, dx);
+        Ok(Mat::from_fn(idx.len(), idx.len(), |i, j| {
+            let (a, b) = (pos[i], pos[j]);
+            table[a.1.abs_diff(b.1) * kx + a.0.abs_diff(b.0)]
+        }))
+    }
+}
+
+impl SurfaceOperator for DenseOperator {
+    fn nx(&self) -> usize {
+        self.nx
+    }
+    fn ny(&self) -> usize {
+        self.ny
+    }
+    fn dx(&self) -> f64 {
+        self.dx
+    }
+    fn apply(&mut self, p: &[f64], u: &mut [f64]) {
+        faer::linalg::matmul::matmul(
+            ColMut::from_slice_mut(u).as_mat_mut(),
+            Accum::Replace,
+            self.matrix.as_ref(),
+            ColRef::from_slice(p).as_mat(),
+            1.0,
+            Par::rayon(0),
+        );
+    }
+    fn submatrix(&mut self, idx: &[usize]) -> Result<Mat<f64>> {
+        Ok(Mat::from_fn(idx.len(), idx.len(), |i, j| {
+            self.matrix[(idx[i], idx[j])]
+        }))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn pseudo_random(n: usize, seed: u64) -> Vec<f64> {
+        let mut s = seed;
+        (0..n)
+            .map(|_| {
+                s = s
+                    .wrapping_mul(6364136223846793005)
+                    .wrapping_add(1442695040888963407);
+                (s >> 11) as f64 / (1u64 << 53) as f64
+            })
+            .collect()
+    }
+
+    fn max_rel_diff(nx: usize, ny: usize) -> f64 {
+        let dx = 0.37;
+        let p = pseudo_random(nx * ny, (nx * 31 + ny) as u64);
+        let (mut a, mut b) = (vec![0.0; nx * ny], vec![0.0; nx * ny]);
+        FftOperator::new(nx, ny, dx).unwrap().apply(&p, &mut a);
+        DenseOperator::new(nx, ny, dx).unwrap().apply(&p, &mut b);
+        let scale = b.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        a.iter()
+            .zip(&b)
+            .fold(0.0f64, |m, (x, y)| m.max((x - y).abs() / scale))
+    }
+
+    /// An operator resized to a smaller grid of the same padded sizes applies the dense
+    /// operator of that grid; a grid that pads differently or exceeds the kernel table is
+    /// refused.
+    #[test]
+    fn resized_operator_is_the_smaller_grids_operator() {
+        let dx = 0.37;
+        let table = KernelTable::new(40, 36, dx);
+        let mut op = FftOperator::with_kernel(40, 36, &table, &mut FftPlans::default()).unwrap();
+        assert_eq!(op.padded(), (80, 72));
+        for (nx, ny) in [(38, 35), (40, 36), (39, 34)] {
+            op.resize(nx, ny).unwrap();
+            let p = pseudo_random(nx * ny, 7);
+            let (mut a, mut b) = (vec![0.0; nx * ny], vec![0.0; nx * ny]);
+            op.apply(&p, &mut a);
+            DenseOperator::new(nx, ny, dx).unwrap().apply(&p, &mut b);
+            let scale = b.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+            for (x, y) in a.iter().zip(&b) {
+                assert!((x - y).abs() < 1e-12 * scale, "{nx} x {ny}");
+            }
+        }
+        assert!(op.resize(30, 36).is_err());
+        let small = KernelTable::new(39, 36, dx);
+        let mut op = FftOperator::with_kernel(39, 36, &small, &mut FftPlans::default()).unwrap();
+        assert_eq!(op.padded(), (80, 72));
+        assert!(op.resize(40, 36).is_err());
+    }
+
+    #[test]
+    fn fft_matches_dense_on_odd_even_and_tiny_grids() {
+        for (nx, ny) in [
+            (1, 1),
+            (2, 2),
+            (3, 3),
+            (1, 5),
+            (13, 9),
+            (16, 16),
+            (17, 12),
+            (33, 31),
+        ] {
+            let d = max_rel_diff(nx, ny);
+            assert!(d < 1e-12, "{nx}x{ny}: {d}");
+        }
+    }
+
+    #[test]
+    fn fast_sizes() {
+        assert_eq!(padded_size(1), 1);
+        assert_eq!(padded_size(2), 2);
+        assert_eq!(padded_size(257), 512);
+        assert_eq!(padded_size(176), 360);
+        assert_eq!(padded_size(200), 400 + 32);
+        assert_eq!(fast_size(11 * 13), 144);
+        assert_eq!(fast_size(7), 8);
+        for n in 2..3000 {
+            let m = fast_size(n);
+            assert!(
+                m >= n && m % 2 == 0 && m as f64 <= 1.2 * n as f64 + 2.0,
+                "{n} -> {m}"
+            );
+        }
+    }
+}

@@ -1,0 +1,678 @@
+//! Runs a scene: grid sizing, dispatch to the solvers (static elastic contact, the exact
+//! viscous impulse engine, the paper's explicit loop, viscoelastic stepping) and the report.
+
+pub mod assemble;
+pub mod report;
+pub mod sizing;
+
+use crate::bem::contact::Target;
+use crate::bem::static_contact;
+use crate::bem::viscoelastic;
+use crate::bem::viscous::{self, ViscousRequest, ViscousSeries};
+use crate::mdr::foundation;
+use crate::mdr::transforms;
+use crate::model::grid::Grid;
+use crate::model::loading::{ForceHistory, Loading};
+use crate::model::settings::{check_steps, Integrator, Method, RunSettings, DEFAULT_STEPS};
+use crate::model::{Indenter, Medium, Output, Scene};
+use crate::support::error::{Error, Result};
+use crate::support::monitor::Monitor;
+use assemble::{
+    bem_fields, bem_static_report, bem_viscous_report, central_value, centres, covers,
+    height_map_series, mdr_fields, report, Wanted,
+};
+use report::{FieldSet, Report};
+use sizing::{bem_grid, depth_bounds, mdr_foundation, mdr_half_length, DEPTH_BOUND_FACTOR};
+use std::f64::consts::PI;
+use std::time::Instant;
+
+/// Runs a viscous BEM request on `grid` (a periodic cell: the implicit stepping only) with
+/// the integrator and solver options of `settings` (eta in Pa s, the force history in N
+/// over s).
+pub fn viscous_bem(
+    grid: &Grid,
+    eta: f64,
+    history: &ForceHistory,
+    request: &ViscousRequest,
+    settings: &RunSettings,
+    monitor: &mut dyn Monitor,
+) -> Result<ViscousSeries> {
+    match (&settings.integrator, grid.periodic) {
+        (Integrator::Implicit, false) => {
+            viscous::run_implicit(grid, eta, history, request, &settings.solver, monitor)
+        }
+        (Integrator::Implicit, true) => {
+            viscous::run_implicit_periodic(grid, eta, history, request, &settings.solver, monitor)
+        }
+        (Integrator::Explicit(c), false) => {
+            viscous::run_explicit(grid, eta, history, request, c, &settings.solver, monitor)
+        }
+        (Integrator::Explicit(_), true) => Err(Error::InvalidInput(
+            "the explicit integrator runs on non-periodic grids; a periodic cell steps implicitly"
+                .into(),
+        )),
+    }
+}
+
+/// Solves `scene` as `settings` say, reporting progress to `monitor`.
+pub fn run(scene: &Scene, settings: &RunSettings, monitor: &mut dyn Monitor) -> Result<Report> {
+    let start = Instant::now();
+    scene.validate()?;
+    settings.validate()?;
+    if let (Some(duration), Some(dt)) = (scene.duration, settings.dt) {
+        check_steps(dt, duration, duration / dt)?;
+    }
+    if let Indenter::HeightMap(map) = &scene.indenter {
+        map.check_run(settings.method, settings.n)?;
+    } else {
+        let only_maps: Vec<Output> = scene
+            .outputs()
+            .into_iter()
+            .filter(|o| o.is_height_map())
+            .collect();
+        refuse(
+            scene,
+            &only_maps,
+            "for an axisymmetric indenter, only for a height map",
+        )?;
+    }
+    crate::support::memory::check(
+        &format!(
+            "{} n = {}",
+            settings.method.name().to_uppercase(),
+            settings.n
+        ),
+        memory_needed(scene, settings),
+    )?;
+    let viscous_force = matches!(scene.medium, Medium::Viscous { .. }) && scene.force.is_some();
+    if matches!(settings.integrator, Integrator::Explicit(_))
+        && !viscous_force
+        && !scene.indenter.is_flat()
+    {
+        return Err(Error::InvalidInput(
+            "the explicit integrator needs a viscous medium under a force".into(),
+        ));
+    }
+    let mut report = if scene.medium.is_elastic() {
+        run_static(scene, settings, monitor)?
+    } else if viscous_force {
+        run_viscous(scene, settings, monitor)?
+    } else {
+        run_viscoelastic(scene, settings, monitor)?
+    };
+    beyond_the_equator(scene, &report)?;
+    if matches!(&scene.indenter, Indenter::HeightMap(map) if map.periodic()) {
+        // a periodic cell has no edge
+        report.at_edge = None;
+    }
+    let from = scene.solved_from();
+    if from.len() != report.t.len() {
+        report.expand(scene.output_times(), &from);
+    }
+    report.check_resolution();
+    report.wall_time = start.elapsed().as_secs_f64();
+    Ok(report)
+}
+
+/// Bytes per BEM grid element of a run (buffers of the operator, the contact solver and the
+/// stepping; measured peak 140 elastic, 200-235 viscous and viscoelastic at n = 1024), before
+/// the internal variables of the medium and the fields.
+const BEM_BYTES_PER_ELEMENT: f64 = 256.0;
+
+/// Bytes per MDR element of a run, before the internal variables and the fields.
+const MDR_BYTES_PER_ELEMENT: f64 = 64.0;
+
+/// The memory (bytes) a run of `scene` as `settings` say will need, roughly: per element
+/// its buffers, 8 bytes per internal variable of the medium and per field array, and 16
+/// bytes per viscoelastic time step.
+fn memory_needed(scene: &Scene, settings: &RunSettings) -> f64 {
+    let internal = step_length(scene, settings)
+        .map_or_else(|| scene.medium.rheology(), |dt| stepped_rheology(scene, dt))
+        .map_or(0, |r| r.internal()) as f64;
+    let fields = [
+        Output::Pressure,
+        Output::SurfaceVelocity,
+        Output::Deflection,
+        Output::Gap,
+    ]
+    .iter()
+    .filter(|&&o| scene.wants(o))
+    .count() as f64
+        * scene.field_times().len() as f64;
+    let n = settings.n as f64;
+    let (elements, per_element) = match settings.method {
+        Method::Bem => (n * n, BEM_BYTES_PER_ELEMENT),
+        Method::Mdr => (n, MDR_BYTES_PER_ELEMENT),
+    };
+    let steps = match (scene.duration, settings.dt.or(scene.dt)) {
+        (Some(duration), Some(dt)) => duration / dt,
+        (Some(_), None) => DEFAULT_STEPS,
+        _ => 0.0,
+    };
+    elements * (per_element + 8.0 * (internal + fields)) + 16.0 * steps
+}
+
+/// The longest viscoelastic time step (s) of a run: the settings', the scene's, or the
+/// duration over `DEFAULT_STEPS`; None without a duration.
+fn step_length(scene: &Scene, settings: &RunSettings) -> Option<f64> {
+    let duration = scene.duration?;
+    Some(settings.dt.or(scene.dt).unwrap_or(duration / DEFAULT_STEPS))
+}
+
+/// The medium's series over the run's time range: from its shortest step (half the longest
+/// step `dt`, or a shorter gap between output times) to the last output time.
+fn stepped_rheology(scene: &Scene, dt: f64) -> Result<crate::model::medium::rheology::Rheology> {
+    let times = scene.solved_times();
+    let (mut t_lo, mut prev) = (0.5 * dt, 0.0);
+    for &t in &times {
+        if t > prev {
+            t_lo = t_lo.min(t - prev);
+        }
+        prev = t;
+    }
+    scene.medium.rheology_over(t_lo, prev.max(t_lo))
+}
+
+/// Fails when the contact of a sphere covers its whole footprint (its equator): beyond
+/// that the indenter the solvers see is a sphere on a cylinder, not a sphere.
+fn beyond_the_equator(scene: &Scene, report: &Report) -> Result<()> {
+    let Indenter::Sphere { radius } = scene.indenter else {
+        return Ok(());
+    };
+    match report.saturated.iter().flatten().position(|&s| s) {
+        Some(k) => Err(Error::Domain(format!(
+            "the contact of the sphere (radius {radius} m) reached its equator at t = {} s (depth {:.4e} m); past it the solvers' indenter is no longer a sphere: lower the load or enlarge the radius",
+            report.t[k], report.depth[k]
+        ))),
+        None => Ok(()),
+    }
+}
+
+/// Fails when the BEM contact of an unbounded indenter reached the grid's edge (`at_edge`
+/// at the output times `t`): the grid, a window onto the indenter, was too small.
+fn unbounded_inside(scene: &Scene, at_edge: &[bool], t: &[f64]) -> Result<()> {
+    match at_edge.iter().position(|&b| b) {
+        Some(k) if scene.indenter.half_width().is_none() => Err(Error::Domain(format!(
+            "BEM: the contact reached the edge of the grid of an unbounded indenter at t = {} s; the grid is too small",
+            t[k]
+        ))),
+        _ => Ok(()),
+    }
+}
+
+/// Refuses outputs the scene's medium does not have.
+fn refuse(scene: &Scene, outputs: &[Output], why: &str) -> Result<()> {
+    match outputs.iter().find(|o| scene.wants(**o)) {
+        Some(o) => Err(Error::InvalidInput(format!(
+            "output {:?} is not available {why}",
+            serde_json::to_value(o).expect("outputs serialise")
+        ))),
+        None => Ok(()),
+    }
+}
+
+fn run_static(scene: &Scene, settings: &RunSettings, monitor: &mut dyn Monitor) -> Result<Report> {
+    refuse(
+        scene,
+        &[
+            Output::Velocity,
+            Output::StiffnessLength,
+            Output::SurfaceVelocity,
+        ],
+        "for an elastic medium",
+    )?;
+    // the solvers' G: that of the incompressible medium with the same contact modulus
+    let g = match scene.medium.incompressible_equivalent()? {
+        Medium::Elastic { g, .. } => g,
+        _ => unreachable!("run_static is called for elastic media"),
+    };
+    let force = scene.force.as_ref().expect("validated: force").last();
+    let n = settings.n;
+    match settings.method {
+        Method::Bem => {
+            let grid = bem_grid(scene, n)?;
+            let bound = scene
+                .indenter
+                .depth_at_load(force / (4.0 * g))
+                .ok()
+                .flatten()
+                .map(|d| DEPTH_BOUND_FACTOR * d);
+            let wanted = Wanted::of(scene);
+            let deflection = wanted.deflection || wanted.height_map;
+            let target = Target::Force(force);
+            let r = static_contact::solve(
+                &grid,
+                1.0 / g,
+                target,
+                bound.filter(|_| !grid.periodic),
+                deflection,
+                &settings.solver,
+                monitor,
+            )?;
+            Ok(bem_static_report(settings, &grid, force, r, wanted))
+        }
+        Method::Mdr => {
+            let f = mdr_foundation(scene, n)?;
+            let fields_at: Vec<usize> = if scene.wants_fields() {
+                vec![0]
+            } else {
+                vec![]
+            };
+            let s = foundation::run(
+                &f,
+                foundation::Medium::Elastic { g },
+                &ForceHistory::constant(force)?,
+                &[1.0],
+                &fields_at,
+                monitor,
+            )?;
+            let mut out = report(settings, f.dx(), "static", vec![0.0]);
+            out.depth = s.depth.clone();
+            out.contact_length = s.contact_length.clone();
+            out.force = vec![force];
+            out.saturated = Some(s.saturated.clone());
+            out.solves = 1;
+            out.fields = mdr_fields(scene, f.dx(), &s, &[0.0], &fields_at)?;
+            Ok(out)
+        }
+    }
+}
+
+fn run_viscous(scene: &Scene, settings: &RunSettings, monitor: &mut dyn Monitor) -> Result<Report> {
+    // the solvers' eta: that of the incompressible medium with the same contact modulus
+    let eta = match scene.medium.incompressible_equivalent()? {
+        Medium::Viscous { eta, .. } => eta,
+        _ => unreachable!("run_viscous is called for viscous media"),
+    };
+    let history = scene.force.as_ref().expect("validated: force").force()?;
+    if scene.indenter.is_flat() {
+        return match settings.method {
+            Method::Bem => bem_punch(scene, settings, eta, &history, monitor),
+            Method::Mdr => mdr_punch(scene, settings, eta, &history, monitor),
+        };
+    }
+    let times = scene.solved_times();
+    let steps = scene.field_steps();
+    let forces: Vec<f64> = times.iter().map(|&t| history.force(t)).collect();
+    match settings.method {
+        Method::Bem => {
+            let grid = bem_grid(scene, settings.n)?;
+            let depth_bounds = depth_bounds(scene)?;
+            let request = ViscousRequest {
+                times: times.clone(),
+                rates: scene.wants(Output::Velocity) || scene.wants(Output::StiffnessLength),
+                fields_at: steps.clone(),
+                depth_bounds,
+            };
+            let s = viscous_bem(&grid, eta, &history, &request, settings, monitor)?;
+            unbounded_inside(scene, &s.at_edge, &s.t)?;
+            let fields: Vec<(f64, usize)> = scene.field_times().into_iter().zip(steps).collect();
+            Ok(bem_viscous_report(
+                settings,
+                &grid,
+                forces,
+                s,
+                Wanted::of(scene),
+                &fields,
+            ))
+        }
+        Method::Mdr => {
+            let f = mdr_foundation(scene, settings.n)?;
+            let (s, taken) = match &settings.integrator {
+                Integrator::Implicit => (
+                    foundation::run(
+                        &f,
+                        foundation::Medium::Viscous { eta },
+                        &history,
+                        &times,
+                        &steps,
+                        monitor,
+                    )?,
+                    times.len(),
+                ),
+                Integrator::Explicit(c) => {
+                    foundation::run_explicit(&f, eta, &history, &times, c, monitor)?
+                }
+            };
+            let mut out = report(settings, f.dx(), settings.integrator.name(), s.t.clone());
+            out.depth = s.depth.clone();
+            out.contact_length = s.contact_length.clone();
+            out.force = forces;
+            out.velocity = scene.wants(Output::Velocity).then(|| s.velocity.clone());
+            // F / (4 eta dd/dt) is the contact's element count times dx, exactly
+            out.stiffness_length = scene
+                .wants(Output::StiffnessLength)
+                .then(|| s.contact_length.clone());
+            out.saturated = Some(s.saturated.clone());
+            out.steps = taken;
+            out.solves = times.len();
+            if scene.wants_fields() && s.fields.is_empty() {
+                out.warnings
+                    .push("the explicit MDR integrator computes no fields".into());
+            }
+            let field_times = scene.field_times();
+            out.fields = mdr_fields(scene, f.dx(), &s, &field_times, &steps)?;
+            Ok(out)
+        }
+    }
+}
+
+/// A flat punch by BEM: its contact never changes, so one solve at unit force gives every
+/// output time (rates and pressures scale with F(t), depths and deflections with the
+/// impulse).
+fn bem_punch(
+    scene: &Scene,
+    settings: &RunSettings,
+    eta: f64,
+    history: &ForceHistory,
+    monitor: &mut dyn Monitor,
+) -> Result<Report> {
+    let grid = bem_grid(scene, settings.n)?;
+    let extended = scene.wants(Output::SurfaceVelocity) || scene.wants(Output::Deflection);
+    let margin = extended.then_some(grid.nx / 2);
+    let r = viscous::run_punch(&grid, eta, 1.0, margin, &settings.solver, monitor)?;
+    let times = scene.solved_times();
+    let area = grid.allowed.iter().filter(|&&a| a).count() as f64 * grid.dx * grid.dx;
+    let p0 = central_value(&r.pressure, grid.nx, grid.ny);
+    let mut out = report(settings, grid.dx, "one solve", times.clone());
+    out.grid_shape = Some([grid.ny, grid.nx]);
+    out.depth = times
+        .iter()
+        .map(|&t| r.velocity * history.impulse(t))
+        .collect();
+    out.contact_length = vec![2.0 * (area / PI).sqrt(); times.len()];
+    out.area = Some(vec![area; times.len()]);
+    out.force = times.iter().map(|&t| history.force(t)).collect();
+    out.velocity = Some(
+        times
+            .iter()
+            .map(|&t| r.velocity * history.force(t))
+            .collect(),
+    );
+    out.stiffness_length = Some(vec![r.damping / (4.0 * eta); times.len()]);
+    out.central_pressure = Some(times.iter().map(|&t| p0 * history.force(t)).collect());
+    out.saturated = Some(vec![true; times.len()]);
+    out.at_edge = Some(vec![false; times.len()]);
+    out.solves = 1;
+    out.iterations = r.iterations;
+    out.residual = r.residual;
+    for &t in &scene.field_times() {
+        let scaled = |v: &[f64], by: f64| v.iter().map(|x| x * by).collect::<Vec<f64>>();
+        let sv = r.surface_velocity.as_deref();
+        out.fields.push(FieldSet {
+            t,
+            x: Some(centres(grid.nx, grid.dx)),
+            y: Some(centres(grid.ny, grid.dx)),
+            pressure: scene
+                .wants(Output::Pressure)
+                .then(|| scaled(&r.pressure, history.force(t))),
+            surface_velocity: sv
+                .filter(|_| scene.wants(Output::SurfaceVelocity))
+                .map(|v| scaled(v, history.force(t))),
+            deflection: sv
+                .filter(|_| scene.wants(Output::Deflection))
+                .map(|v| scaled(v, history.impulse(t))),
+            x_extended: margin.map(|m| centres(grid.nx + 2 * m, grid.dx)),
+            ..FieldSet::default()
+        });
+    }
+    Ok(out)
+}
+
+/// A flat punch by MDR: exact for any n; its central pressure by the inverse transform of
+/// the line load at unit force, scaled with F(t).
+fn mdr_punch(
+    scene: &Scene,
+    settings: &RunSettings,
+    eta: f64,
+    history: &ForceHistory,
+    monitor: &mut dyn Monitor,
+) -> Result<Report> {
+    let f = mdr_foundation(scene, settings.n)?;
+    let times = scene.solved_times();
+    let steps = scene.field_steps();
+    let medium = foundation::Medium::Viscous { eta };
+    let s = foundation::run(&f, medium, history, &times, &steps, monitor)?;
+    let unit = foundation::run(
+        &f,
+        medium,
+        &ForceHistory::constant(1.0)?,
+        &[1.0],
+        &[0],
+        monitor,
+    )?;
+    let p0 = transforms::pressure_from_line_load(&unit.fields[0].line_load, f.dx(), &[0.0])?[0];
+    let mut out = report(settings, f.dx(), "one solve", s.t.clone());
+    out.depth = s.depth.clone();
+    out.contact_length = s.contact_length.clone();
+    out.force = times.iter().map(|&t| history.force(t)).collect();
+    out.velocity = Some(s.velocity.clone());
+    out.stiffness_length = Some(s.contact_length.clone());
+    out.central_pressure = Some(out.force.iter().map(|&force| p0 * force).collect());
+    out.saturated = Some(s.saturated.clone());
+    out.steps = times.len();
+    out.solves = 1;
+    out.fields = mdr_fields(scene, f.dx(), &s, &scene.field_times(), &steps)?;
+    Ok(out)
+}
+
+/// A viscoelastic scene by exact exponential steps, with the penetration rate and fields
+/// as asked for; `stiffness_length` (F / (4 eta dd/dt)) has no meaning without a single
+/// viscosity and is refused.
+fn run_viscoelastic(
+    scene: &Scene,
+    settings: &RunSettings,
+    monitor: &mut dyn Monitor,
+) -> Result<Report> {
+    refuse(
+        scene,
+        &[Output::StiffnessLength],
+        "for a viscoelastic medium: F / (4 eta dd/dt) needs a purely viscous one",
+    )?;
+    let loading: Loading = scene.loading()?;
+    let times = scene.solved_times();
+    let steps = scene.field_steps();
+    let field_times = scene.field_times();
+    let dt = step_length(scene, settings).expect("validated: a duration");
+    let rheology = stepped_rheology(scene, dt)?;
+    let request = viscoelastic::Request {
+        times: &times,
+        dt,
+        fields_at: &steps,
+        field_rates: scene.wants(Output::SurfaceVelocity),
+    };
+    let (s, mut out) = match settings.method {
+        Method::Mdr => {
+            let (g, dx) = scene
+                .indenter
+                .mdr_profile(settings.n, mdr_half_length(scene)?)?;
+            let (s, fields) =
+                viscoelastic::run_mdr(&g, dx, &rheology, &loading, &request, monitor)?;
+            let radial = foundation::MdrSeries {
+                t: s.t.clone(),
+                depth: s.depth.clone(),
+                contact_length: s.contact_length.clone(),
+                velocity: s.velocity.clone(),
+                saturated: s
+                    .contact_length
+                    .iter()
+                    .map(|&l| l >= g.len() as f64 * dx)
+                    .collect(),
+                fields,
+            };
+            let mut out = report(settings, dx, "viscoelastic", s.t.clone());
+            out.fields = mdr_fields(scene, dx, &radial, &field_times, &steps)?;
+            out.saturated = Some(radial.saturated);
+            (s, out)
+        }
+        Method::Bem => {
+            let grid = bem_grid(scene, settings.n)?;
+            let (s, fields) = viscoelastic::run_bem(
+                &grid,
+                &rheology,
+                &loading,
+                &request,
+                &settings.solver,
+                monitor,
+            )?;
+            unbounded_inside(scene, &s.at_edge, &s.t)?;
+            let mut out = report(settings, grid.dx, "viscoelastic", s.t.clone());
+            out.grid_shape = Some([grid.ny, grid.nx]);
+            out.residual = s.residual.iter().fold(0.0, |a: f64, &b| a.max(b));
+            out.at_edge = Some(s.at_edge.clone());
+            out.saturated = Some(
+                s.contact_length
+                    .iter()
+                    .map(|&l| covers(&grid, 0.25 * PI * l * l))
+                    .collect(),
+            );
+            out.solves = s.steps;
+            let at: Vec<(f64, usize)> = field_times.iter().copied().zip(steps.clone()).collect();
+            let wanted = Wanted::of(scene);
+            out.fields = bem_fields(&grid, &fields, wanted, &at, &s.depth);
+            if wanted.height_map {
+                out.depth.clone_from(&s.depth);
+                height_map_series(
+                    &mut out,
+                    &grid,
+                    &s.area,
+                    s.patches.clone(),
+                    &s.mean_deflection,
+                );
+            }
+            out.area = Some(s.area.clone());
+            (s, out)
+        }
+    };
+    out.velocity = scene.wants(Output::Velocity).then_some(s.velocity);
+    out.depth = s.depth;
+    out.contact_length = s.contact_length;
+    out.force = s.force;
+    out.steps = s.steps;
+    out.iterations = s.iterations.iter().sum();
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::medium::INCOMPRESSIBLE;
+    use crate::model::{History, Indenter, Medium};
+    use crate::support::monitor::Silent;
+
+    fn scene(indenter: Indenter, medium: Medium, force: History) -> Scene {
+        Scene {
+            indenter,
+            medium,
+            force: Some(force),
+            depth: None,
+            duration: Some(2.0),
+            times: Some(vec![0.5, 1.0, 2.0]),
+            outputs: None,
+            field_times: None,
+            dt: None,
+        }
+    }
+
+    fn solve(s: &Scene, method: Method, n: usize) -> Report {
+        run(s, &RunSettings::new(method, n), &mut Silent).unwrap()
+    }
+
+    /// An unbounded paraboloid on a Maxwell body under a force: the grid is sized by the
+    /// compliance at the end, J = 1/G + t/eta, and holds the contact at every output;
+    /// MDR's depth is the elastic one at that compliance, 4/3 sqrt(R) d^1.5 / J = F.
+    #[test]
+    fn maxwell_under_a_force_on_an_unbounded_indenter() {
+        let s = scene(
+            Indenter::Paraboloid { c: 0.5, edge: None },
+            Medium::Maxwell {
+                g: 1.0,
+                eta: 2.0,
+                nu: INCOMPRESSIBLE,
+            },
+            History::Constant(0.3),
+        );
+        let mdr = solve(&s, Method::Mdr, 4001);
+        let half = mdr.dx * 4001.0 / 2.0;
+        for k in 0..3 {
+            let t = mdr.t[k];
+            let j = 1.0 / 1.0 + t / 2.0;
+            let exact = (3.0 * 0.3 * j / (16.0 * 1.0f64.sqrt())).powf(2.0 / 3.0);
+            assert!(
+                (mdr.depth[k] / exact - 1.0).abs() < 2e-3,
+                "{k}: {} {exact}",
+                mdr.depth[k]
+            );
+            assert!(0.5 * mdr.contact_length[k] < half / 1.1);
+        }
+        let bem = solve(&s, Method::Bem, 33);
+        assert!(
+            bem.residual > 0.0 && bem.residual <= 1e-10,
+            "{}",
+            bem.residual
+        );
+        assert!(bem.at_edge.as_ref().unwrap().iter().all(|&e| !e));
+        for k in 0..3 {
+            assert!(
+                (bem.depth[k] / mdr.depth[k] - 1.0).abs() < 2e-2,
+                "{k}: {}",
+                bem.depth[k]
+            );
+        }
+    }
+
+    /// A flat punch under a force history needs one solve: its rate follows F(t), its depth
+    /// the impulse, its central pressure F(t) / (2 pi a^2) (MDR: exactly).
+    #[test]
+    fn punch_under_a_force_history() {
+        let history = History::Samples(vec![[0.0, 0.0], [1.0, 2.0], [2.0, 1.0]]);
+        let s = scene(
+            Indenter::Rod { radius: 1.0 },
+            Medium::Viscous {
+                eta: 1.0,
+                nu: INCOMPRESSIBLE,
+            },
+            history,
+        );
+        let forces = [1.0, 2.0, 1.0];
+        let impulses = [0.25, 1.0, 2.5];
+        for method in [Method::Bem, Method::Mdr] {
+            let r = solve(&s, method, 40);
+            assert_eq!(r.solves, 1);
+            let v = r.velocity.as_ref().unwrap();
+            let p0 = r.central_pressure.as_ref().unwrap();
+            for k in 0..3 {
+                assert!((r.force[k] - forces[k]).abs() < 1e-15);
+                assert!((v[k] / forces[k] - v[1] / 2.0).abs() < 1e-12 * v[1]);
+                assert!((r.depth[k] - v[1] / 2.0 * impulses[k]).abs() < 1e-12 * r.depth[2]);
+                let exact = forces[k] / (2.0 * PI);
+                let tol = if method == Method::Mdr { 1e-9 } else { 0.05 };
+                assert!(
+                    (p0[k] / exact - 1.0).abs() < tol,
+                    "{method:?} {k}: {}",
+                    p0[k]
+                );
+            }
+        }
+    }
+
+    /// An elastic sphere by MDR: Hertz's depth a^2 / R and force 16/3 G sqrt(R) d^1.5 for a
+    /// contact small against R.
+    #[test]
+    fn elastic_sphere_follows_hertz() {
+        let mut s = scene(
+            Indenter::Sphere { radius: 10.0 },
+            Medium::Elastic {
+                g: 2.0,
+                nu: INCOMPRESSIBLE,
+            },
+            History::Constant(0.05),
+        );
+        s.duration = None;
+        s.times = None;
+        let r = solve(&s, Method::Mdr, 200001);
+        let d = (3.0 * 0.05 / (16.0 * 2.0 * 10f64.sqrt())).powf(2.0 / 3.0);
+        assert!((r.depth[0] / d - 1.0).abs() < 1e-3, "{} {d}", r.depth[0]);
+        assert_eq!(r.integrator, "static");
+    }
+}
