@@ -19,6 +19,7 @@ pub mod paper;
 #[cfg(feature = "python")]
 mod python;
 pub mod run;
+pub mod stepping;
 pub mod support;
 
 pub use support::error::{Error, Result};

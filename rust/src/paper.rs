@@ -2,6 +2,7 @@
 //! paraboloids of its Section 6, with the paper's resolutions. The binary's `paper` command
 //! and the Python package's `mdrvisc.paper` both run these.
 
+use crate::model::contact_law::ContactLaw;
 use crate::model::medium::INCOMPRESSIBLE;
 use crate::model::{History, Indenter, Medium, Method, Output, RunSettings, Scene};
 
@@ -55,6 +56,7 @@ pub fn resolutions(quick: bool) -> Resolutions {
 pub fn rod() -> Scene {
     Scene {
         indenter: Indenter::Rod { radius: ROD_RADIUS },
+        contact: ContactLaw::Hard,
         medium: Medium::Viscous {
             eta: ETA,
             nu: INCOMPRESSIBLE,
@@ -83,6 +85,7 @@ pub fn paraboloid(c: f64) -> Scene {
             c,
             edge: Some(EDGE),
         },
+        contact: ContactLaw::Hard,
         medium: Medium::Viscous {
             eta: ETA,
             nu: INCOMPRESSIBLE,

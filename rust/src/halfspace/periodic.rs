@@ -346,9 +346,10 @@ mod tests {
     /// to 0.5). Measured relative errors 1.7e-5 .. 4.8e-5 (dt = 0.005 s, n = 256).
     #[test]
     fn viscoelastic_creep_of_a_wavy_surface_follows_westergaard() {
-        use crate::bem::viscoelastic::{run_bem_on, Request};
+        use crate::bem::viscoelastic::run_bem_on;
         use crate::model::loading::{ForceHistory, Loading};
         use crate::model::medium::rheology::Rheology;
+        use crate::stepping::Request;
         use crate::support::monitor::Silent;
         let (g_inf, g1, tau) = (1.0, 3.0, 0.5);
         let j = |t: f64| {

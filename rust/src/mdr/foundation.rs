@@ -7,6 +7,7 @@
 //! (I = integral of F dt), exactly as the elastic foundation solves it for F. The sum is
 //! piecewise linear and increasing in d: the root is found exactly on the sorted profile.
 
+use crate::model::contact_law::{ContactLaw, SortedSurface};
 use crate::model::loading::{check_output_times, ForceHistory};
 use crate::model::settings::ExplicitControl;
 use crate::support::error::{check_finite, check_positive, Error, Result};
@@ -58,13 +59,13 @@ impl Medium {
 pub struct Foundation {
     dx: f64,
     profile: Vec<f64>,
-    sorted: Vec<f64>,
-    prefix: Vec<f64>,
+    surface: SortedSurface,
+    law: ContactLaw,
 }
 
 impl Foundation {
-    /// `profile`: g at the element centres (m, >= 0), spacing `dx` (m).
-    pub fn new(profile: Vec<f64>, dx: f64) -> Result<Self> {
+    /// `profile`: g at the element centres (m, >= 0), spacing `dx` (m), in contact by `law`.
+    pub fn new(profile: Vec<f64>, dx: f64, law: ContactLaw) -> Result<Self> {
         check_positive("element spacing dx", dx)?;
         if profile.is_empty() {
             return Err(Error::InvalidInput("the 1D profile has no elements".into()));
@@ -75,15 +76,11 @@ impl Foundation {
                 "1D profile heights must be >= 0 (measured from the tip), got {v}"
             )));
         }
-        let mut sorted = profile.clone();
-        sorted.sort_by(f64::total_cmp);
-        let mut prefix = Vec::with_capacity(sorted.len() + 1);
-        prefix_sums(&sorted, &mut prefix);
         Ok(Foundation {
             dx,
+            surface: SortedSurface::new(&profile),
             profile,
-            sorted,
-            prefix,
+            law,
         })
     }
 
@@ -97,54 +94,18 @@ impl Foundation {
         self.dx
     }
 
-    /// Depth d (m) with sum max(d - g_i, 0) = `s` (m, >= 0), and the number of elements
-    /// with g_i < d. Exact up to round-off.
+    /// Depth d (m) at which the elements are compressed by `s` (m, >= 0) in all, and the
+    /// number that touch (the contact law's root). Exact up to round-off.
     pub fn depth_for(&self, s: f64) -> (f64, usize) {
-        depth_on_sorted(&self.sorted, &self.prefix, s)
+        self.law.depth_for_compression(&self.surface, s)
     }
 
-    /// Element displacements max(d - g_i, 0) (m) at depth `d`.
+    /// Element compressions (m) at depth `d` (max(d - g_i, 0) under hard contact).
     pub fn displacements(&self, d: f64) -> Vec<f64> {
-        self.profile.iter().map(|&g| (d - g).max(0.0)).collect()
-    }
-}
-
-/// Depth d with sum max(d - g_i, 0) = `s` (>= 0) on the ascending profile `sorted` with
-/// prefix sums `prefix` (prefix[k] = sum of the first k values), and the number of values
-/// below d: exact up to round-off, by bisection on the displaced excess. The lowest value
-/// and 0 when `s` <= 0.
-pub fn depth_on_sorted(sorted: &[f64], prefix: &[f64], s: f64) -> (f64, usize) {
-    let n = sorted.len();
-    if s <= 0.0 {
-        return (sorted[0], 0);
-    }
-    // excess(k) = sum_{j<k} (g_(k) - g_j): what depth g_(k) displaces; increasing in k.
-    let excess = |k: usize| k as f64 * sorted[k] - prefix[k];
-    let k = if excess(n - 1) < s {
-        n
-    } else {
-        let (mut lo, mut hi) = (1usize, n - 1);
-        while lo < hi {
-            let mid = (lo + hi) / 2;
-            if excess(mid) >= s {
-                hi = mid;
-            } else {
-                lo = mid + 1;
-            }
-        }
-        lo
-    };
-    ((s + prefix[k]) / k as f64, k)
-}
-
-/// Fills `prefix` with the n + 1 prefix sums of `values` (prefix[0] = 0).
-pub fn prefix_sums(values: &[f64], prefix: &mut Vec<f64>) {
-    prefix.clear();
-    prefix.push(0.0);
-    let mut total = 0.0;
-    for &v in values {
-        total += v;
-        prefix.push(total);
+        self.profile
+            .iter()
+            .map(|&g| self.law.compression(d, g))
+            .collect()
     }
 }
 
@@ -257,8 +218,8 @@ pub fn run_explicit(
     ctrl.validate()?;
     let c = 4.0 * eta * foundation.dx;
     let n = foundation.element_count();
-    let in_contact = |d: f64| foundation.sorted.partition_point(|&g| g <= d);
-    let mut depth = foundation.sorted[0];
+    let in_contact = |d: f64| foundation.surface.sorted().partition_point(|&g| g <= d);
+    let mut depth = foundation.surface.sorted()[0];
     let mut count = in_contact(depth);
     let mut used = count;
     let t_first = ctrl.start * times.last().copied().unwrap_or(1.0);
@@ -296,7 +257,7 @@ mod tests {
 
     #[test]
     fn depth_root_is_exact() {
-        let f = Foundation::new(vec![3.0, 0.0, 1.0, 2.0], 1.0).unwrap();
+        let f = Foundation::new(vec![3.0, 0.0, 1.0, 2.0], 1.0, ContactLaw::Hard).unwrap();
         // d = 1.5: (1.5 - 0) + (1.5 - 1) = 2
         let (d, k) = f.depth_for(2.0);
         assert!((d - 1.5).abs() < 1e-15);
@@ -311,7 +272,7 @@ mod tests {
     fn viscous_rod_rate_is_exact() {
         let n = 1000;
         let a = 1.0;
-        let f = Foundation::new(vec![0.0; n], 2.0 * a / n as f64).unwrap();
+        let f = Foundation::new(vec![0.0; n], 2.0 * a / n as f64, ContactLaw::Hard).unwrap();
         let h = ForceHistory::constant(1.0).unwrap();
         let s = run(
             &f,
@@ -336,7 +297,7 @@ mod tests {
                 2.0 * c * x * x
             })
             .collect();
-        let f = Foundation::new(g, dx).unwrap();
+        let f = Foundation::new(g, dx, ContactLaw::Hard).unwrap();
         let h = ForceHistory::constant(1.0).unwrap();
         let s = run(
             &f,

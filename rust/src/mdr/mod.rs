@@ -6,3 +6,4 @@
 pub mod curve;
 pub mod foundation;
 pub mod transforms;
+pub mod viscoelastic;

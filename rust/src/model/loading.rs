@@ -16,14 +16,10 @@ impl ForceHistory {
         Self::piecewise_linear(vec![0.0], vec![f])
     }
 
-    /// Samples (t_i, F_i): times start at 0 and strictly increase, forces are >= 0.
+    /// Samples (t_i, F_i): times start at 0 and strictly increase. Whether a force may be
+    /// negative is the contact law's to say (`ContactLaw::check_force`).
     pub fn piecewise_linear(times: Vec<f64>, forces: Vec<f64>) -> Result<Self> {
         check_samples("force history", &times, &forces)?;
-        if let Some(f) = forces.iter().find(|&&f| f < 0.0) {
-            return Err(Error::InvalidInput(format!(
-                "forces must be >= 0 (no adhesion), got {f}"
-            )));
-        }
         Ok(ForceHistory { times, forces })
     }
 
@@ -167,7 +163,6 @@ mod tests {
 
     #[test]
     fn rejects_bad_histories() {
-        assert!(ForceHistory::constant(-1.0).is_err());
         assert!(ForceHistory::piecewise_linear(vec![0.0, 0.0], vec![1.0, 1.0]).is_err());
         assert!(ForceHistory::piecewise_linear(vec![1.0], vec![1.0]).is_err());
         assert!(check_output_times(&[1.0, 0.5]).is_err());

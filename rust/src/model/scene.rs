@@ -2,6 +2,7 @@
 //! validation and defaults and its TOML and JSON forms. `crate::run` solves it into a typed
 //! `Report`. Units are SI: m, s, N, Pa, Pa s.
 
+use super::contact_law::ContactLaw;
 use super::{Indenter, Medium};
 use crate::model::loading::{DepthHistory, ForceHistory, Loading};
 use crate::support::error::{check_finite, check_positive, Error, Result};
@@ -40,8 +41,8 @@ impl History {
         *self.samples().1.last().unwrap_or(&f64::NAN)
     }
 
-    /// The validated force history (N, >= 0; a constant must be > 0).
-    pub fn force(&self) -> Result<ForceHistory> {
+    /// The validated force history (N; a constant must be > 0, samples what `law` carries).
+    pub fn force(&self, law: ContactLaw) -> Result<ForceHistory> {
         match self {
             History::Constant(f) => {
                 check_positive("force", *f)?;
@@ -49,7 +50,9 @@ impl History {
             }
             History::Samples(_) => {
                 let (t, f) = self.samples();
-                ForceHistory::piecewise_linear(t, f)
+                let history = ForceHistory::piecewise_linear(t, f.clone())?;
+                f.iter().try_for_each(|&v| law.check_force(v))?;
+                Ok(history)
             }
         }
     }
@@ -119,6 +122,9 @@ pub struct Scene {
     pub indenter: Indenter,
     /// The half-space.
     pub medium: Medium,
+    /// How the indenter and the body interact (default hard contact).
+    #[serde(default, skip_serializing_if = "ContactLaw::is_hard")]
+    pub contact: ContactLaw,
     /// Force history (N); give this or `depth`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub force: Option<History>,
@@ -171,7 +177,7 @@ impl Scene {
         self.medium.validate()?;
         match (&self.force, &self.depth) {
             (Some(f), None) => {
-                f.force()?;
+                f.force(self.contact)?;
             }
             (None, Some(d)) => {
                 if self.medium.is_elastic() {
@@ -241,7 +247,7 @@ impl Scene {
     /// The loading: force or depth history.
     pub fn loading(&self) -> Result<Loading> {
         match (&self.force, &self.depth) {
-            (Some(f), _) => f.force().map(Loading::Force),
+            (Some(f), _) => f.force(self.contact).map(Loading::Force),
             (None, Some(d)) => d.depth().map(Loading::Depth),
             (None, None) => Err(Error::InvalidInput(
                 "missing key 'force' (or 'depth')".into(),
@@ -398,6 +404,7 @@ mod tests {
     fn viscous(indenter: Indenter) -> Scene {
         Scene {
             indenter,
+            contact: ContactLaw::Hard,
             medium: Medium::Viscous {
                 eta: 1.0,
                 nu: INCOMPRESSIBLE,

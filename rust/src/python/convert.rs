@@ -2,6 +2,7 @@
 //! the argument.
 
 use super::monitor::to_pyerr;
+use crate::model::contact_law::ContactLaw;
 use crate::model::grid::Grid;
 use crate::model::loading::ForceHistory;
 use crate::model::settings::SolverOptions;
@@ -66,5 +67,10 @@ pub(crate) fn options(
 
 /// A force history from samples (s, N).
 pub(crate) fn history(py: Python<'_>, times: Vec<f64>, forces: Vec<f64>) -> PyResult<ForceHistory> {
-    ForceHistory::piecewise_linear(times, forces).map_err(|e| to_pyerr(py, e))
+    // the array-level solvers press with hard contact
+    forces
+        .iter()
+        .try_for_each(|&f| ContactLaw::Hard.check_force(f))
+        .and_then(|()| ForceHistory::piecewise_linear(times, forces))
+        .map_err(|e| to_pyerr(py, e))
 }

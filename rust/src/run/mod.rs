@@ -284,7 +284,11 @@ fn run_viscous(scene: &Scene, settings: &RunSettings, monitor: &mut dyn Monitor)
         Medium::Viscous { eta, .. } => eta,
         _ => unreachable!("run_viscous is called for viscous media"),
     };
-    let history = scene.force.as_ref().expect("validated: force").force()?;
+    let history = scene
+        .force
+        .as_ref()
+        .expect("validated: force")
+        .force(scene.contact)?;
     if scene.indenter.is_flat() {
         return match settings.method {
             Method::Bem => bem_punch(scene, settings, eta, &history, monitor),
@@ -475,7 +479,7 @@ fn run_viscoelastic(
     let field_times = scene.field_times();
     let dt = step_length(scene, settings).expect("validated: a duration");
     let rheology = stepped_rheology(scene, dt)?;
-    let request = viscoelastic::Request {
+    let request = crate::stepping::Request {
         times: &times,
         dt,
         fields_at: &steps,
@@ -486,8 +490,15 @@ fn run_viscoelastic(
             let (g, dx) = scene
                 .indenter
                 .mdr_profile(settings.n, mdr_half_length(scene)?)?;
-            let (s, fields) =
-                viscoelastic::run_mdr(&g, dx, &rheology, &loading, &request, monitor)?;
+            let (s, fields) = crate::mdr::viscoelastic::run_mdr(
+                &g,
+                dx,
+                &rheology,
+                scene.contact,
+                &loading,
+                &request,
+                monitor,
+            )?;
             let radial = foundation::MdrSeries {
                 t: s.t.clone(),
                 depth: s.depth.clone(),
@@ -556,6 +567,7 @@ fn run_viscoelastic(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::model::contact_law::ContactLaw;
     use crate::model::medium::INCOMPRESSIBLE;
     use crate::model::{History, Indenter, Medium};
     use crate::support::monitor::Silent;
@@ -563,6 +575,7 @@ mod tests {
     fn scene(indenter: Indenter, medium: Medium, force: History) -> Scene {
         Scene {
             indenter,
+            contact: ContactLaw::Hard,
             medium,
             force: Some(force),
             depth: None,

@@ -31,7 +31,7 @@ pub fn sizing_radius(scene: &Scene) -> Result<f64> {
                 .solved_times()
                 .last()
                 .expect("validated: output times");
-            ind.radius_at_load(force.force()?.impulse(t_end) / (4.0 * eta))
+            ind.radius_at_load(force.force(scene.contact)?.impulse(t_end) / (4.0 * eta))
         }
         _ => {
             let duration = scene.duration.expect("validated: a duration");
@@ -86,7 +86,7 @@ pub fn depth_bounds(scene: &Scene) -> Result<Vec<f64>> {
         }
     };
     let history = match &scene.force {
-        Some(f) => f.force()?,
+        Some(f) => f.force(scene.contact)?,
         None => {
             return Err(Error::InvalidInput(
                 "depth bounds need a force history".into(),
@@ -122,5 +122,5 @@ pub fn bem_grid(scene: &Scene, n: usize) -> Result<Grid> {
 /// The MDR foundation of `scene` with n elements.
 pub fn mdr_foundation(scene: &Scene, n: usize) -> Result<Foundation> {
     let (g, dx) = scene.indenter.mdr_profile(n, mdr_half_length(scene)?)?;
-    Foundation::new(g, dx)
+    Foundation::new(g, dx, scene.contact)
 }

@@ -5,7 +5,7 @@
 use super::{ContactSolver, ContactSummary, Problem, Target};
 use crate::halfspace::influence;
 use crate::halfspace::operator::SurfaceOperator;
-use crate::mdr::foundation::{depth_on_sorted, prefix_sums};
+use crate::model::contact_law::{ContactLaw, SortedSurface};
 use crate::model::settings::SolverOptions;
 use crate::support::error::Result;
 use crate::support::monitor::Monitor;
@@ -138,10 +138,9 @@ fn winkler_set(h: &[f64], allowed: &[bool], excess: f64, limit: usize) -> Option
         low.truncate(limit + 1);
     }
     low.sort_unstable_by(by_height);
-    let sorted: Vec<f64> = low.iter().map(|v| v.0).collect();
-    let mut prefix = Vec::with_capacity(sorted.len() + 1);
-    prefix_sums(&sorted, &mut prefix);
-    let (_, k) = depth_on_sorted(&sorted, &prefix, excess);
+    let heights: Vec<f64> = low.iter().map(|v| v.0).collect();
+    // the Winkler foundation's contact: the hard law's MDR root on the lowest heights
+    let (_, k) = ContactLaw::Hard.depth_for_compression(&SortedSurface::new(&heights), excess);
     (k <= limit).then(|| low[..k.max(1)].iter().map(|v| v.1).collect())
 }
 

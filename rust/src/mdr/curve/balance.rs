@@ -4,6 +4,7 @@
 //! (the contact set piecewise constant in the parameters).
 
 use super::{with_shift_tangent, Control, Curve, Evaluation, Forward, StepCoefficients};
+use crate::model::contact_law::{ContactLaw, SortedSurface};
 use crate::model::medium::rheology::Rheology;
 use crate::support::error::Result;
 
@@ -225,9 +226,8 @@ fn depth_for(relaxed: &[f64], target: f64, kappa: f64, guess: f64) -> f64 {
     let mut sorted = relaxed.to_vec();
     sorted.sort_unstable_by(f64::total_cmp);
     if kappa == 0.0 {
-        let mut prefix = Vec::with_capacity(sorted.len() + 1);
-        crate::mdr::foundation::prefix_sums(&sorted, &mut prefix);
-        return crate::mdr::foundation::depth_on_sorted(&sorted, &prefix, target).0;
+        let surface = SortedSurface::new(&sorted);
+        return ContactLaw::Hard.depth_for_compression(&surface, target).0;
     }
     // the first count whose root lies below the next relaxed height
     let mut sum = 0.0;

@@ -1,8 +1,10 @@
 //! The prepared curve against `run_mdr`, and its derivatives against differences.
 
 use super::*;
-use crate::bem::viscoelastic::{run_mdr, Request};
+use crate::mdr::viscoelastic::run_mdr;
+use crate::model::contact_law::ContactLaw;
 use crate::model::loading::{DepthHistory, ForceHistory, Loading};
+use crate::stepping::Request;
 use crate::support::monitor::Silent;
 
 fn half_parabola(n: usize, c: f64, half: f64) -> (Vec<f64>, Vec<f64>, f64) {
@@ -70,7 +72,16 @@ fn curve_equals_the_full_profile_stepping() {
             fields_at: &[],
             field_rates: false,
         };
-        let (s, _) = run_mdr(&full, dx, &r, &loading, &request, &mut Silent).unwrap();
+        let (s, _) = run_mdr(
+            &full,
+            dx,
+            &r,
+            ContactLaw::Hard,
+            &loading,
+            &request,
+            &mut Silent,
+        )
+        .unwrap();
         let reference = match control {
             Control::Depth => &s.force,
             Control::Force => &s.depth,
@@ -263,7 +274,16 @@ fn derivatives_through_a_second_contact() {
         fields_at: &[],
         field_rates: false,
     };
-    let (s, _) = run_mdr(&full, dx, &r, &loading, &request, &mut Silent).unwrap();
+    let (s, _) = run_mdr(
+        &full,
+        dx,
+        &r,
+        ContactLaw::Hard,
+        &loading,
+        &request,
+        &mut Silent,
+    )
+    .unwrap();
     let scale = s.force.iter().fold(0.0f64, |a, b| a.max(b.abs()));
     for (a, b) in e.values.iter().zip(&s.force) {
         assert!((a - b).abs() <= 1e-12 * scale, "{a} vs {b}");

@@ -6,6 +6,8 @@
 //! Kept in one file past 500 lines: both operators apply the same kernel, and the tests
 //! check one against the other.
 
+pub mod precondition;
+
 use crate::halfspace::influence::{self, KernelTable};
 use crate::support::error::{check_positive, Error, Result};
 use faer::{Accum, ColMut, ColRef, Mat, Par};
@@ -32,7 +34,7 @@ pub trait SurfaceOperator {
     /// the operator times dx, `precondition`): by default the inverse-kernel stencil with
     /// g zero beyond the grid.
     fn precondition(&mut self, g: &[f64], z: &mut [f64]) {
-        crate::halfspace::precondition::apply(self.nx(), self.ny(), g, z);
+        crate::halfspace::operator::precondition::apply(self.nx(), self.ny(), g, z);
     }
 }
 
