@@ -7,14 +7,15 @@
 //! force (`Window::around_contact`). The windowed solution is then the full grid's, exactly.
 //! A bound the solve exceeds is widened and the solve repeated.
 //!
-//! A periodic cell has no window: [`solve_periodic`] solves the whole cell, started from the
-//! solution on the cell coarsened twice and again (nested grids) when the cell is large.
+//! A body without windows (a periodic cell, `Body::windows`) is solved whole by
+//! [`solve_whole`], started from the solution on the grid coarsened twice and again (nested
+//! grids) when the grid is large.
 
 use crate::bem::contact::{ContactSolver, ContactSummary, Target};
 use crate::bem::window::Window;
-use crate::halfspace::influence::KernelTable;
-use crate::halfspace::operator::{FftOperator, FftPlans, SurfaceOperator};
-use crate::halfspace::periodic::{self, PeriodicOperator};
+use crate::halfspace::body::Operator;
+use crate::halfspace::operator::{FftPlans, SurfaceOperator};
+use crate::halfspace::periodic;
 use crate::model::grid::Grid;
 use crate::model::settings::SolverOptions;
 use crate::support::error::{check_len, Error, Result};
@@ -40,8 +41,8 @@ pub struct StaticContact {
 /// whole grid without one). Windows get a margin of 2 elements. When the solved depth exceeds the
 /// bound, the bound grows by the excess and the solve repeats. `deflection` asks for the
 /// deflection on the whole grid, one extra whole-grid operator when the window is smaller.
-/// A periodic cell (`grid.periodic`) is solved whole by `solve_periodic`; a depth bound,
-/// which sizes windows, is refused there.
+/// A body without windows (`Body::windows`) is solved whole by `solve_whole`; a depth
+/// bound, which sizes windows, is refused there.
 pub fn solve(
     grid: &Grid,
     compliance: f64,
@@ -51,13 +52,14 @@ pub fn solve(
     opts: &SolverOptions,
     monitor: &mut dyn Monitor,
 ) -> Result<StaticContact> {
-    if grid.periodic {
+    if !grid.body.windows() {
         if depth_bound.is_some() {
-            return Err(Error::InvalidInput(
-                "depth_bound sizes windows, which a periodic cell does not have".into(),
-            ));
+            return Err(Error::InvalidInput(format!(
+                "depth_bound sizes windows, which a {} body does not have",
+                grid.body.name()
+            )));
         }
-        return solve_periodic(grid, compliance, target, deflection, opts, monitor);
+        return solve_whole(grid, compliance, target, deflection, opts, monitor);
     }
     let (nx, ny, n) = (grid.nx, grid.ny, grid.nx * grid.ny);
     check_len("height", grid.height.len(), n)?;
@@ -80,7 +82,10 @@ pub fn solve(
         let (window, table) = match bound {
             Some(b) if (0..n).any(|i| allowed[i] && h[i] <= b) => {
                 let outer = Window::around(nx, ny, 2, |i| allowed[i] && h[i] <= b);
-                let table = KernelTable::new(outer.wx, outer.wy, grid.dx);
+                let table = grid
+                    .body
+                    .window_kernel(outer.wx, outer.wy, grid.dx)
+                    .expect("a body with windows has a window kernel");
                 let window = match target {
                     Target::Force(f) => {
                         Window::around_contact(nx, ny, h, allowed, b, compliance * f, &table)
@@ -89,11 +94,18 @@ pub fn solve(
                 };
                 (window, table)
             }
-            _ => (Window::full(nx, ny), KernelTable::new(nx, ny, grid.dx)),
+            _ => (
+                Window::full(nx, ny),
+                grid.body
+                    .window_kernel(nx, ny, grid.dx)
+                    .expect("a body with windows has a window kernel"),
+            ),
         };
         window.gather(h, &mut h_w);
         window.gather(allowed, &mut allowed_w);
-        let op = FftOperator::with_kernel(window.wx, window.wy, &table, &mut plans)?;
+        let op = grid
+            .body
+            .window_operator(&table, window.wx, window.wy, &mut plans)?;
         let mut solver = ContactSolver::new(op);
         let mut summary = solver.solve(
             &h_w, &allowed_w, compliance, target, false, 0.0, opts, monitor,
@@ -115,7 +127,9 @@ pub fn solve(
             (true, true) => Some(solver.deflection().to_vec()),
             (true, false) => {
                 let mut u = vec![0.0; n];
-                FftOperator::new(nx, ny, grid.dx)?.apply(&pressure, &mut u);
+                grid.body
+                    .operator(nx, ny, grid.dx)?
+                    .apply(&pressure, &mut u);
                 u.iter_mut().for_each(|v| *v *= compliance);
                 Some(u)
             }
@@ -130,10 +144,10 @@ pub fn solve(
     }
 }
 
-/// Solves the static contact of a periodic cell: `grid` is one period (its heights the
-/// separation h before loading, m; the whole cell is solved, `allowed` still masks elements
-/// out), `compliance` multiplies the G = 1 periodic operator (`PeriodicOperator`; 1/G for
-/// an elastic body, m/Pa). `Target::Force` is the total force on the cell (N: mean
+/// Solves the static contact of a body without windows, a periodic cell: `grid` is one
+/// period (its heights the separation h before loading, m; the whole cell is solved,
+/// `allowed` still masks elements out), `compliance` multiplies the body's G = 1 operator
+/// (`Body::operator`; 1/G for an elastic body, m/Pa). `Target::Force` is the total force on the cell (N: mean
 /// pressure times the cell area nx ny dx^2); `Target::Depth(d)` is the rigid-body approach
 /// from the mean plane of the deflected surface, so that the mean separation is
 /// mean(h) - d (`periodic::depth_at_mean_separation` converts a mean separation; it must
@@ -149,7 +163,7 @@ pub fn solve(
 /// four children, starts the solve (rescaled to the force under force control). `solves`
 /// counts the levels and the summary's iterations are summed over them. Under depth
 /// control, a cell without a coarse level starts from `load_to_separation`.
-pub fn solve_periodic(
+pub fn solve_whole(
     grid: &Grid,
     compliance: f64,
     target: Target,
@@ -168,14 +182,14 @@ pub fn solve_periodic(
             )));
         }
     }
-    let mut solver = ContactSolver::new(PeriodicOperator::new(nx, ny, grid.dx)?);
+    let mut solver = ContactSolver::new(grid.body.operator(nx, ny, grid.dx)?);
     let coarse = match coarsened(grid) {
         Some(coarse) if opts.precondition => {
             let loose = SolverOptions {
                 tol: opts.tol.max(NESTED_TOL),
                 ..*opts
             };
-            let start = solve_periodic(&coarse, compliance, target, false, &loose, monitor)?;
+            let start = solve_whole(&coarse, compliance, target, false, &loose, monitor)?;
             solver.set_pressure(&refined(&start.pressure, nx, ny))?;
             Some(start)
         }
@@ -222,7 +236,7 @@ const LOADING_TOL: f64 = 1e-3;
 /// tolerance max(tol, `NESTED_TOL`) and warm-started from the last, until the separation is
 /// within `LOADING_TOL`.
 fn load_to_separation(
-    solver: &mut ContactSolver<PeriodicOperator>,
+    solver: &mut ContactSolver<Operator>,
     grid: &Grid,
     compliance: f64,
     separation: f64,
@@ -323,7 +337,7 @@ fn coarsened(grid: &Grid) -> Option<Grid> {
         allowed: (0..cx * cy)
             .map(|i| children(i).iter().all(|&c| grid.allowed[c]))
             .collect(),
-        periodic: true,
+        body: grid.body,
     };
     coarse.allowed.contains(&true).then_some(coarse)
 }
@@ -422,12 +436,18 @@ mod periodic_tests {
     //! 2D grid uniform in y) and an isolated Hertz contact, periodic and not.
 
     use super::*;
+    use crate::model::body::Body;
     use crate::support::monitor::Silent;
     use std::f64::consts::PI;
 
-    /// The static elastic (G = 1 Pa) solve of the cell `grid` for `target`, no deflection.
+    /// The static elastic (G = 1 Pa) solve of `grid` as a periodic cell for `target`, no
+    /// deflection.
     fn cell(grid: &Grid, target: Target, opts: &SolverOptions) -> StaticContact {
-        solve_periodic(grid, 1.0, target, false, opts, &mut Silent).unwrap()
+        let cell = Grid {
+            body: Body::Periodic,
+            ..grid.clone()
+        };
+        solve(&cell, 1.0, target, None, false, opts, &mut Silent).unwrap()
     }
 
     /// Westergaard's wavy surface h(x) = g (1 - cos(2 pi x / lambda)) on an n x ny cell of
@@ -458,7 +478,10 @@ mod periodic_tests {
             let h = (0..self.n * self.ny)
                 .map(|i| self.g * (1.0 - (2.0 * PI * self.x(i) / self.lambda).cos()))
                 .collect();
-            Grid::new(self.n, self.ny, self.dx, h, vec![true; self.n * self.ny]).unwrap()
+            Grid {
+                body: Body::Periodic,
+                ..Grid::new(self.n, self.ny, self.dx, h, vec![true; self.n * self.ny]).unwrap()
+            }
         }
         fn p_star(&self) -> f64 {
             PI * 4.0 * self.g / self.lambda
@@ -500,7 +523,7 @@ mod periodic_tests {
             let w = Wavy::new(n);
             let s2 = (3.0 * PI / 16.0).sin().powi(2);
             let pbar = s2 * w.p_star();
-            let r = solve_periodic(
+            let r = solve_whole(
                 &w.grid(),
                 1.0,
                 Target::Force(w.force(pbar)),
@@ -641,7 +664,7 @@ mod periodic_tests {
         let w = Wavy::new(96);
         let grid = w.grid();
         let pbar = 1.5 * w.p_star();
-        let r = solve_periodic(
+        let r = solve_whole(
             &grid,
             1.0,
             Target::Force(w.force(pbar)),
@@ -659,7 +682,7 @@ mod periodic_tests {
             );
         }
         let mean = grid.height.iter().sum::<f64>() / grid.height.len() as f64;
-        let refused = solve_periodic(
+        let refused = solve_whole(
             &grid,
             1.0,
             Target::Depth(mean),

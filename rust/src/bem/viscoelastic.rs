@@ -8,8 +8,7 @@
 
 use crate::bem::contact::{ContactSolver, Target};
 use crate::bem::viscous::Fields;
-use crate::halfspace::operator::{FftOperator, SurfaceOperator};
-use crate::halfspace::periodic::PeriodicOperator;
+use crate::halfspace::operator::SurfaceOperator;
 use crate::model::grid::Grid;
 use crate::model::loading::Loading;
 use crate::model::medium::rheology::Rheology;
@@ -20,8 +19,8 @@ use crate::support::monitor::Monitor;
 
 /// BEM: a viscoelastic half-space under an indenter on `grid`, output as `request` says;
 /// also the fields at its field indices: pressure (Pa), deflection u = K[x] (m) and its
-/// rate (m/s, zero unless field rates are asked for). A periodic cell (`grid.periodic`)
-/// runs on the periodic operator (`run_bem_on`).
+/// rate (m/s, zero unless field rates are asked for), on the operator of the grid's body
+/// (`run_bem_on`).
 pub fn run_bem(
     grid: &Grid,
     medium: &Rheology,
@@ -30,11 +29,7 @@ pub fn run_bem(
     opts: &SolverOptions,
     monitor: &mut dyn Monitor,
 ) -> Result<(Series, Vec<Fields>)> {
-    if grid.periodic {
-        let op = PeriodicOperator::new(grid.nx, grid.ny, grid.dx)?;
-        return run_bem_on(op, grid, medium, loading, request, opts, monitor);
-    }
-    let op = FftOperator::new(grid.nx, grid.ny, grid.dx)?;
+    let op = grid.body.operator(grid.nx, grid.ny, grid.dx)?;
     run_bem_on(op, grid, medium, loading, request, opts, monitor)
 }
 

@@ -7,9 +7,8 @@
 //! time-discretisation error (Lee–Radok), so a run costs one contact solve per output time.
 
 use crate::bem::contact::{ContactSolver, Target};
-use crate::bem::window::{SolverPool, StepSolvers};
-use crate::halfspace::operator::{FftOperator, SurfaceOperator};
-use crate::halfspace::periodic::PeriodicCell;
+use crate::bem::window::SolverPool;
+use crate::halfspace::operator::SurfaceOperator;
 use crate::model::grid::Grid;
 use crate::model::loading::{check_output_times, ForceHistory};
 use crate::model::settings::ExplicitControl;
@@ -199,7 +198,9 @@ impl ViscousSeries {
 /// lower bound of the step's deflection (`Window::around_contact`). d_bound is the smaller
 /// of the request's depth bound for the step and the depth extrapolated linearly in the
 /// impulse (an upper bound while the contact grows); a first step without a bound uses the
-/// whole grid.
+/// whole grid. On a body without windows (a periodic cell, `grid` one period) every step
+/// solves the whole cell, the force is the total on the cell (N), and depths are approaches
+/// from the deflected surface's mean plane (mean separation mean(h) - depth).
 pub fn run_implicit(
     grid: &Grid,
     eta: f64,
@@ -209,37 +210,7 @@ pub fn run_implicit(
     monitor: &mut dyn Monitor,
 ) -> Result<ViscousSeries> {
     check_request(request, eta)?;
-    let pool = SolverPool::new(grid.nx, grid.ny, grid.dx)?;
-    run_implicit_in(pool, grid, eta, history, request, opts, monitor)
-}
-
-/// `run_implicit` on a periodic cell (`grid` one period): every step solves the whole cell
-/// with the periodic operator (`PeriodicOperator`), the force is the total on the cell (N),
-/// and depths are approaches from the deflected surface's mean plane (mean separation
-/// mean(h) - depth); depth bounds are not used.
-pub fn run_implicit_periodic(
-    grid: &Grid,
-    eta: f64,
-    history: &ForceHistory,
-    request: &ViscousRequest,
-    opts: &SolverOptions,
-    monitor: &mut dyn Monitor,
-) -> Result<ViscousSeries> {
-    check_request(request, eta)?;
-    let cell = PeriodicCell::new(grid.nx, grid.ny, grid.dx)?;
-    run_implicit_in(cell, grid, eta, history, request, opts, monitor)
-}
-
-/// The implicit stepping of `run_implicit`, each step's solve where `pool` puts it.
-fn run_implicit_in<S: StepSolvers>(
-    mut pool: S,
-    grid: &Grid,
-    eta: f64,
-    history: &ForceHistory,
-    request: &ViscousRequest,
-    opts: &SolverOptions,
-    monitor: &mut dyn Monitor,
-) -> Result<ViscousSeries> {
+    let mut pool = SolverPool::new(grid.body, grid.nx, grid.ny, grid.dx)?;
     let n = grid.nx * grid.ny;
     let mut full = ContactSolver::new(pool.whole()?);
     let mut sep = grid.height.clone();
@@ -360,7 +331,7 @@ pub fn run_explicit(
     check_request(request, eta)?;
     ctrl.validate()?;
     let n = grid.nx * grid.ny;
-    let mut solver = ContactSolver::new(FftOperator::new(grid.nx, grid.ny, grid.dx)?);
+    let mut solver = ContactSolver::new(grid.body.operator(grid.nx, grid.ny, grid.dx)?);
     let hmin = (0..n)
         .filter(|&i| grid.allowed[i])
         .map(|i| grid.height[i])
@@ -469,7 +440,7 @@ pub fn run_punch(
     check_positive("viscosity eta", eta)?;
     check_positive("force", force)?;
     let area_el = grid.dx * grid.dx;
-    let mut solver = ContactSolver::new(FftOperator::new(grid.nx, grid.ny, grid.dx)?);
+    let mut solver = ContactSolver::new(grid.body.operator(grid.nx, grid.ny, grid.dx)?);
     let (iterations, residual) = solver.unit_punch(&grid.allowed, None, opts, monitor)?;
     let p_unit = solver.pressure();
     let k_unit: f64 = p_unit.iter().sum::<f64>() * area_el;
@@ -485,7 +456,7 @@ pub fn run_punch(
                     .copy_from_slice(&pressure[iy * grid.nx..(iy + 1) * grid.nx]);
             }
             let mut v = vec![0.0; ex * ey];
-            FftOperator::new(ex, ey, grid.dx)?.apply(&big, &mut v);
+            grid.body.operator(ex, ey, grid.dx)?.apply(&big, &mut v);
             v.iter_mut().for_each(|x| *x /= eta);
             Some(v)
         }

@@ -1,13 +1,15 @@
 //! Rectangular sub-grids ("windows") that hold everything a step can touch, so that a solve
 //! runs on the smallest FFT grid that represents it exactly, and a cache of solvers per
 //! padded FFT size so that plans, buffers and kernel spectra are made once per size, not
-//! once per step or window; and `StepSolvers`, where the steps of a run solve (these
-//! windows, or the whole cell of a periodic grid).
+//! once per step or window (`SolverPool`, which solves on the whole grid where the body has
+//! no windows).
 
 use crate::bem::contact::ContactSolver;
+use crate::halfspace::body::Operator;
 use crate::halfspace::influence::KernelTable;
-use crate::halfspace::operator::{padded_size, FftOperator, FftPlans, SurfaceOperator};
-use crate::support::error::{check_positive, Result};
+use crate::halfspace::operator::{padded_size, FftPlans, SurfaceOperator};
+use crate::model::body::Body;
+use crate::support::error::{check_positive, Error, Result};
 use std::collections::HashMap;
 
 /// A sub-grid with origin (x0, y0) and size wx x wy inside a grid `nx` x `ny`.
@@ -139,51 +141,98 @@ impl Window {
     }
 }
 
-/// Contact solvers of the windows of one grid keyed by their padded FFT sizes, made on first
-/// use from the grid's kernel table (computed once) and resized to each window of the same
-/// padded sizes: a run plans, allocates and transforms a kernel once per padded size.
+/// The contact solvers of one grid's runs, on its body: for a body solved on windows, one
+/// solver per padded FFT size, made on first use from the grid's kernel table (computed
+/// once) and resized to each window of the same padded sizes, so that a run plans,
+/// allocates and transforms a kernel once per padded size; for a body solved whole, one
+/// solver of the whole grid.
 pub struct SolverPool {
-    kernel: KernelTable,
+    body: Body,
+    nx: usize,
+    ny: usize,
+    dx: f64,
+    kernel: Option<KernelTable>,
     plans: FftPlans,
-    solvers: HashMap<(usize, usize), ContactSolver<FftOperator>>,
+    solvers: HashMap<(usize, usize), ContactSolver<Operator>>,
 }
 
 impl SolverPool {
-    /// An empty pool for the windows of an `nx` x `ny` grid of elements of side `dx` (m).
-    pub fn new(nx: usize, ny: usize, dx: f64) -> Result<Self> {
+    /// An empty pool for an `nx` x `ny` grid of elements of side `dx` (m) on `body`.
+    pub fn new(body: Body, nx: usize, ny: usize, dx: f64) -> Result<Self> {
         check_positive("element size dx", dx)?;
         Ok(SolverPool {
-            kernel: KernelTable::new(nx, ny, dx),
+            body,
+            nx,
+            ny,
+            dx,
+            kernel: body.window_kernel(nx, ny, dx),
             plans: FftPlans::default(),
             solvers: HashMap::new(),
         })
     }
 
-    /// The grid's kernel table.
-    pub fn kernel(&self) -> &KernelTable {
-        &self.kernel
+    /// The window that holds every allowed element whose separation `sep` (m) plus the
+    /// least deflection a load `load` (m^3: compliance times force) adds is at most `bound`
+    /// (m) (`Window::around_contact`); the whole grid on a body solved whole.
+    pub fn contact_window(&self, sep: &[f64], allowed: &[bool], bound: f64, load: f64) -> Window {
+        match &self.kernel {
+            Some(k) => Window::around_contact(self.nx, self.ny, sep, allowed, bound, load, k),
+            None => Window::full(self.nx, self.ny),
+        }
     }
 
-    /// A new operator for a `wx` x `wy` window from the pool's kernel table and plans.
-    pub fn operator(&mut self, wx: usize, wy: usize) -> Result<FftOperator> {
-        FftOperator::with_kernel(wx, wy, &self.kernel, &mut self.plans)
+    /// The window of a fixed contact set `set` (for flat-punch solves on it); the whole grid
+    /// on a body solved whole.
+    pub fn set_window(&self, set: &[bool]) -> Window {
+        match &self.kernel {
+            Some(_) => Window::around(self.nx, self.ny, 0, |i| set[i]),
+            None => Window::full(self.nx, self.ny),
+        }
     }
 
-    /// The solver for a `wx` x `wy` grid (its pressure zeroed when it was resized). A padded
+    /// A new operator of the whole grid.
+    pub fn whole(&mut self) -> Result<Operator> {
+        match &self.kernel {
+            Some(k) => self
+                .body
+                .window_operator(k, self.nx, self.ny, &mut self.plans),
+            None => self.body.operator(self.nx, self.ny, self.dx),
+        }
+    }
+
+    /// The solver for a `wx` x `wy` window (its pressure zeroed when it was resized). A padded
     /// size's solver is made for the largest window of that size the grid holds, so that
     /// resizing it never allocates.
-    pub fn get(&mut self, wx: usize, wy: usize) -> Result<&mut ContactSolver<FftOperator>> {
+    pub fn get(&mut self, wx: usize, wy: usize) -> Result<&mut ContactSolver<Operator>> {
         use std::collections::hash_map::Entry;
+        let Some(kernel) = &self.kernel else {
+            if (wx, wy) != (self.nx, self.ny) {
+                return Err(Error::InvalidInput(format!(
+                    "a {} body of {} x {} elements is solved whole, not on a {wx} x {wy} window",
+                    self.body.name(),
+                    self.nx,
+                    self.ny
+                )));
+            }
+            return match self.solvers.entry((wx, wy)) {
+                Entry::Occupied(e) => Ok(e.into_mut()),
+                Entry::Vacant(e) => Ok(e.insert(ContactSolver::new(
+                    self.body.operator(self.nx, self.ny, self.dx)?,
+                ))),
+            };
+        };
         let (mx, my) = (padded_size(wx), padded_size(wy));
         let solver = match self.solvers.entry((mx, my)) {
             Entry::Occupied(e) => e.into_mut(),
             Entry::Vacant(e) => {
-                let (nx, ny) = self.kernel.extent();
-                let (cx, cy) = ((mx / 2 + 1).min(nx).max(wx), (my / 2 + 1).min(ny).max(wy));
-                e.insert(ContactSolver::new(FftOperator::with_kernel(
+                let (cx, cy) = (
+                    (mx / 2 + 1).min(self.nx).max(wx),
+                    (my / 2 + 1).min(self.ny).max(wy),
+                );
+                e.insert(ContactSolver::new(self.body.window_operator(
+                    kernel,
                     cx,
                     cy,
-                    &self.kernel,
                     &mut self.plans,
                 )?))
             }
@@ -195,45 +244,10 @@ impl SolverPool {
     }
 }
 
-/// Where the contact solves of a time-stepping run happen: on windows of a non-periodic
-/// grid (`SolverPool`) or on the whole cell of a periodic one (`periodic::PeriodicCell`).
-pub trait StepSolvers {
-    /// The surface operator of the solvers.
-    type Op: SurfaceOperator;
-    /// The window that holds every allowed element whose separation `sep` (m) plus the
-    /// least deflection a load `load` (m^3: compliance times force) adds is at most `bound`
-    /// (m) (`Window::around_contact`).
-    fn contact_window(&self, sep: &[f64], allowed: &[bool], bound: f64, load: f64) -> Window;
-    /// The window of a fixed contact set `set` (for flat-punch solves on it).
-    fn set_window(&self, set: &[bool]) -> Window;
-    /// The solver of a `wx` x `wy` window.
-    fn get(&mut self, wx: usize, wy: usize) -> Result<&mut ContactSolver<Self::Op>>;
-    /// A new operator of the whole grid.
-    fn whole(&mut self) -> Result<Self::Op>;
-}
-
-impl StepSolvers for SolverPool {
-    type Op = FftOperator;
-    fn contact_window(&self, sep: &[f64], allowed: &[bool], bound: f64, load: f64) -> Window {
-        let (nx, ny) = self.kernel.extent();
-        Window::around_contact(nx, ny, sep, allowed, bound, load, &self.kernel)
-    }
-    fn set_window(&self, set: &[bool]) -> Window {
-        let (nx, ny) = self.kernel.extent();
-        Window::around(nx, ny, 0, |i| set[i])
-    }
-    fn get(&mut self, wx: usize, wy: usize) -> Result<&mut ContactSolver<FftOperator>> {
-        SolverPool::get(self, wx, wy)
-    }
-    fn whole(&mut self) -> Result<FftOperator> {
-        let (nx, ny) = self.kernel.extent();
-        self.operator(nx, ny)
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::halfspace::operator::FftOperator;
 
     #[test]
     fn window_round_trip() {
@@ -306,10 +320,13 @@ mod tests {
     /// size gets its own.
     #[test]
     fn pool_shares_a_solver_per_padded_size() {
-        let mut pool = SolverPool::new(257, 257, 0.01).unwrap();
+        let mut pool = SolverPool::new(Body::HalfSpace, 257, 257, 0.01).unwrap();
         for (w, pads) in [(150, 320), (160, 320), (145, 288), (155, 320)] {
             let solver = pool.get(w, w).unwrap();
-            assert_eq!(solver.operator().padded(), (pads, pads));
+            let Operator::Free(op) = solver.operator() else {
+                panic!("a free half-space's window operator")
+            };
+            assert_eq!(op.padded(), (pads, pads));
             assert_eq!(
                 (solver.operator().nx(), solver.pressure().len()),
                 (w, w * w)

@@ -3,6 +3,7 @@
 //! DC-FFT and dense operators with the truncated inverse-kernel stencil that preconditions
 //! them (`operator`), and the periodic cell's spectral operator (`periodic`). Engines reach these only through `crate::model::body::Body`.
 
+pub mod body;
 pub mod influence;
 pub mod operator;
 pub mod periodic;

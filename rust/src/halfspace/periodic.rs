@@ -31,8 +31,6 @@
 //! spectral inverse needs 60 (the benchmark's 2048 x 2048 self-affine surface at 5 %
 //! contact, tol 1e-8), more than paying for the FFT pair.
 
-use crate::bem::contact::ContactSolver;
-use crate::bem::window::{StepSolvers, Window};
 use crate::halfspace::operator::{FftOperator, FftPlans, SurfaceOperator, MAX_FFT_ELEMENTS};
 use crate::support::error::{check_positive, Error, Result};
 use faer::Mat;
@@ -174,48 +172,6 @@ impl SurfaceOperator for PeriodicOperator {
     }
 }
 
-/// The steps of a run on a periodic cell: every solve on the whole cell, by one solver.
-pub struct PeriodicCell {
-    solver: ContactSolver<PeriodicOperator>,
-    cell: Window,
-    dx: f64,
-}
-
-impl PeriodicCell {
-    /// The cell of `nx` x `ny` elements of side `dx` (m).
-    pub fn new(nx: usize, ny: usize, dx: f64) -> Result<Self> {
-        Ok(PeriodicCell {
-            solver: ContactSolver::new(PeriodicOperator::new(nx, ny, dx)?),
-            cell: Window::full(nx, ny),
-            dx,
-        })
-    }
-}
-
-impl StepSolvers for PeriodicCell {
-    type Op = PeriodicOperator;
-    fn contact_window(&self, _: &[f64], _: &[bool], _: f64, _: f64) -> Window {
-        self.cell
-    }
-    fn set_window(&self, _: &[bool]) -> Window {
-        self.cell
-    }
-    /// The cell's solver (a window is always the whole cell).
-    fn get(&mut self, wx: usize, wy: usize) -> Result<&mut ContactSolver<PeriodicOperator>> {
-        let cell = self.cell;
-        if (wx, wy) != (cell.wx, cell.wy) {
-            return Err(Error::InvalidInput(format!(
-                "a periodic cell of {} x {} elements has no {wx} x {wy} window",
-                cell.wx, cell.wy
-            )));
-        }
-        Ok(&mut self.solver)
-    }
-    fn whole(&mut self) -> Result<PeriodicOperator> {
-        PeriodicOperator::new(self.cell.wx, self.cell.wy, self.dx)
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -328,7 +284,12 @@ mod tests {
             .map(|i| ((i % n) as f64 - (n / 2) as f64 + 0.5) * dx)
             .collect();
         let h = x.iter().map(|x| g * (1.0 - (2.0 * PI * x).cos())).collect();
-        (Grid::new(n, ny, dx, h, vec![true; n * ny]).unwrap(), x)
+        let grid = Grid::new(n, ny, dx, h, vec![true; n * ny]).unwrap();
+        let cell = Grid {
+            body: crate::model::body::Body::Periodic,
+            ..grid
+        };
+        (cell, x)
     }
 
     /// Westergaard's mean separation (m) of the wavy surface (g = 0.01 m, lambda = 1 m) at
@@ -390,7 +351,7 @@ mod tests {
     /// 8.5e-5, growing as the mean separation shrinks (to 0.1 g).
     #[test]
     fn viscous_creep_of_a_wavy_surface_follows_westergaard() {
-        use crate::bem::viscous::{run_implicit_periodic, ViscousRequest};
+        use crate::bem::viscous::{run_implicit, ViscousRequest};
         use crate::model::loading::ForceHistory;
         use crate::support::monitor::Silent;
         let eta = 2.0;
@@ -406,7 +367,7 @@ mod tests {
         };
         let history = ForceHistory::constant(force).unwrap();
         let opts = crate::model::settings::SolverOptions::default();
-        let s = run_implicit_periodic(&grid, eta, &history, &request, &opts, &mut Silent).unwrap();
+        let s = run_implicit(&grid, eta, &history, &request, &opts, &mut Silent).unwrap();
         for (k, &t) in times.iter().enumerate() {
             let sep = mean_separation(&grid.height, s.depth[k]);
             let exact = westergaard_separation(pbar, t / eta);

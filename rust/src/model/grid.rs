@@ -1,6 +1,7 @@
 //! The element grid of a BEM run: square elements over the indenter's footprint, with the
 //! indenter's height above its tip at each element centre.
 
+use crate::model::body::Body;
 use crate::support::error::{check_finite, check_len, check_positive, Error, Result};
 
 /// A square-element grid over the indenter's footprint.
@@ -16,8 +17,9 @@ pub struct Grid {
     pub height: Vec<f64>,
     /// Elements the indenter covers (where contact is possible).
     pub allowed: Vec<bool>,
-    /// Whether the grid is one cell of a periodic surface (its opposite edges meet).
-    pub periodic: bool,
+    /// The body the grid lies on (a periodic body: the grid is one cell, its opposite edges
+    /// meet).
+    pub body: Body,
 }
 
 impl Grid {
@@ -59,14 +61,14 @@ impl Grid {
             dx,
             height,
             allowed,
-            periodic: false,
+            body: Body::HalfSpace,
         })
     }
 
     /// Number of contact patches of `set`: its connected components, elements joined
-    /// through their edges (4-connectivity), across opposite edges on a periodic cell.
+    /// through their edges (4-connectivity), across opposite edges where the grid has none.
     pub fn patches(&self, set: &[bool]) -> usize {
-        count_patches(self.nx, self.ny, set, self.periodic)
+        count_patches(self.nx, self.ny, set, !self.body.has_edge())
     }
 
     /// Whether any element of `set` lies on the outermost ring of the grid.

@@ -3,6 +3,7 @@
 //! sampled onto (`grid`), scene files (`file`), random rough surfaces to indent with
 //! (`surfaces`) and how a scene is solved (`settings`). Nothing here imports an engine.
 
+pub mod body;
 pub mod contact_law;
 pub mod file;
 pub mod grid;
@@ -13,6 +14,7 @@ pub mod scene;
 pub mod settings;
 pub mod surfaces;
 
+pub use body::Body;
 pub use contact_law::ContactLaw;
 pub use file::SceneFile;
 pub use indenter::heightmap::{HeightMap, HeightMapTable};

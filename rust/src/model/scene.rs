@@ -2,6 +2,7 @@
 //! validation and defaults and its TOML and JSON forms. `crate::run` solves it into a typed
 //! `Report`. Units are SI: m, s, N, Pa, Pa s.
 
+use super::body::Body;
 use super::contact_law::ContactLaw;
 use super::{Indenter, Medium};
 use crate::model::loading::{DepthHistory, ForceHistory, Loading};
@@ -237,6 +238,15 @@ impl Scene {
     /// Whether the scene asks for `output`.
     pub fn wants(&self, output: Output) -> bool {
         self.outputs().contains(&output)
+    }
+
+    /// The body the scene presses into, decided here once: one cell of a periodic surface
+    /// for a periodic height map, a free half-space otherwise.
+    pub fn body(&self) -> Body {
+        match &self.indenter {
+            Indenter::HeightMap(map) => map.body(),
+            _ => Body::HalfSpace,
+        }
     }
 
     /// Whether any field is asked for.

@@ -9,8 +9,8 @@ use crate::bem::contact::Target;
 use crate::bem::static_contact;
 use crate::bem::viscous::{self, ViscousRequest};
 use crate::halfspace::operator::{DenseOperator, FftOperator, SurfaceOperator};
-use crate::halfspace::periodic::PeriodicOperator;
 use crate::mdr::transforms;
+use crate::model::body::Body;
 use crate::model::grid::Grid;
 use crate::model::settings::ExplicitControl;
 use crate::model::settings::DENSE_LIMIT;
@@ -34,6 +34,15 @@ fn grid_settings(grid: &Grid, solver: crate::model::settings::SolverOptions) -> 
 }
 
 /// Element-centre coordinates (m) of `m` elements of size dx, symmetric about 0.
+/// The body of the array API's `periodic` flag.
+fn body_of(periodic: bool) -> Body {
+    if periodic {
+        Body::Periodic
+    } else {
+        Body::HalfSpace
+    }
+}
+
 fn centres(m: usize, dx: f64) -> Vec<f64> {
     (0..m)
         .map(|i| (i as f64 - 0.5 * (m as f64 - 1.0)) * dx)
@@ -286,13 +295,9 @@ impl PySurfaceOperator {
     #[pyo3(signature = (nx, ny, dx, periodic=false))]
     fn new(py: Python<'_>, nx: usize, ny: usize, dx: f64, periodic: bool) -> PyResult<Self> {
         let built = py.detach(|| -> crate::Result<(Box<dyn SurfaceOperator + Send>, _)> {
-            Ok(if periodic {
-                (Box::new(PeriodicOperator::new(nx, ny, dx)?), (ny, nx))
-            } else {
-                let op = FftOperator::new(nx, ny, dx)?;
-                let (mx, my) = op.padded();
-                (Box::new(op), (my, mx))
-            })
+            let op = body_of(periodic).operator(nx, ny, dx)?;
+            let (mx, my) = op.fft_size();
+            Ok((Box::new(op), (my, mx)))
         });
         let (op, padded) = built.map_err(|e| to_pyerr(py, e))?;
         Ok(PySurfaceOperator {
@@ -431,7 +436,7 @@ pub(crate) fn contact_solve(
 ) -> PyResult<PyReport> {
     let start = Instant::now();
     let mut grid = grid_from(py, &height, &allowed, dx)?;
-    grid.periodic = periodic;
+    grid.body = body_of(periodic);
     let target = match (force, depth) {
         (Some(f), None) => Target::Force(f),
         (None, Some(d)) => Target::Depth(d),

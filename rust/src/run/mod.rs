@@ -37,17 +37,14 @@ pub fn viscous_bem(
     settings: &RunSettings,
     monitor: &mut dyn Monitor,
 ) -> Result<ViscousSeries> {
-    match (&settings.integrator, grid.periodic) {
-        (Integrator::Implicit, false) => {
+    match &settings.integrator {
+        Integrator::Implicit => {
             viscous::run_implicit(grid, eta, history, request, &settings.solver, monitor)
         }
-        (Integrator::Implicit, true) => {
-            viscous::run_implicit_periodic(grid, eta, history, request, &settings.solver, monitor)
-        }
-        (Integrator::Explicit(c), false) => {
+        Integrator::Explicit(c) if grid.body.has_edge() => {
             viscous::run_explicit(grid, eta, history, request, c, &settings.solver, monitor)
         }
-        (Integrator::Explicit(_), true) => Err(Error::InvalidInput(
+        Integrator::Explicit(_) => Err(Error::InvalidInput(
             "the explicit integrator runs on non-periodic grids; a periodic cell steps implicitly"
                 .into(),
         )),
@@ -101,8 +98,7 @@ pub fn run(scene: &Scene, settings: &RunSettings, monitor: &mut dyn Monitor) -> 
         run_viscoelastic(scene, settings, monitor)?
     };
     beyond_the_equator(scene, &report)?;
-    if matches!(&scene.indenter, Indenter::HeightMap(map) if map.periodic()) {
-        // a periodic cell has no edge
+    if !scene.body().has_edge() {
         report.at_edge = None;
     }
     let from = scene.solved_from();
@@ -244,7 +240,7 @@ fn run_static(scene: &Scene, settings: &RunSettings, monitor: &mut dyn Monitor) 
                 &grid,
                 1.0 / g,
                 target,
-                bound.filter(|_| !grid.periodic),
+                bound.filter(|_| grid.body.windows()),
                 deflection,
                 &settings.solver,
                 monitor,

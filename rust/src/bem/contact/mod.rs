@@ -18,7 +18,8 @@ mod passes;
 mod polonsky_keer;
 mod punch;
 
-use crate::halfspace::operator::{FftOperator, SurfaceOperator};
+use crate::halfspace::body::Operator;
+use crate::halfspace::operator::SurfaceOperator;
 use crate::model::settings::SolverOptions;
 use crate::support::error::{check_finite, check_len, check_positive, Error, Result};
 use crate::support::monitor::Monitor;
@@ -169,9 +170,9 @@ struct Problem<'a> {
     gap_tol: f64,
 }
 
-impl ContactSolver<FftOperator> {
-    /// Makes this the solver of an `nx` x `ny` grid with the same padded FFT sizes
-    /// (`FftOperator::resize`), keeping operator and buffers; the pressure is zeroed.
+impl ContactSolver<Operator> {
+    /// Makes this the solver of an `nx` x `ny` window with the same padded FFT sizes
+    /// (`Operator::resize`), keeping operator and buffers; the pressure is zeroed.
     pub fn resize(&mut self, nx: usize, ny: usize) -> Result<()> {
         self.op.resize(nx, ny)?;
         let n = nx * ny;
@@ -334,6 +335,7 @@ mod tests {
     //! Test problems shared by the algorithms' tests, and the test of `Tuning`.
 
     use super::*;
+    use crate::halfspace::operator::FftOperator;
     use crate::support::monitor::Silent;
 
     /// A paraboloid h = r^2 / (2 R) on an n x n grid of side 2.56 m, and dx.

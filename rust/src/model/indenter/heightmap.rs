@@ -12,6 +12,7 @@
 //! point from the deflected surface's mean plane, so that the mean gap (the mean
 //! separation) is the mean height below the highest point minus the depth.
 
+use crate::model::body::Body;
 use crate::model::grid::Grid;
 use crate::model::settings::Method;
 use crate::support::error::{check_finite, check_positive, Error, Result};
@@ -113,6 +114,16 @@ impl HeightMap {
         self.periodic
     }
 
+    /// The body the map presses into: a periodic cell for a periodic map, a free half-space
+    /// otherwise.
+    pub fn body(&self) -> Body {
+        if self.periodic {
+            Body::Periodic
+        } else {
+            Body::HalfSpace
+        }
+    }
+
     /// The resolution `n` of a run on the map: its longer side, in elements.
     pub fn n(&self) -> usize {
         self.nx.max(self.ny)
@@ -155,7 +166,7 @@ impl HeightMap {
             self.heights.iter().map(|h| top - h).collect(),
             vec![true; self.nx * self.ny],
         )?;
-        grid.periodic = self.periodic;
+        grid.body = self.body();
         Ok(grid)
     }
 

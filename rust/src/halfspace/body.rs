@@ -1,0 +1,117 @@
+//! The surface operators of each body: the one place that builds operators, kernel tables
+//! and preconditioners. A free half-space is solved by Love's coefficients through the
+//! DC-FFT (`FftOperator`, preconditioned by the inverse-kernel stencil) on windows that share
+//! one kernel table; a periodic cell by its spectral kernel (`PeriodicOperator`,
+//! preconditioned by the exact spectral inverse) on the whole cell.
+
+use crate::halfspace::influence::KernelTable;
+use crate::halfspace::operator::{FftOperator, FftPlans, SurfaceOperator};
+use crate::halfspace::periodic::PeriodicOperator;
+use crate::model::body::Body;
+use crate::support::error::{Error, Result};
+use faer::Mat;
+
+/// The surface operator of a body (deflection in m under element pressures in Pa, at a
+/// shear modulus of 1 Pa).
+pub enum Operator {
+    /// A free half-space (DC-FFT of Love's coefficients).
+    Free(FftOperator),
+    /// A periodic cell (spectral kernel, zero mean mode).
+    Periodic(PeriodicOperator),
+}
+
+impl Body {
+    /// The operator of a whole `nx` x `ny` grid of elements of side `dx` (m).
+    pub fn operator(self, nx: usize, ny: usize, dx: f64) -> Result<Operator> {
+        Ok(match self {
+            Body::HalfSpace => Operator::Free(FftOperator::new(nx, ny, dx)?),
+            Body::Periodic => Operator::Periodic(PeriodicOperator::new(nx, ny, dx)?),
+        })
+    }
+
+    /// The kernel table the windows of an `nx` x `ny` grid of side `dx` (m) share, for a
+    /// body solved on windows (`Body::windows`); None otherwise.
+    pub fn window_kernel(self, nx: usize, ny: usize, dx: f64) -> Option<KernelTable> {
+        self.windows().then(|| KernelTable::new(nx, ny, dx))
+    }
+
+    /// The operator of a `wx` x `wy` window from the grid's kernel table `kernel` and the
+    /// FFT plans `plans` (kept by the caller across windows).
+    pub fn window_operator(
+        self,
+        kernel: &KernelTable,
+        wx: usize,
+        wy: usize,
+        plans: &mut FftPlans,
+    ) -> Result<Operator> {
+        match self {
+            Body::HalfSpace => Ok(Operator::Free(FftOperator::with_kernel(
+                wx, wy, kernel, plans,
+            )?)),
+            Body::Periodic => Err(Error::InvalidInput(
+                "a periodic cell has no windows: its solves take the whole cell".into(),
+            )),
+        }
+    }
+}
+
+impl Operator {
+    /// The sizes (x, y) of the FFT grid the operator transforms: twice the grid, padded
+    /// to fast sizes, for a free surface; the cell's own for a periodic one.
+    pub fn fft_size(&self) -> (usize, usize) {
+        match self {
+            Operator::Free(op) => op.padded(),
+            Operator::Periodic(op) => (op.nx(), op.ny()),
+        }
+    }
+
+    /// Resizes a window's operator to `wx` x `wy` elements of the same padded sizes.
+    pub fn resize(&mut self, wx: usize, wy: usize) -> Result<()> {
+        match self {
+            Operator::Free(op) => op.resize(wx, wy),
+            Operator::Periodic(op) if (op.nx(), op.ny()) == (wx, wy) => Ok(()),
+            Operator::Periodic(_) => Err(Error::InvalidInput(
+                "a periodic cell's operator is never resized".into(),
+            )),
+        }
+    }
+}
+
+impl SurfaceOperator for Operator {
+    fn nx(&self) -> usize {
+        match self {
+            Operator::Free(op) => op.nx(),
+            Operator::Periodic(op) => op.nx(),
+        }
+    }
+    fn ny(&self) -> usize {
+        match self {
+            Operator::Free(op) => op.ny(),
+            Operator::Periodic(op) => op.ny(),
+        }
+    }
+    fn dx(&self) -> f64 {
+        match self {
+            Operator::Free(op) => op.dx(),
+            Operator::Periodic(op) => op.dx(),
+        }
+    }
+    fn apply(&mut self, p: &[f64], u: &mut [f64]) {
+        match self {
+            Operator::Free(op) => op.apply(p, u),
+            Operator::Periodic(op) => op.apply(p, u),
+        }
+    }
+    fn submatrix(&mut self, idx: &[usize]) -> Result<Mat<f64>> {
+        match self {
+            Operator::Free(op) => op.submatrix(idx),
+            Operator::Periodic(op) => op.submatrix(idx),
+        }
+    }
+    fn precondition(&mut self, g: &[f64], z: &mut [f64]) {
+        match self {
+            Operator::Free(op) => op.precondition(g, z),
+            Operator::Periodic(op) => op.precondition(g, z),
+        }
+    }
+}

@@ -1,0 +1,51 @@
+//! The body a scene presses into: which solid it is, decided once per scene
+//! (`Scene::body`) and carried by its BEM grid. The body's operators, kernel tables and
+//! preconditioners are built in `crate::halfspace::body`, the only place that builds them;
+//! the engines ask the body what it can do (`windows`, `has_edge`) instead of what it is.
+//! A finite-thickness layer adds a variant here and its operators there.
+
+use serde::{Deserialize, Serialize};
+
+/// The solid under the indenter, of the scene's medium.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Body {
+    /// A half-space with a free surface: pressure far from the contact is zero and the
+    /// surface is at rest at infinity.
+    #[default]
+    HalfSpace,
+    /// A half-space whose surface repeats with the periods of its grid (one cell of a
+    /// periodic height map): depths are approaches from the deflected surface's mean plane
+    /// and forces are totals on the cell.
+    Periodic,
+}
+
+impl Body {
+    /// The body's name ("halfspace", "periodic").
+    pub fn name(self) -> &'static str {
+        match self {
+            Body::HalfSpace => "halfspace",
+            Body::Periodic => "periodic",
+        }
+    }
+
+    /// Whether a contact on the body can be solved on a window of its grid that holds the
+    /// contact, the elements outside carrying no pressure (a free surface's deflection
+    /// inside depends only on the pressure inside); otherwise every solve takes the whole
+    /// grid.
+    pub fn windows(self) -> bool {
+        match self {
+            Body::HalfSpace => true,
+            Body::Periodic => false,
+        }
+    }
+
+    /// Whether the grid has an edge a contact can reach (a periodic cell has none: its
+    /// opposite edges meet).
+    pub fn has_edge(self) -> bool {
+        match self {
+            Body::HalfSpace => true,
+            Body::Periodic => false,
+        }
+    }
+}
