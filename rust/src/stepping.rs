@@ -1,5 +1,5 @@
 //! Time stepping shared by the engines of both methods: what a viscoelastic run computes
-//! (`Request`), the time series it returns (`Series`), its step times (`step_times`, at most
+//! (`Request`), the time series every engine returns (`Series`), its step times (`step_times`, at most
 //! `MAX_STEPS` of them) and the backward-difference rates of its states (`Trail`).
 
 use crate::model::loading::{check_output_times, Loading};
@@ -7,9 +7,12 @@ use crate::model::medium::rheology::Rheology;
 use crate::model::settings::check_steps;
 use crate::support::error::{Error, Result};
 
-/// Time series of a viscoelastic run, one entry per output time.
-#[derive(Debug, Clone, PartialEq, Default)]
-pub struct Series {
+/// The time series every engine returns, one entry per output time, with its fields of
+/// type `F` (BEM surface fields, or MDR 1D fields). A series an engine does not compute
+/// stays empty; `crate::run::assemble::report_from` is the one place that turns it into a
+/// `Report`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Series<F> {
     /// Output times (s).
     pub t: Vec<f64>,
     /// Indentation depth (m); under force control with zero force, the depth at which the
@@ -21,22 +24,54 @@ pub struct Series {
     pub contact_length: Vec<f64>,
     /// Contact area (m^2) (BEM).
     pub area: Vec<f64>,
+    /// Penetration rate dd/dt (m/s): exact for a viscous medium, the second-order backward
+    /// difference of the depth over the last three step times for the others (first order
+    /// on the first two steps, where the state at t = 0 may precede a jump of the load);
+    /// NaN where a run computes none.
+    pub velocity: Vec<f64>,
+    /// Contact length from the stiffness, F / (4 eta dd/dt) (m) (viscous BEM, when asked).
+    pub stiffness_length: Vec<f64>,
+    /// Whether the contact covers the indenter's whole footprint (saturation).
+    pub saturated: Vec<bool>,
+    /// Whether the contact reached the outermost ring of the grid (BEM).
+    pub at_edge: Vec<bool>,
     /// Contact patches, 4-connected components of the contact (BEM).
     pub patches: Vec<usize>,
     /// Mean surface deflection over the grid (m) (BEM).
     pub mean_deflection: Vec<f64>,
-    /// Penetration rate dd/dt (m/s): the second-order backward difference of the depth over
-    /// the last three step times (first order on the first two steps, where the state at
-    /// t = 0 may precede a jump of the load).
-    pub velocity: Vec<f64>,
     /// Solver iterations per output interval (BEM).
     pub iterations: Vec<usize>,
     /// Largest final relative residual of the contact solves per output interval (BEM).
     pub residual: Vec<f64>,
-    /// Whether the contact reached the outermost ring of the grid (BEM).
-    pub at_edge: Vec<bool>,
+    /// Fields at the requested output indices.
+    pub fields: Vec<F>,
     /// Time steps taken.
     pub steps: usize,
+    /// Contact solves run.
+    pub solves: usize,
+}
+
+impl<F> Default for Series<F> {
+    fn default() -> Self {
+        Series {
+            t: vec![],
+            depth: vec![],
+            force: vec![],
+            contact_length: vec![],
+            area: vec![],
+            velocity: vec![],
+            stiffness_length: vec![],
+            saturated: vec![],
+            at_edge: vec![],
+            patches: vec![],
+            mean_deflection: vec![],
+            iterations: vec![],
+            residual: vec![],
+            fields: vec![],
+            steps: 0,
+            solves: 0,
+        }
+    }
 }
 
 /// What a viscoelastic run computes: output times, step length, and fields.

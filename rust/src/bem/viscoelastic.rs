@@ -28,7 +28,7 @@ pub fn run_bem(
     request: &Request,
     opts: &SolverOptions,
     monitor: &mut dyn Monitor,
-) -> Result<(Series, Vec<Fields>)> {
+) -> Result<Series<Fields>> {
     let op = grid.body.operator(grid.nx, grid.ny, grid.dx)?;
     run_bem_on(op, grid, medium, loading, request, opts, monitor)
 }
@@ -45,7 +45,7 @@ pub fn run_bem_on<O: SurfaceOperator>(
     request: &Request,
     opts: &SolverOptions,
     monitor: &mut dyn Monitor,
-) -> Result<(Series, Vec<Fields>)> {
+) -> Result<Series<Fields>> {
     if (op.nx(), op.ny()) != (grid.nx, grid.ny) || op.dx() != grid.dx {
         return Err(Error::InvalidInput(format!(
             "the operator's {} x {} grid of side {} m differs from the {} x {} grid of side {} m",
@@ -70,7 +70,6 @@ pub fn run_bem_on<O: SurfaceOperator>(
     let mut depths = Trail::new(vec![start]);
     let field_rates = request.field_rates && !request.fields_at.is_empty();
     let mut strains = field_rates.then(|| Trail::new(vec![0.0; n]));
-    let mut fields = vec![];
     let m = medium.internal();
     let mut solver = ContactSolver::new(op);
     let (mut x, mut q) = (vec![0.0; n], vec![0.0; n * m]);
@@ -159,14 +158,16 @@ pub fn run_bem_on<O: SurfaceOperator>(
             out.t.push(t);
             out.depth.push(depth);
             out.force.push(force);
-            out.contact_length
-                .push(2.0 * (area / std::f64::consts::PI).sqrt());
+            let length = 2.0 * (area / std::f64::consts::PI).sqrt();
+            out.contact_length.push(length);
             out.velocity.push(rate[0]);
             out.iterations.push(iterations);
             out.residual.push(residual);
             let contact: Vec<bool> = p.iter().map(|&v| v > 0.0).collect();
             out.at_edge.push(grid.touches_edge(&contact));
             out.area.push(area);
+            out.saturated
+                .push(grid.covers(0.25 * std::f64::consts::PI * length * length));
             out.patches.push(grid.patches(&contact));
             (iterations, residual) = (0, 0.0);
             if request.fields_at.contains(&k) {
@@ -178,7 +179,7 @@ pub fn run_bem_on<O: SurfaceOperator>(
                     trail.rate(t, &x, &mut hist);
                     solver.operator().apply(&hist, &mut velocity);
                 }
-                fields.push(Fields {
+                out.fields.push(Fields {
                     step: k,
                     pressure,
                     velocity,
@@ -199,5 +200,6 @@ pub fn run_bem_on<O: SurfaceOperator>(
         monitor.progress("time steps", s + 1, steps.len())?;
         t_prev = t;
     }
-    Ok((out, fields))
+    out.solves = out.steps;
+    Ok(out)
 }

@@ -13,6 +13,7 @@ use crate::model::grid::Grid;
 use crate::model::loading::{check_output_times, ForceHistory};
 use crate::model::settings::ExplicitControl;
 use crate::model::settings::SolverOptions;
+use crate::stepping::Series;
 use crate::support::error::{check_len, check_positive, Error, Result};
 use crate::support::monitor::Monitor;
 
@@ -44,39 +45,6 @@ pub struct ViscousRequest {
     /// implies, and again on a larger window if the depth exceeds it, so the result never
     /// depends on them. Without a bound the first step uses the whole grid.
     pub depth_bounds: Vec<f64>,
-}
-
-/// Time series of a viscous run, one entry per output time.
-#[derive(Debug, Clone, PartialEq, Default)]
-pub struct ViscousSeries {
-    /// Output times (s).
-    pub t: Vec<f64>,
-    /// Indentation depth d (m).
-    pub depth: Vec<f64>,
-    /// Contact area (m^2).
-    pub area: Vec<f64>,
-    /// Contact length 2 sqrt(A / pi) (m).
-    pub contact_length: Vec<f64>,
-    /// Penetration rate dd/dt (m/s); NaN unless rates were requested.
-    pub velocity: Vec<f64>,
-    /// Contact length from the stiffness, F / (4 eta dd/dt) (m); NaN unless requested.
-    pub stiffness_length: Vec<f64>,
-    /// Solver iterations of each output step.
-    pub iterations: Vec<usize>,
-    /// Final solver residual of each output step.
-    pub residual: Vec<f64>,
-    /// Whether the contact reached the outermost ring of the grid.
-    pub at_edge: Vec<bool>,
-    /// Contact patches (4-connected components of the contact).
-    pub patches: Vec<usize>,
-    /// Mean surface deflection over the grid (m).
-    pub mean_deflection: Vec<f64>,
-    /// Fields at the requested steps.
-    pub fields: Vec<Fields>,
-    /// Contact solves performed (time steps plus rate solves).
-    pub solves: usize,
-    /// Time steps taken (explicit loop; the implicit run steps once per output time).
-    pub steps: usize,
 }
 
 fn check_request(request: &ViscousRequest, eta: f64) -> Result<()> {
@@ -157,13 +125,14 @@ impl Punch {
     }
 }
 
-impl ViscousSeries {
-    /// Appends one output time (`deflection` in m on the grid).
+impl Series<Fields> {
+    /// Appends one output time (`force` in N, `deflection` in m on the grid).
     #[allow(clippy::too_many_arguments)]
     fn record(
         &mut self,
         grid: &Grid,
         t: f64,
+        force: f64,
         depth: f64,
         contact: &[bool],
         deflection: &[f64],
@@ -174,7 +143,9 @@ impl ViscousSeries {
         let area = contact.iter().filter(|&&c| c).count() as f64 * grid.dx * grid.dx;
         self.t.push(t);
         self.depth.push(depth);
+        self.force.push(force);
         self.area.push(area);
+        self.saturated.push(grid.covers(area));
         self.contact_length
             .push(2.0 * (area / std::f64::consts::PI).sqrt());
         self.velocity.push(rate.map_or(f64::NAN, |r| r.0));
@@ -208,7 +179,7 @@ pub fn run_implicit(
     request: &ViscousRequest,
     opts: &SolverOptions,
     monitor: &mut dyn Monitor,
-) -> Result<ViscousSeries> {
+) -> Result<Series<Fields>> {
     check_request(request, eta)?;
     let mut pool = SolverPool::new(grid.body, grid.nx, grid.ny, grid.dx)?;
     let n = grid.nx * grid.ny;
@@ -220,7 +191,7 @@ pub fn run_implicit(
     let mut contact = vec![false; n];
     let (mut sep_w, mut allowed_w, mut start_w) = (vec![], vec![], vec![]);
     let mut punch = Punch::new();
-    let mut out = ViscousSeries::default();
+    let mut out = Series::default();
     let (mut t_prev, mut depth, mut depth_prev) = (0.0, 0.0, 0.0);
     let mut impulse_prev = 0.0;
     let total = request.times.len();
@@ -306,7 +277,17 @@ pub fn run_implicit(
                 });
             }
         }
-        out.record(grid, t, depth, &contact, &u_acc, rate, iterations, residual);
+        out.record(
+            grid,
+            t,
+            history.force(t),
+            depth,
+            &contact,
+            &u_acc,
+            rate,
+            iterations,
+            residual,
+        );
         out.steps += 1;
         t_prev = t;
         monitor.progress("time steps", k + 1, total)?;
@@ -327,7 +308,7 @@ pub fn run_explicit(
     ctrl: &ExplicitControl,
     opts: &SolverOptions,
     monitor: &mut dyn Monitor,
-) -> Result<ViscousSeries> {
+) -> Result<Series<Fields>> {
     check_request(request, eta)?;
     ctrl.validate()?;
     let n = grid.nx * grid.ny;
@@ -346,9 +327,9 @@ pub fn run_explicit(
     let mut v_unit = vec![0.0; n];
     solver.operator().apply(&punch.p_unit, &mut v_unit);
     let mut solved_count = count;
-    let mut out = ViscousSeries {
+    let mut out = Series {
         solves: 1,
-        ..ViscousSeries::default()
+        ..Series::default()
     };
     let (mut t, mut depth) = (0.0, hmin);
     let mut u = vec![0.0; n];
@@ -394,6 +375,7 @@ pub fn run_explicit(
         out.record(
             grid,
             t,
+            history.force(t),
             depth,
             &contact,
             &u,

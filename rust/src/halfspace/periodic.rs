@@ -331,8 +331,7 @@ mod tests {
         };
         let op = PeriodicOperator::new(grid.nx, grid.ny, grid.dx).unwrap();
         let opts = crate::model::settings::SolverOptions::default();
-        let (s, _) =
-            run_bem_on(op, &grid, &medium, &loading, &request, &opts, &mut Silent).unwrap();
+        let s = run_bem_on(op, &grid, &medium, &loading, &request, &opts, &mut Silent).unwrap();
         for (k, &t) in s.t.iter().enumerate() {
             let sep = mean_separation(&grid.height, s.depth[k]);
             let exact = westergaard_separation(pbar, j(t));

@@ -10,6 +10,7 @@
 use crate::model::contact_law::{ContactLaw, SortedSurface};
 use crate::model::loading::{check_output_times, ForceHistory};
 use crate::model::settings::ExplicitControl;
+use crate::stepping::Series;
 use crate::support::error::{check_finite, check_positive, Error, Result};
 use crate::support::monitor::Monitor;
 
@@ -122,23 +123,6 @@ pub struct Fields1D {
     pub velocity: Vec<f64>,
 }
 
-/// Time series of an MDR run, one entry per output time.
-#[derive(Debug, Clone, PartialEq, Default)]
-pub struct MdrSeries {
-    /// Output times (s).
-    pub t: Vec<f64>,
-    /// Indentation depth d (m).
-    pub depth: Vec<f64>,
-    /// Contact length l = 2a (m): elements in contact times dx.
-    pub contact_length: Vec<f64>,
-    /// Penetration rate dd/dt (m/s) (viscous), NaN for elastic.
-    pub velocity: Vec<f64>,
-    /// Whether every element is in contact (the indenter's whole length: saturation).
-    pub saturated: Vec<bool>,
-    /// Fields at the requested steps.
-    pub fields: Vec<Fields1D>,
-}
-
 /// Runs the MDR foundation under the force `history` (N over s), with output at `times`
 /// (s) and 1D fields at the output indices `fields_at`: depths (m), contact lengths (m) and
 /// penetration rates (m/s).
@@ -149,7 +133,7 @@ pub fn run(
     times: &[f64],
     fields_at: &[usize],
     monitor: &mut dyn Monitor,
-) -> Result<MdrSeries> {
+) -> Result<Series<Fields1D>> {
     medium.validate()?;
     check_output_times(times)?;
     if let Some(&k) = fields_at.iter().find(|&&k| k >= times.len()) {
@@ -160,7 +144,7 @@ pub fn run(
     }
     let c = 4.0 * medium.modulus() * foundation.dx;
     let n = foundation.element_count();
-    let mut out = MdrSeries::default();
+    let mut out = Series::default();
     for (k, &t) in times.iter().enumerate() {
         let (d, count) = foundation.depth_for(medium.load(history, t) / c);
         let rate = match medium {
@@ -170,7 +154,10 @@ pub fn run(
         };
         out.t.push(t);
         out.depth.push(d);
+        out.force.push(history.force(t));
         out.contact_length.push(count as f64 * foundation.dx);
+        // F / (4 eta dd/dt) is the contact's element count times dx, exactly
+        out.stiffness_length.push(count as f64 * foundation.dx);
         out.velocity.push(rate);
         out.saturated.push(count == n);
         if fields_at.contains(&k) {
@@ -198,11 +185,13 @@ pub fn run(
         }
         monitor.progress("time steps", k + 1, times.len())?;
     }
+    out.steps = times.len();
+    out.solves = times.len();
     Ok(out)
 }
 
 /// The paper's explicit loop on the viscous foundation (`eta` in Pa s, `history` in N over
-/// s, output at `times` in s), also returning the steps taken: penetration rate of the
+/// s, output at `times` in s), with the steps it took: penetration rate of the
 /// current contact, an explicit Euler step, contact growth; the rate uses the element count
 /// of the last update, refreshed when the count grew by more than `ctrl.area_change`.
 pub fn run_explicit(
@@ -212,7 +201,7 @@ pub fn run_explicit(
     times: &[f64],
     ctrl: &ExplicitControl,
     monitor: &mut dyn Monitor,
-) -> Result<(MdrSeries, usize)> {
+) -> Result<Series<Fields1D>> {
     check_positive("viscosity eta", eta)?;
     check_output_times(times)?;
     ctrl.validate()?;
@@ -224,7 +213,7 @@ pub fn run_explicit(
     let mut used = count;
     let t_first = ctrl.start * times.last().copied().unwrap_or(1.0);
     let (mut t, mut steps) = (0.0, 0usize);
-    let mut out = MdrSeries::default();
+    let mut out = Series::default();
     for (k, &target) in times.iter().enumerate() {
         while t < target {
             let rate = history.force(t) / (c * used as f64);
@@ -242,12 +231,16 @@ pub fn run_explicit(
         }
         out.t.push(t);
         out.depth.push(depth);
+        out.force.push(history.force(t));
         out.contact_length.push(count as f64 * foundation.dx);
+        out.stiffness_length.push(count as f64 * foundation.dx);
         out.velocity.push(history.force(t) / (c * used as f64));
         out.saturated.push(count == n);
         monitor.progress("time steps", k + 1, times.len())?;
     }
-    Ok((out, steps))
+    out.steps = steps;
+    out.solves = times.len();
+    Ok(out)
 }
 
 #[cfg(test)]

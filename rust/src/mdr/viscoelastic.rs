@@ -27,7 +27,7 @@ pub fn run_mdr(
     loading: &Loading,
     request: &Request,
     monitor: &mut dyn Monitor,
-) -> Result<(Series, Vec<Fields1D>)> {
+) -> Result<Series<Fields1D>> {
     check_positive("element spacing dx", dx)?;
     let n = g.len();
     if n == 0 {
@@ -42,7 +42,6 @@ pub fn run_mdr(
     let mut depths = Trail::new(vec![start]);
     let field_rates = request.field_rates && !request.fields_at.is_empty();
     let mut displacements = field_rates.then(|| Trail::new(vec![0.0; n]));
-    let mut fields = vec![];
     let m = medium.internal();
     let (mut w, mut q) = (vec![0.0; n], vec![0.0; n * m]);
     let mut surface = vec![0.0; n];
@@ -97,6 +96,7 @@ pub fn run_mdr(
             out.depth.push(depth);
             out.force.push(force);
             out.contact_length.push(count as f64 * dx);
+            out.saturated.push(count == n);
             out.velocity.push(rate[0]);
             out.iterations.push(0);
             if request.fields_at.contains(&k) {
@@ -107,7 +107,7 @@ pub fn run_mdr(
                 if let Some(trail) = &displacements {
                     trail.rate(t, &w, &mut velocity);
                 }
-                fields.push(Fields1D {
+                out.fields.push(Fields1D {
                     step: k,
                     displacement: w.clone(),
                     line_load,
@@ -125,7 +125,7 @@ pub fn run_mdr(
         monitor.progress("time steps", s + 1, steps.len())?;
         t_prev = t;
     }
-    Ok((out, fields))
+    Ok(out)
 }
 
 #[cfg(test)]
@@ -164,7 +164,7 @@ mod tests {
             fields_at: &[],
             field_rates: false,
         };
-        let (s, _) = run_mdr(
+        let s = run_mdr(
             &g,
             dx,
             &medium,
@@ -198,7 +198,7 @@ mod tests {
             fields_at: &[],
             field_rates: false,
         };
-        let (s, _) = run_mdr(
+        let s = run_mdr(
             &prof,
             dx,
             &medium,

@@ -71,6 +71,12 @@ impl Grid {
         count_patches(self.nx, self.ny, set, !self.body.has_edge())
     }
 
+    /// Whether a contact of `area` (m^2) covers the whole footprint.
+    pub fn covers(&self, area: f64) -> bool {
+        let footprint = self.allowed.iter().filter(|&&a| a).count() as f64 * self.dx * self.dx;
+        area >= footprint * (1.0 - 1e-12)
+    }
+
     /// Whether any element of `set` lies on the outermost ring of the grid.
     pub fn touches_edge(&self, set: &[bool]) -> bool {
         let (nx, ny) = (self.nx, self.ny);

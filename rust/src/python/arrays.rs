@@ -7,6 +7,7 @@ use super::monitor::{in_pool, to_pyerr, PyMonitor};
 use super::report::PyReport;
 use crate::bem::contact::Target;
 use crate::bem::static_contact;
+use crate::bem::viscous::Fields;
 use crate::bem::viscous::{self, ViscousRequest};
 use crate::halfspace::operator::{DenseOperator, FftOperator, SurfaceOperator};
 use crate::mdr::transforms;
@@ -15,9 +16,10 @@ use crate::model::grid::Grid;
 use crate::model::settings::ExplicitControl;
 use crate::model::settings::DENSE_LIMIT;
 use crate::model::{Integrator, Method, RunSettings};
-use crate::run::assemble::{bem_static_report, bem_viscous_report, report, Wanted};
+use crate::run::assemble::{bem_report, bem_static_report, report_from, Wanted};
 use crate::run::report::FieldSet;
 use crate::run::viscous_bem;
+use crate::stepping::Series;
 use crate::support::error::{check_finite, Error};
 use numpy::{
     IntoPyArray, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods,
@@ -113,7 +115,6 @@ pub(crate) fn bem_viscous(
     let s = PyMonitor::new(progress).run(py, |monitor| {
         viscous_bem(&grid, eta, &hist, &request, &settings, monitor)
     })?;
-    let forces = times.iter().map(|&t| hist.force(t)).collect();
     let all = !fields_at.is_empty();
     let wanted = Wanted {
         velocity: rates,
@@ -124,7 +125,8 @@ pub(crate) fn bem_viscous(
         ..Wanted::default()
     };
     let fields: Vec<(f64, usize)> = fields_at.iter().map(|&k| (times[k], k)).collect();
-    let mut inner = bem_viscous_report(&settings, &grid, forces, s, wanted, &fields);
+    let integrator = settings.integrator.name();
+    let mut inner = bem_report(&settings, &grid, integrator, s, wanted, &fields);
     inner.wall_time = start.elapsed().as_secs_f64();
     Ok(PyReport { inner })
 }
@@ -161,17 +163,26 @@ pub(crate) fn bem_punch(
         viscous::run_punch(&grid, eta, force, margin, &settings.solver, monitor)
     })?;
     let area = grid.allowed.iter().filter(|&&a| a).count() as f64 * dx * dx;
-    let mut out = report(&settings, dx, "one solve", vec![0.0]);
+    let mut s: Series<Fields> = Series {
+        t: vec![0.0],
+        depth: vec![0.0],
+        force: vec![force],
+        contact_length: vec![2.0 * (area / std::f64::consts::PI).sqrt()],
+        area: vec![area],
+        velocity: vec![r.velocity],
+        stiffness_length: vec![r.damping / (4.0 * eta)],
+        iterations: vec![r.iterations],
+        residual: vec![r.residual],
+        solves: 1,
+        ..Series::default()
+    };
+    let rates = Wanted {
+        velocity: true,
+        stiffness_length: true,
+        ..Wanted::default()
+    };
+    let mut out = report_from(&settings, dx, "one solve", &mut s, rates);
     out.grid_shape = Some([grid.ny, grid.nx]);
-    out.depth = vec![0.0];
-    out.contact_length = vec![2.0 * (area / std::f64::consts::PI).sqrt()];
-    out.area = Some(vec![area]);
-    out.force = vec![force];
-    out.velocity = Some(vec![r.velocity]);
-    out.stiffness_length = Some(vec![r.damping / (4.0 * eta)]);
-    out.solves = 1;
-    out.iterations = r.iterations;
-    out.residual = r.residual;
     out.fields.push(FieldSet {
         t: 0.0,
         x: Some(centres(grid.nx, dx)),

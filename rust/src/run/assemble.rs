@@ -1,14 +1,16 @@
-//! Report assembly: series, fields and the run's numbers from the solvers' results, for
-//! the scene runs and for the array-level bindings alike.
+//! Report assembly: the one place where the engines' series (`Series`) become a `Report`
+//! (`report_from`), with the fields and grid numbers each method adds (`bem_report`,
+//! `mdr_report`), for the scene runs and for the array-level bindings alike.
 
 use super::report::{FieldSet, Report};
 use crate::bem::static_contact;
-use crate::bem::viscous::{Fields, ViscousSeries};
-use crate::mdr::foundation;
+use crate::bem::viscous::Fields;
+use crate::mdr::foundation::Fields1D;
 use crate::mdr::transforms;
 use crate::model::grid::Grid;
 use crate::model::RunSettings;
 use crate::model::{Output, Scene};
+use crate::stepping::Series;
 use crate::support::error::Result;
 use std::f64::consts::PI;
 
@@ -41,7 +43,7 @@ pub fn centres(m: usize, dx: f64) -> Vec<f64> {
 }
 
 /// A report with the run's identity and output times `t`, the rest empty.
-pub fn report(settings: &RunSettings, dx: f64, integrator: &str, t: Vec<f64>) -> Report {
+fn report(settings: &RunSettings, dx: f64, integrator: &str, t: Vec<f64>) -> Report {
     Report {
         method: settings.method,
         n: settings.n,
@@ -71,6 +73,75 @@ pub fn report(settings: &RunSettings, dx: f64, integrator: &str, t: Vec<f64>) ->
         warnings: vec![],
         t,
     }
+}
+
+/// The report of a run from the series `s` its engine returned: output times, depth,
+/// contact length, force, area, velocity and stiffness length as `wanted` says, saturation,
+/// edge contact, steps, solves, iterations summed and the largest residual. The series'
+/// fields, patches and mean deflections stay in `s` for the caller (`bem_report`,
+/// `mdr_report`).
+pub fn report_from<F>(
+    settings: &RunSettings,
+    dx: f64,
+    integrator: &str,
+    s: &mut Series<F>,
+    wanted: Wanted,
+) -> Report {
+    let some = |v: Vec<f64>| (!v.is_empty()).then_some(v);
+    let mut out = report(settings, dx, integrator, std::mem::take(&mut s.t));
+    out.depth = std::mem::take(&mut s.depth);
+    out.contact_length = std::mem::take(&mut s.contact_length);
+    out.force = std::mem::take(&mut s.force);
+    out.area = some(std::mem::take(&mut s.area));
+    out.velocity = wanted.velocity.then(|| std::mem::take(&mut s.velocity));
+    out.stiffness_length = wanted
+        .stiffness_length
+        .then(|| std::mem::take(&mut s.stiffness_length));
+    out.saturated = (!s.saturated.is_empty()).then(|| std::mem::take(&mut s.saturated));
+    out.at_edge = (!s.at_edge.is_empty()).then(|| std::mem::take(&mut s.at_edge));
+    out.steps = s.steps;
+    out.solves = s.solves;
+    out.iterations = s.iterations.iter().sum();
+    out.residual = s.residual.iter().fold(0.0, |a: f64, &b| a.max(b));
+    out
+}
+
+/// The report of a BEM run on `grid` from its series (`report_from`), with the grid's shape,
+/// the fields at (time, output index) `at` and, for a height map, its series.
+pub fn bem_report(
+    settings: &RunSettings,
+    grid: &Grid,
+    integrator: &str,
+    mut s: Series<Fields>,
+    wanted: Wanted,
+    at: &[(f64, usize)],
+) -> Report {
+    let mut out = report_from(settings, grid.dx, integrator, &mut s, wanted);
+    out.grid_shape = Some([grid.ny, grid.nx]);
+    out.fields = bem_fields(grid, &s.fields, wanted, at, &out.depth);
+    if wanted.height_map {
+        let area = out.area.clone().unwrap_or_default();
+        height_map_series(&mut out, grid, &area, s.patches, &s.mean_deflection);
+    }
+    out
+}
+
+/// The report of an MDR run of `scene` (element spacing `dx`, m) from its series
+/// (`report_from`), with the radial fields at `field_times` (s), the output indices `steps`.
+pub fn mdr_report(
+    scene: &Scene,
+    settings: &RunSettings,
+    dx: f64,
+    integrator: &str,
+    mut s: Series<Fields1D>,
+    wanted: Wanted,
+    field_times: &[f64],
+    steps: &[usize],
+) -> Result<Report> {
+    let fields = mdr_fields(scene, dx, &s, field_times, steps)?;
+    let mut out = report_from(settings, dx, integrator, &mut s, wanted);
+    out.fields = fields;
+    Ok(out)
 }
 
 /// Which optional outputs a run builds.
@@ -159,17 +230,21 @@ pub fn bem_static_report(
 ) -> Report {
     let area = r.summary.contact_count as f64 * grid.dx * grid.dx;
     let contact: Vec<bool> = r.pressure.iter().map(|&p| p > 0.0).collect();
-    let mut out = report(settings, grid.dx, "static", vec![0.0]);
+    let mut s: Series<Fields> = Series {
+        t: vec![0.0],
+        depth: vec![r.summary.depth],
+        force: vec![force],
+        contact_length: vec![2.0 * (area / PI).sqrt()],
+        area: vec![area],
+        saturated: vec![grid.covers(area)],
+        at_edge: vec![grid.touches_edge(&contact)],
+        iterations: vec![r.summary.iterations],
+        residual: vec![r.summary.residual],
+        solves: r.solves,
+        ..Series::default()
+    };
+    let mut out = report_from(settings, grid.dx, "static", &mut s, wanted);
     out.grid_shape = Some([grid.ny, grid.nx]);
-    out.depth = vec![r.summary.depth];
-    out.contact_length = vec![2.0 * (area / PI).sqrt()];
-    out.area = Some(vec![area]);
-    out.force = vec![force];
-    out.saturated = Some(vec![covers(grid, area)]);
-    out.at_edge = Some(vec![grid.touches_edge(&contact)]);
-    out.solves = r.solves;
-    out.iterations = r.summary.iterations;
-    out.residual = r.summary.residual;
     out.solver = Some(static_solver_name(r.summary.dense).into());
     out.window = Some([r.window.y0, r.window.x0, r.window.wy, r.window.wx]);
     let u = r.deflection.as_deref();
@@ -206,44 +281,6 @@ pub fn static_solver_name(dense: bool) -> &'static str {
     } else {
         "polonsky-keer"
     }
-}
-
-/// Whether a contact of `area` (m^2) covers the whole footprint of `grid`.
-pub fn covers(grid: &Grid, area: f64) -> bool {
-    let footprint = grid.allowed.iter().filter(|&&a| a).count() as f64 * grid.dx * grid.dx;
-    area >= footprint * (1.0 - 1e-12)
-}
-
-/// The report of a viscous BEM run on `grid`: series, and the fields at (time, output
-/// index) `fields` as `wanted` says.
-pub fn bem_viscous_report(
-    settings: &RunSettings,
-    grid: &Grid,
-    forces: Vec<f64>,
-    s: ViscousSeries,
-    wanted: Wanted,
-    fields: &[(f64, usize)],
-) -> Report {
-    let mut out = report(settings, grid.dx, settings.integrator.name(), s.t);
-    out.grid_shape = Some([grid.ny, grid.nx]);
-    out.depth = s.depth;
-    out.contact_length = s.contact_length;
-    out.saturated = Some(s.area.iter().map(|&a| covers(grid, a)).collect());
-    out.area = Some(s.area);
-    out.force = forces;
-    out.velocity = wanted.velocity.then_some(s.velocity);
-    out.stiffness_length = wanted.stiffness_length.then_some(s.stiffness_length);
-    out.at_edge = Some(s.at_edge);
-    out.steps = s.steps;
-    out.solves = s.solves;
-    out.iterations = s.iterations.iter().sum();
-    out.residual = s.residual.iter().fold(0.0, |a: f64, &b| a.max(b));
-    out.fields = bem_fields(grid, &s.fields, wanted, fields, &out.depth);
-    if wanted.height_map {
-        let area = out.area.clone().unwrap_or_default();
-        height_map_series(&mut out, grid, &area, s.patches, &s.mean_deflection);
-    }
-    out
 }
 
 /// BEM field sets on `grid` at (time, output index) `at`, from the solver's fields, as
@@ -295,7 +332,7 @@ pub fn central_value(field: &[f64], nx: usize, ny: usize) -> f64 {
 pub fn mdr_fields(
     scene: &Scene,
     dx: f64,
-    s: &foundation::MdrSeries,
+    s: &Series<Fields1D>,
     field_times: &[f64],
     steps: &[usize],
 ) -> Result<Vec<FieldSet>> {

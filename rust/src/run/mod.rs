@@ -8,18 +8,18 @@ pub mod sizing;
 use crate::bem::contact::Target;
 use crate::bem::static_contact;
 use crate::bem::viscoelastic;
-use crate::bem::viscous::{self, ViscousRequest, ViscousSeries};
+use crate::bem::viscous::{self, Fields, ViscousRequest};
 use crate::mdr::foundation;
 use crate::mdr::transforms;
 use crate::model::grid::Grid;
 use crate::model::loading::{ForceHistory, Loading};
 use crate::model::settings::{check_steps, Integrator, Method, RunSettings, DEFAULT_STEPS};
 use crate::model::{Indenter, Medium, Output, Scene};
+use crate::stepping::Series;
 use crate::support::error::{Error, Result};
 use crate::support::monitor::Monitor;
 use assemble::{
-    bem_fields, bem_static_report, bem_viscous_report, central_value, centres, covers,
-    height_map_series, mdr_fields, report, Wanted,
+    bem_report, bem_static_report, central_value, centres, mdr_report, report_from, Wanted,
 };
 use report::{FieldSet, Report};
 use sizing::{bem_grid, depth_bounds, mdr_foundation, mdr_half_length, DEPTH_BOUND_FACTOR};
@@ -36,7 +36,7 @@ pub fn viscous_bem(
     request: &ViscousRequest,
     settings: &RunSettings,
     monitor: &mut dyn Monitor,
-) -> Result<ViscousSeries> {
+) -> Result<Series<Fields>> {
     match &settings.integrator {
         Integrator::Implicit => {
             viscous::run_implicit(grid, eta, history, request, &settings.solver, monitor)
@@ -224,6 +224,7 @@ fn run_static(scene: &Scene, settings: &RunSettings, monitor: &mut dyn Monitor) 
     };
     let force = scene.force.as_ref().expect("validated: force").last();
     let n = settings.n;
+    let wanted = Wanted::of(scene);
     match settings.method {
         Method::Bem => {
             let grid = bem_grid(scene, n)?;
@@ -233,7 +234,6 @@ fn run_static(scene: &Scene, settings: &RunSettings, monitor: &mut dyn Monitor) 
                 .ok()
                 .flatten()
                 .map(|d| DEPTH_BOUND_FACTOR * d);
-            let wanted = Wanted::of(scene);
             let deflection = wanted.deflection || wanted.height_map;
             let target = Target::Force(force);
             let r = static_contact::solve(
@@ -254,7 +254,7 @@ fn run_static(scene: &Scene, settings: &RunSettings, monitor: &mut dyn Monitor) 
             } else {
                 vec![]
             };
-            let s = foundation::run(
+            let mut s = foundation::run(
                 &f,
                 foundation::Medium::Elastic { g },
                 &ForceHistory::constant(force)?,
@@ -262,14 +262,19 @@ fn run_static(scene: &Scene, settings: &RunSettings, monitor: &mut dyn Monitor) 
                 &fields_at,
                 monitor,
             )?;
-            let mut out = report(settings, f.dx(), "static", vec![0.0]);
-            out.depth = s.depth.clone();
-            out.contact_length = s.contact_length.clone();
-            out.force = vec![force];
-            out.saturated = Some(s.saturated.clone());
-            out.solves = 1;
-            out.fields = mdr_fields(scene, f.dx(), &s, &[0.0], &fields_at)?;
-            Ok(out)
+            // one solve and no time step; the report is at t = 0
+            s.steps = 0;
+            s.t = vec![0.0];
+            mdr_report(
+                scene,
+                settings,
+                f.dx(),
+                "static",
+                s,
+                wanted,
+                &[0.0],
+                &fields_at,
+            )
         }
     }
 }
@@ -293,67 +298,65 @@ fn run_viscous(scene: &Scene, settings: &RunSettings, monitor: &mut dyn Monitor)
     }
     let times = scene.solved_times();
     let steps = scene.field_steps();
-    let forces: Vec<f64> = times.iter().map(|&t| history.force(t)).collect();
+    let field_times = scene.field_times();
+    let wanted = Wanted::of(scene);
+    let integrator = settings.integrator.name();
     match settings.method {
         Method::Bem => {
             let grid = bem_grid(scene, settings.n)?;
-            let depth_bounds = depth_bounds(scene)?;
             let request = ViscousRequest {
-                times: times.clone(),
-                rates: scene.wants(Output::Velocity) || scene.wants(Output::StiffnessLength),
+                times,
+                rates: wanted.velocity || wanted.stiffness_length,
                 fields_at: steps.clone(),
-                depth_bounds,
+                depth_bounds: depth_bounds(scene)?,
             };
             let s = viscous_bem(&grid, eta, &history, &request, settings, monitor)?;
             unbounded_inside(scene, &s.at_edge, &s.t)?;
-            let fields: Vec<(f64, usize)> = scene.field_times().into_iter().zip(steps).collect();
-            Ok(bem_viscous_report(
-                settings,
-                &grid,
-                forces,
-                s,
-                Wanted::of(scene),
-                &fields,
-            ))
+            let fields: Vec<(f64, usize)> = field_times.into_iter().zip(steps).collect();
+            Ok(bem_report(settings, &grid, integrator, s, wanted, &fields))
         }
         Method::Mdr => {
             let f = mdr_foundation(scene, settings.n)?;
-            let (s, taken) = match &settings.integrator {
-                Integrator::Implicit => (
-                    foundation::run(
-                        &f,
-                        foundation::Medium::Viscous { eta },
-                        &history,
-                        &times,
-                        &steps,
-                        monitor,
-                    )?,
-                    times.len(),
-                ),
+            let s = match &settings.integrator {
+                Integrator::Implicit => foundation::run(
+                    &f,
+                    foundation::Medium::Viscous { eta },
+                    &history,
+                    &times,
+                    &steps,
+                    monitor,
+                )?,
                 Integrator::Explicit(c) => {
                     foundation::run_explicit(&f, eta, &history, &times, c, monitor)?
                 }
             };
-            let mut out = report(settings, f.dx(), settings.integrator.name(), s.t.clone());
-            out.depth = s.depth.clone();
-            out.contact_length = s.contact_length.clone();
-            out.force = forces;
-            out.velocity = scene.wants(Output::Velocity).then(|| s.velocity.clone());
-            // F / (4 eta dd/dt) is the contact's element count times dx, exactly
-            out.stiffness_length = scene
-                .wants(Output::StiffnessLength)
-                .then(|| s.contact_length.clone());
-            out.saturated = Some(s.saturated.clone());
-            out.steps = taken;
-            out.solves = times.len();
-            if scene.wants_fields() && s.fields.is_empty() {
+            let no_fields = scene.wants_fields() && s.fields.is_empty();
+            let mut out = mdr_report(
+                scene,
+                settings,
+                f.dx(),
+                integrator,
+                s,
+                wanted,
+                &field_times,
+                &steps,
+            )?;
+            if no_fields {
                 out.warnings
                     .push("the explicit MDR integrator computes no fields".into());
             }
-            let field_times = scene.field_times();
-            out.fields = mdr_fields(scene, f.dx(), &s, &field_times, &steps)?;
             Ok(out)
         }
+    }
+}
+
+/// What a flat punch reports whatever the scene asks: its rate and stiffness length are
+/// exact and come with its one solve.
+fn punch_wanted(scene: &Scene) -> Wanted {
+    Wanted {
+        velocity: true,
+        stiffness_length: true,
+        ..Wanted::of(scene)
     }
 }
 
@@ -374,28 +377,31 @@ fn bem_punch(
     let times = scene.solved_times();
     let area = grid.allowed.iter().filter(|&&a| a).count() as f64 * grid.dx * grid.dx;
     let p0 = central_value(&r.pressure, grid.nx, grid.ny);
-    let mut out = report(settings, grid.dx, "one solve", times.clone());
-    out.grid_shape = Some([grid.ny, grid.nx]);
-    out.depth = times
-        .iter()
-        .map(|&t| r.velocity * history.impulse(t))
-        .collect();
-    out.contact_length = vec![2.0 * (area / PI).sqrt(); times.len()];
-    out.area = Some(vec![area; times.len()]);
-    out.force = times.iter().map(|&t| history.force(t)).collect();
-    out.velocity = Some(
-        times
+    let count = times.len();
+    let mut s: Series<Fields> = Series {
+        depth: times
+            .iter()
+            .map(|&t| r.velocity * history.impulse(t))
+            .collect(),
+        force: times.iter().map(|&t| history.force(t)).collect(),
+        contact_length: vec![2.0 * (area / PI).sqrt(); count],
+        area: vec![area; count],
+        velocity: times
             .iter()
             .map(|&t| r.velocity * history.force(t))
             .collect(),
-    );
-    out.stiffness_length = Some(vec![r.damping / (4.0 * eta); times.len()]);
-    out.central_pressure = Some(times.iter().map(|&t| p0 * history.force(t)).collect());
-    out.saturated = Some(vec![true; times.len()]);
-    out.at_edge = Some(vec![false; times.len()]);
-    out.solves = 1;
-    out.iterations = r.iterations;
-    out.residual = r.residual;
+        stiffness_length: vec![r.damping / (4.0 * eta); count],
+        saturated: vec![true; count],
+        at_edge: vec![false; count],
+        iterations: vec![r.iterations],
+        residual: vec![r.residual],
+        solves: 1,
+        t: times,
+        ..Series::default()
+    };
+    let mut out = report_from(settings, grid.dx, "one solve", &mut s, punch_wanted(scene));
+    out.grid_shape = Some([grid.ny, grid.nx]);
+    out.central_pressure = Some(out.force.iter().map(|&f| p0 * f).collect());
     for &t in &scene.field_times() {
         let scaled = |v: &[f64], by: f64| v.iter().map(|x| x * by).collect::<Vec<f64>>();
         let sv = r.surface_velocity.as_deref();
@@ -432,7 +438,7 @@ fn mdr_punch(
     let times = scene.solved_times();
     let steps = scene.field_steps();
     let medium = foundation::Medium::Viscous { eta };
-    let s = foundation::run(&f, medium, history, &times, &steps, monitor)?;
+    let mut s = foundation::run(&f, medium, history, &times, &steps, monitor)?;
     let unit = foundation::run(
         &f,
         medium,
@@ -442,17 +448,19 @@ fn mdr_punch(
         monitor,
     )?;
     let p0 = transforms::pressure_from_line_load(&unit.fields[0].line_load, f.dx(), &[0.0])?[0];
-    let mut out = report(settings, f.dx(), "one solve", s.t.clone());
-    out.depth = s.depth.clone();
-    out.contact_length = s.contact_length.clone();
-    out.force = times.iter().map(|&t| history.force(t)).collect();
-    out.velocity = Some(s.velocity.clone());
-    out.stiffness_length = Some(s.contact_length.clone());
+    // the contact never changes: one solve serves every output time
+    s.solves = 1;
+    let mut out = mdr_report(
+        scene,
+        settings,
+        f.dx(),
+        "one solve",
+        s,
+        punch_wanted(scene),
+        &scene.field_times(),
+        &steps,
+    )?;
     out.central_pressure = Some(out.force.iter().map(|&force| p0 * force).collect());
-    out.saturated = Some(s.saturated.clone());
-    out.steps = times.len();
-    out.solves = 1;
-    out.fields = mdr_fields(scene, f.dx(), &s, &scene.field_times(), &steps)?;
     Ok(out)
 }
 
@@ -481,12 +489,13 @@ fn run_viscoelastic(
         fields_at: &steps,
         field_rates: scene.wants(Output::SurfaceVelocity),
     };
-    let (s, mut out) = match settings.method {
+    let wanted = Wanted::of(scene);
+    match settings.method {
         Method::Mdr => {
             let (g, dx) = scene
                 .indenter
                 .mdr_profile(settings.n, mdr_half_length(scene)?)?;
-            let (s, fields) = crate::mdr::viscoelastic::run_mdr(
+            let s = crate::mdr::viscoelastic::run_mdr(
                 &g,
                 dx,
                 &rheology,
@@ -495,26 +504,20 @@ fn run_viscoelastic(
                 &request,
                 monitor,
             )?;
-            let radial = foundation::MdrSeries {
-                t: s.t.clone(),
-                depth: s.depth.clone(),
-                contact_length: s.contact_length.clone(),
-                velocity: s.velocity.clone(),
-                saturated: s
-                    .contact_length
-                    .iter()
-                    .map(|&l| l >= g.len() as f64 * dx)
-                    .collect(),
-                fields,
-            };
-            let mut out = report(settings, dx, "viscoelastic", s.t.clone());
-            out.fields = mdr_fields(scene, dx, &radial, &field_times, &steps)?;
-            out.saturated = Some(radial.saturated);
-            (s, out)
+            mdr_report(
+                scene,
+                settings,
+                dx,
+                "viscoelastic",
+                s,
+                wanted,
+                &field_times,
+                &steps,
+            )
         }
         Method::Bem => {
             let grid = bem_grid(scene, settings.n)?;
-            let (s, fields) = viscoelastic::run_bem(
+            let s = viscoelastic::run_bem(
                 &grid,
                 &rheology,
                 &loading,
@@ -523,41 +526,10 @@ fn run_viscoelastic(
                 monitor,
             )?;
             unbounded_inside(scene, &s.at_edge, &s.t)?;
-            let mut out = report(settings, grid.dx, "viscoelastic", s.t.clone());
-            out.grid_shape = Some([grid.ny, grid.nx]);
-            out.residual = s.residual.iter().fold(0.0, |a: f64, &b| a.max(b));
-            out.at_edge = Some(s.at_edge.clone());
-            out.saturated = Some(
-                s.contact_length
-                    .iter()
-                    .map(|&l| covers(&grid, 0.25 * PI * l * l))
-                    .collect(),
-            );
-            out.solves = s.steps;
-            let at: Vec<(f64, usize)> = field_times.iter().copied().zip(steps.clone()).collect();
-            let wanted = Wanted::of(scene);
-            out.fields = bem_fields(&grid, &fields, wanted, &at, &s.depth);
-            if wanted.height_map {
-                out.depth.clone_from(&s.depth);
-                height_map_series(
-                    &mut out,
-                    &grid,
-                    &s.area,
-                    s.patches.clone(),
-                    &s.mean_deflection,
-                );
-            }
-            out.area = Some(s.area.clone());
-            (s, out)
+            let at: Vec<(f64, usize)> = field_times.into_iter().zip(steps).collect();
+            Ok(bem_report(settings, &grid, "viscoelastic", s, wanted, &at))
         }
-    };
-    out.velocity = scene.wants(Output::Velocity).then_some(s.velocity);
-    out.depth = s.depth;
-    out.contact_length = s.contact_length;
-    out.force = s.force;
-    out.steps = s.steps;
-    out.iterations = s.iterations.iter().sum();
-    Ok(out)
+    }
 }
 
 #[cfg(test)]

@@ -72,7 +72,7 @@ fn curve_equals_the_full_profile_stepping() {
             fields_at: &[],
             field_rates: false,
         };
-        let (s, _) = run_mdr(
+        let s = run_mdr(
             &full,
             dx,
             &r,
@@ -274,7 +274,7 @@ fn derivatives_through_a_second_contact() {
         fields_at: &[],
         field_rates: false,
     };
-    let (s, _) = run_mdr(
+    let s = run_mdr(
         &full,
         dx,
         &r,
