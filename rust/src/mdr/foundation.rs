@@ -14,9 +14,10 @@ use crate::stepping::Series;
 use crate::support::error::{check_finite, check_positive, Error, Result};
 use crate::support::monitor::Monitor;
 
-/// The rheology of the 1D elements (per unit length, the 3D parameter times 4).
+/// What the 1D elements are (per unit length, the 3D parameter times 4): springs or
+/// dashpots.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub enum Medium {
+pub enum Elements {
     /// Springs of stiffness 4 G dx (G: shear modulus, Pa).
     Elastic {
         /// Shear modulus (Pa).
@@ -29,19 +30,19 @@ pub enum Medium {
     },
 }
 
-impl Medium {
+impl Elements {
     fn validate(&self) -> Result<()> {
         match *self {
-            Medium::Elastic { g } => check_positive("shear modulus G", g),
-            Medium::Viscous { eta } => check_positive("viscosity eta", eta),
+            Elements::Elastic { g } => check_positive("shear modulus G", g),
+            Elements::Viscous { eta } => check_positive("viscosity eta", eta),
         }
     }
 
     /// The parameter (G or eta) whose 4 dx multiple is the element constant.
     fn modulus(&self) -> f64 {
         match *self {
-            Medium::Elastic { g } => g,
-            Medium::Viscous { eta } => eta,
+            Elements::Elastic { g } => g,
+            Elements::Viscous { eta } => eta,
         }
     }
 
@@ -49,8 +50,8 @@ impl Medium {
     /// (viscous).
     fn load(&self, history: &ForceHistory, t: f64) -> f64 {
         match self {
-            Medium::Elastic { .. } => history.force(t),
-            Medium::Viscous { .. } => history.impulse(t),
+            Elements::Elastic { .. } => history.force(t),
+            Elements::Viscous { .. } => history.impulse(t),
         }
     }
 }
@@ -128,7 +129,7 @@ pub struct Fields1D {
 /// penetration rates (m/s).
 pub fn run(
     foundation: &Foundation,
-    medium: Medium,
+    medium: Elements,
     history: &ForceHistory,
     times: &[f64],
     fields_at: &[usize],
@@ -148,9 +149,9 @@ pub fn run(
     for (k, &t) in times.iter().enumerate() {
         let (d, count) = foundation.depth_for(medium.load(history, t) / c);
         let rate = match medium {
-            Medium::Viscous { .. } if count > 0 => history.force(t) / (c * count as f64),
-            Medium::Viscous { .. } => 0.0,
-            Medium::Elastic { .. } => f64::NAN,
+            Elements::Viscous { .. } if count > 0 => history.force(t) / (c * count as f64),
+            Elements::Viscous { .. } => 0.0,
+            Elements::Elastic { .. } => f64::NAN,
         };
         out.t.push(t);
         out.depth.push(d);
@@ -173,8 +174,8 @@ pub fn run(
                 })
                 .collect();
             let line_load = match medium {
-                Medium::Elastic { g } => displacement.iter().map(|w| 4.0 * g * w).collect(),
-                Medium::Viscous { eta } => velocity.iter().map(|v| 4.0 * eta * v).collect(),
+                Elements::Elastic { g } => displacement.iter().map(|w| 4.0 * g * w).collect(),
+                Elements::Viscous { eta } => velocity.iter().map(|v| 4.0 * eta * v).collect(),
             };
             out.fields.push(Fields1D {
                 step: k,
@@ -269,7 +270,7 @@ mod tests {
         let h = ForceHistory::constant(1.0).unwrap();
         let s = run(
             &f,
-            Medium::Viscous { eta: 1.0 },
+            Elements::Viscous { eta: 1.0 },
             &h,
             &[1.0],
             &[],
@@ -294,7 +295,7 @@ mod tests {
         let h = ForceHistory::constant(1.0).unwrap();
         let s = run(
             &f,
-            Medium::Viscous { eta: 1.0 },
+            Elements::Viscous { eta: 1.0 },
             &h,
             &[1.0, 5.0],
             &[],

@@ -218,7 +218,7 @@ fn run_static(scene: &Scene, settings: &RunSettings, monitor: &mut dyn Monitor) 
         "for an elastic medium",
     )?;
     // the solvers' G: that of the incompressible medium with the same contact modulus
-    let g = match scene.medium.incompressible_equivalent()? {
+    let shear = match scene.medium.incompressible_equivalent()? {
         Medium::Elastic { g, .. } => g,
         _ => unreachable!("run_static is called for elastic media"),
     };
@@ -230,7 +230,7 @@ fn run_static(scene: &Scene, settings: &RunSettings, monitor: &mut dyn Monitor) 
             let grid = bem_grid(scene, n)?;
             let bound = scene
                 .indenter
-                .depth_at_load(force / (4.0 * g))
+                .depth_at_load(force / (4.0 * shear))
                 .ok()
                 .flatten()
                 .map(|d| DEPTH_BOUND_FACTOR * d);
@@ -238,7 +238,7 @@ fn run_static(scene: &Scene, settings: &RunSettings, monitor: &mut dyn Monitor) 
             let target = Target::Force(force);
             let r = static_contact::solve(
                 &grid,
-                1.0 / g,
+                1.0 / shear,
                 target,
                 bound.filter(|_| grid.body.windows()),
                 deflection,
@@ -256,7 +256,7 @@ fn run_static(scene: &Scene, settings: &RunSettings, monitor: &mut dyn Monitor) 
             };
             let mut s = foundation::run(
                 &f,
-                foundation::Medium::Elastic { g },
+                foundation::Elements::Elastic { g: shear },
                 &ForceHistory::constant(force)?,
                 &[1.0],
                 &fields_at,
@@ -320,7 +320,7 @@ fn run_viscous(scene: &Scene, settings: &RunSettings, monitor: &mut dyn Monitor)
             let s = match &settings.integrator {
                 Integrator::Implicit => foundation::run(
                     &f,
-                    foundation::Medium::Viscous { eta },
+                    foundation::Elements::Viscous { eta },
                     &history,
                     &times,
                     &steps,
@@ -437,7 +437,7 @@ fn mdr_punch(
     let f = mdr_foundation(scene, settings.n)?;
     let times = scene.solved_times();
     let steps = scene.field_steps();
-    let medium = foundation::Medium::Viscous { eta };
+    let medium = foundation::Elements::Viscous { eta };
     let mut s = foundation::run(&f, medium, history, &times, &steps, monitor)?;
     let unit = foundation::run(
         &f,
@@ -492,11 +492,11 @@ fn run_viscoelastic(
     let wanted = Wanted::of(scene);
     match settings.method {
         Method::Mdr => {
-            let (g, dx) = scene
+            let (profile, dx) = scene
                 .indenter
                 .mdr_profile(settings.n, mdr_half_length(scene)?)?;
             let s = crate::mdr::viscoelastic::run_mdr(
-                &g,
+                &profile,
                 dx,
                 &rheology,
                 scene.contact,
