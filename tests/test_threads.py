@@ -1,6 +1,7 @@
 """The crate's thread pool: its size can be set at run time, results do not depend on it,
 and a process forked after a solve (multiprocessing's default on Linux) solves too."""
 
+import re
 import subprocess
 import sys
 
@@ -25,6 +26,31 @@ def test_thread_count_is_set_and_results_repeat_bit_for_bit():
     np.testing.assert_array_equal(runs[1], runs[2])
     with pytest.raises(mv.InvalidInputError, match=">= 1"):
         mv.set_num_threads(0)
+
+
+@pytest.mark.parametrize("n", [10**9, 2**64, -1, -(2**70), 2.0, "4", True, [2]])
+def test_thread_counts_out_of_range_or_not_integers_are_refused(n):
+    """A billion threads would be spawned until the OS refuses (the machine's whole thread
+    budget); negative, huge, float, string and bool counts are not counts. Each is refused
+    before anything changes, with the bound in the message."""
+    before = mv.num_threads()
+    with pytest.raises(mv.InvalidInputError, match="number of threads"):
+        mv.set_num_threads(n)
+    assert mv.num_threads() == before
+
+
+def test_a_few_threads_per_core_are_allowed():
+    with pytest.raises(mv.InvalidInputError, match="at most") as refused:
+        mv.set_num_threads(10**6)
+    most = int(re.search(r"at most (\d+)", str(refused.value)).group(1))
+    assert most >= 8
+    try:
+        mv.set_num_threads(most)
+        assert mv.num_threads() == most
+        with pytest.raises(mv.InvalidInputError, match=f"at most {most}"):
+            mv.set_num_threads(most + 1)
+    finally:
+        mv.set_num_threads(None)
 
 
 def test_a_forked_child_solves_after_the_parent_did(tmp_path):

@@ -13,16 +13,30 @@ static THREADS: AtomicUsize = AtomicUsize::new(0);
 /// The pool, the process it was built in, and the thread count it was built for.
 static POOL: Mutex<Option<(u32, usize, Arc<ThreadPool>)>> = Mutex::new(None);
 
-/// Sets the number of worker threads of computations started from now on (`n` >= 1), or
-/// back to rayon's default (`None`: `RAYON_NUM_THREADS`, else the available cores).
+/// Worker threads per available core that a pool may have at most: more only adds
+/// switching, and a count of millions would exhaust the machine's threads.
+pub const THREADS_PER_CORE: usize = 8;
+
+/// The largest thread count `set_num_threads` takes: `THREADS_PER_CORE` times the
+/// available cores.
+pub fn max_threads() -> usize {
+    THREADS_PER_CORE * std::thread::available_parallelism().map_or(1, |n| n.get())
+}
+
+/// Sets the number of worker threads of computations started from now on (`n` in
+/// 1..=`max_threads()`), or back to rayon's default (`None`: `RAYON_NUM_THREADS`, else the
+/// available cores).
 pub fn set_num_threads(n: Option<usize>) -> Result<()> {
-    if n == Some(0) {
-        return Err(Error::InvalidInput(
-            "the number of threads must be >= 1".into(),
-        ));
+    let most = max_threads();
+    match n {
+        Some(k) if k == 0 || k > most => Err(Error::InvalidInput(format!(
+            "the number of threads must be >= 1 and at most {most} ({THREADS_PER_CORE} per core), got {k}"
+        ))),
+        _ => {
+            THREADS.store(n.unwrap_or(0), Ordering::Relaxed);
+            Ok(())
+        }
     }
-    THREADS.store(n.unwrap_or(0), Ordering::Relaxed);
-    Ok(())
 }
 
 /// The pool computations run on: built on first use, and again after a fork or a change of
