@@ -128,3 +128,16 @@ def test_sizes_are_checked_before_anything_is_allocated():
     for shape in ((20000, 20000), (1, 10**9), (2**40, 2**40)):
         with pytest.raises(mv.InvalidInputError, match="elements"):
             mv.arrays.SurfaceOperator(shape, 1.0)
+
+
+@pytest.mark.parametrize("medium", [mv.Viscous(eta=1.0), mv.KelvinVoigt(g=1.0, eta=1.0)])
+@pytest.mark.parametrize("depth", [0.1, ([0.0, 1.0], [0.1, 0.2])])
+def test_a_depth_held_from_t0_on_a_dashpot_is_refused(medium, depth):
+    """A dashpot pressed to a depth at t = 0 takes an infinite impulse: the solvers returned
+    a force of 3e-17 N (MDR) or ran into their iteration limit (BEM). A history that starts
+    from 0 is solved."""
+    indenter = mv.Paraboloid(c=1.0, edge=2.56)
+    with pytest.raises(mv.InvalidInputError, match="infinite force"):
+        mv.Scene(indenter=indenter, medium=medium, depth=depth, duration=1.0)
+    ramp = mv.Scene(indenter=indenter, medium=medium, depth=([0.0, 1.0], [0.0, 0.2]), duration=1.0)
+    assert mv.solve(ramp, "mdr", 2001).force[-1] > 0.0

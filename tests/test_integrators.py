@@ -1,6 +1,8 @@
 """The paper's explicit loop as a selectable integrator: first-order convergence, and the
 implicit impulse step being exact in time."""
 
+import warnings
+
 import numpy as np
 import pytest
 
@@ -32,6 +34,23 @@ def test_explicit_bem_approaches_the_implicit_answer():
     assert errs[1] < errs[0] < 0.01
     r = mv.solve(SCENE, "bem", 65, integrator="explicit", step=0.1)
     assert r.steps > 100 and r.solves > 10 and r.integrator == "explicit"
+
+
+def test_explicit_steps_are_bounded_and_warned():
+    """dt = step * t: a step of 1e6 gave depths 650 times the closed form without a word.
+    Steps above 1 are refused; steps above 0.1 are solved with a warning, and their error
+    against Lee–Radok shows why (first order: several times the error at 0.1)."""
+    with pytest.raises(mv.InvalidInputError, match="explicit step"):
+        mv.solve(SCENE, "mdr", 4097, integrator="explicit", step=2.0)
+    errors = {}
+    for step in (0.1, 1.0):
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            r = mv.solve(SCENE, "mdr", 66049, integrator="explicit", step=step, area_change=0.0)
+        warned = [w for w in r.warnings if "explicit step" in w]
+        assert bool(warned) == (step > 0.1), r.warnings
+        errors[step] = abs(r.depth[-1] / EXACT - 1)
+    assert errors[1.0] > 3 * errors[0.1], errors
 
 
 @pytest.mark.parametrize("method,n", [("bem", 65), ("mdr", 4097)])

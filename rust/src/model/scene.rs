@@ -186,7 +186,12 @@ impl Scene {
                         "depth control needs a time-dependent medium, not an elastic one".into(),
                     ));
                 }
-                d.depth()?;
+                let start = d.depth()?.depth(0.0);
+                if self.medium.has_dashpot() && start > 0.0 {
+                    return Err(Error::InvalidInput(format!(
+                        "a depth already there at t = 0 ({start:e} m) needs an infinite force on a medium with a dashpot: start the depth history from 0 or after t = 0"
+                    )));
+                }
             }
             (None, None) => {
                 return Err(Error::InvalidInput(

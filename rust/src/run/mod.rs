@@ -106,6 +106,9 @@ pub fn run(scene: &Scene, settings: &RunSettings, monitor: &mut dyn Monitor) -> 
         report.expand(scene.output_times(), &from);
     }
     report.check_resolution();
+    if let Integrator::Explicit(c) = &settings.integrator {
+        report.warnings.extend(c.warning());
+    }
     report.wall_time = start.elapsed().as_secs_f64();
     Ok(report)
 }

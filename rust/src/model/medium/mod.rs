@@ -401,6 +401,12 @@ impl Medium {
         Ok((r, picked))
     }
 
+    /// Whether the medium has a dashpot in parallel (viscous, Kelvin–Voigt): its stress is
+    /// unbounded under a jump of strain.
+    pub fn has_dashpot(&self) -> bool {
+        matches!(self, Medium::Viscous { .. } | Medium::KelvinVoigt { .. })
+    }
+
     /// The solvers' series: the incompressible equivalent as G_inf + Prony terms +
     /// eta delta(t); the power law, which needs a time range, is refused (`rheology_over`).
     pub fn rheology(&self) -> Result<Rheology> {
