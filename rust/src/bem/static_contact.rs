@@ -174,13 +174,7 @@ pub fn solve_whole(
     let (nx, ny) = (grid.nx, grid.ny);
     check_len("height", grid.height.len(), nx * ny)?;
     if let Target::Depth(d) = target {
-        let separation = periodic::mean_separation(&grid.height, d);
-        if separation.is_nan() || separation <= 0.0 {
-            return Err(Error::InvalidInput(format!(
-                "the mean separation of a periodic cell must be > 0 m, got {separation:e} m \
-                 (depth {d:e} m)"
-            )));
-        }
+        grid.body.check_depth(periodic::mean_separation(&grid.height, 0.0), d)?;
     }
     let mut solver = ContactSolver::new(grid.body.operator(nx, ny, grid.dx)?);
     let coarse = match coarsened(grid) {

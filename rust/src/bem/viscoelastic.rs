@@ -67,6 +67,7 @@ pub fn run_bem_on<O: SurfaceOperator>(
             .map(|i| grid.height[i])
             .fold(f64::INFINITY, f64::min),
     };
+    let mean_height = grid.height.iter().sum::<f64>() / n as f64;
     let mut depths = Trail::new(vec![start]);
     let field_rates = request.field_rates && !request.fields_at.is_empty();
     let mut strains = field_rates.then(|| Trail::new(vec![0.0; n]));
@@ -89,7 +90,10 @@ pub fn run_bem_on<O: SurfaceOperator>(
             sep[i] = grid.height[i] - k_hist[i] / rule.g_eff;
         }
         let target = match loading {
-            Loading::Depth(h) => Target::Depth(h.depth(t)),
+            Loading::Depth(h) => {
+                grid.body.check_depth(mean_height, h.depth(t))?;
+                Target::Depth(h.depth(t))
+            }
             Loading::Force(h) => Target::Force(h.force(t)),
         };
         let (depth, force) = match target {

@@ -4,6 +4,7 @@
 //! the engines ask the body what it can do (`windows`, `has_edge`) instead of what it is.
 //! A finite-thickness layer adds a variant here and its operators there.
 
+use crate::support::error::{Error, Result};
 use serde::{Deserialize, Serialize};
 
 /// The solid under the indenter, of the scene's medium.
@@ -46,6 +47,28 @@ impl Body {
         match self {
             Body::HalfSpace => true,
             Body::Periodic => false,
+        }
+    }
+
+    /// Fails on a depth `depth` (m) the body cannot be pressed to by depth control, its
+    /// separation before loading having the mean `mean_height` (m). A periodic cell's depth
+    /// is the approach from its deflected surface's mean plane, so its mean separation is
+    /// mean_height - depth, and a depth that makes it <= 0 is full contact or past it
+    /// (an unbounded force). A free half-space takes any depth.
+    pub fn check_depth(self, mean_height: f64, depth: f64) -> Result<()> {
+        match self {
+            Body::HalfSpace => Ok(()),
+            Body::Periodic => {
+                let separation = mean_height - depth;
+                if separation > 0.0 {
+                    Ok(())
+                } else {
+                    Err(Error::InvalidInput(format!(
+                        "the mean separation of a periodic cell must be > 0 m, got {separation:e} m \
+                         (depth {depth:e} m; full contact at depth {mean_height:e} m)"
+                    )))
+                }
+            }
         }
     }
 }
