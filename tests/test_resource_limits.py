@@ -26,6 +26,8 @@ CALLS = {
     "MDR n 1e12": "mv.solve(VISCOUS, 'mdr', 10**12)",
     "MDR n 2^26": "mv.solve(SLS, 'mdr', 1 << 26, dt=0.5)",
     "explicit step": "mv.solve(VISCOUS, 'mdr', 201, integrator='explicit', step=1e-9)",
+    "fit substeps 1e9": "mv.fit(mv.Paraboloid(1.0), mv.StandardSolid, [0.5, 1.0], depth=[0.1, 0.2],"
+                        " force=[1.0, 2.0], substeps=10**9)",
 }
 
 SCRIPT = """

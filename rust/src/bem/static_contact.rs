@@ -174,7 +174,8 @@ pub fn solve_whole(
     let (nx, ny) = (grid.nx, grid.ny);
     check_len("height", grid.height.len(), nx * ny)?;
     if let Target::Depth(d) = target {
-        grid.body.check_depth(periodic::mean_separation(&grid.height, 0.0), d)?;
+        grid.body
+            .check_depth(periodic::mean_separation(&grid.height, 0.0), d)?;
     }
     let mut solver = ContactSolver::new(grid.body.operator(nx, ny, grid.dx)?);
     let coarse = match coarsened(grid) {

@@ -12,6 +12,7 @@
 //! discretisation's and shared by the derivatives.
 
 use crate::model::medium::rheology::Rheology;
+use crate::model::settings::MAX_STEPS;
 use crate::support::error::{check_finite, check_positive, Error, Result};
 
 mod balance;
@@ -177,6 +178,14 @@ impl Curve {
         }
         if substeps == 0 {
             return Err(Error::InvalidInput("substeps must be >= 1".into()));
+        }
+        // the step list is allocated before stepping: refuse what would outgrow memory
+        let steps = times.len() as f64 * substeps as f64;
+        if steps > MAX_STEPS {
+            return Err(Error::InvalidInput(format!(
+                "substeps = {substeps} over {} samples is {steps:.3e} steps, more than {MAX_STEPS:.0e}",
+                times.len()
+            )));
         }
         if let Control::Spring(k) = control {
             check_positive("spring stiffness", k)?;
