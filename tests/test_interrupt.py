@@ -11,7 +11,9 @@ import pytest
 import mdrvisc as mv
 
 LONG = """
-import sys, time
+import signal, sys, time
+# a child started from a shell's background job inherits an ignored SIGINT: take Ctrl-C back
+signal.signal(signal.SIGINT, signal.default_int_handler)
 import mdrvisc as mv
 scene = mv.Scene(indenter=mv.Paraboloid(1.0, 2.56), medium=mv.StandardSolid(1, 3, 0.5), force=1.0,
                  duration=2.0, times=[2.0])

@@ -160,7 +160,10 @@ def test_store_writes_are_atomic(tmp_path):
 
 
 DRIVER = textwrap.dedent("""
+    import signal
     import sys
+    # a child started from a shell's background job inherits an ignored SIGINT
+    signal.signal(signal.SIGINT, signal.default_int_handler)
     import mdrvisc as mv
     base = mv.Scene(indenter=mv.Paraboloid(c=1.0), medium=mv.StandardSolid(G_inf=1.0, G1=3.0, tau1=1.0),
                     force=0.5, duration=2.0, dt=0.001)
