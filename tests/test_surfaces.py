@@ -137,3 +137,16 @@ def test_psd_refuses_bad_maps():
         mv.surfaces.psd(np.full((4, 4), np.nan), 1.0)
     with pytest.raises(InvalidInputError):
         mv.surfaces.psd(np.zeros((4, 4)), -1.0)
+    # a 1 x N map has no ring below the Nyquist wavevector: it returned two empty arrays
+    for shape in [(1, 64), (64, 1)]:
+        with pytest.raises(InvalidInputError, match="at least 2 elements"):
+            mv.surfaces.psd(np.random.default_rng(0).random(shape), 1.0)
+
+
+def test_an_empty_spectrum_is_refused_with_the_cutoff_in_words():
+    """No mode in the band: the message names the cutoff and the grid, not Rust's Option."""
+    with pytest.raises(InvalidInputError, match=r"short cutoff \(100.0 m\)") as e:
+        mv.surfaces.self_affine((64, 64), 1 / 64, 0.8, rms_height=1.0, short_cutoff=100.0)
+    assert "Some(" not in str(e.value)
+    with pytest.raises(InvalidInputError, match="the grid's own") as e:
+        mv.surfaces.self_affine((1, 1), 1 / 64, 0.8, rms_height=1.0)

@@ -113,7 +113,7 @@ def psd(heights: ArrayLike, dx: float) -> tuple[np.ndarray, np.ndarray]:
     Parameters
     ----------
     heights : array_like
-        Heights (m), shape (ny, nx), finite.
+        Heights (m), shape (ny, nx), at least 2 x 2, finite.
     dx : float
         Element side (m), > 0.
 
@@ -132,6 +132,10 @@ def psd(heights: ArrayLike, dx: float) -> tuple[np.ndarray, np.ndarray]:
         raise InvalidInputError("psd: heights must be finite")
     dx = _positive("psd", "dx", dx)
     ny, nx = h.shape
+    if min(nx, ny) < 2:
+        raise InvalidInputError(
+            f"psd: a radially averaged spectrum needs at least 2 elements along each side, got a "
+            f"{ny} x {nx} map (rings of width 2 pi / (min side) leave none below the Nyquist wavevector)")
     coeff = np.fft.fft2(h) / (nx * ny)
     area = nx * ny * dx * dx
     c = area * np.abs(coeff) ** 2 / (2 * np.pi) ** 2

@@ -182,9 +182,12 @@ pub fn self_affine(surface: &SelfAffine, seed: u64) -> Result<Vec<f64>> {
         Roughness::RmsSlope(v) => v / slope2.sqrt(),
     };
     if !scale.is_finite() {
+        let cutoff = surface.short_cutoff.map_or_else(
+            || format!("the grid's own, {} m", 2.0 * dx),
+            |c| format!("{c} m"),
+        );
         return Err(Error::InvalidInput(format!(
-            "the spectrum holds no mode of the {nx} x {ny} grid (short_cutoff {:?} m, dx {dx} m)",
-            surface.short_cutoff
+            "the spectrum holds no mode of the {nx} x {ny} grid of side {dx} m: no wavelength between the cell's and the short cutoff ({cutoff}) fits on it; enlarge the grid or shorten the cutoff"
         )));
     }
     inverse_dft_2d(&mut z, nx, ny);
