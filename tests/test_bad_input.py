@@ -130,7 +130,7 @@ def test_sizes_are_checked_before_anything_is_allocated():
             mv.arrays.SurfaceOperator(shape, 1.0)
 
 
-@pytest.mark.parametrize("medium", [mv.Viscous(eta=1.0), mv.KelvinVoigt(g=1.0, eta=1.0)])
+@pytest.mark.parametrize("medium", [mv.Viscous(eta=1.0), mv.KelvinVoigt(G=1.0, eta=1.0)])
 @pytest.mark.parametrize("depth", [0.1, ([0.0, 1.0], [0.1, 0.2])])
 def test_a_depth_held_from_t0_on_a_dashpot_is_refused(medium, depth):
     """A dashpot pressed to a depth at t = 0 takes an infinite impulse: the solvers returned

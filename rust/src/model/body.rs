@@ -7,6 +7,10 @@
 use crate::support::error::{Error, Result};
 use serde::{Deserialize, Serialize};
 
+/// Mean separations below this fraction of the mean height count as full contact on a
+/// periodic cell (round-off of the mean over a large cell stays far below it).
+pub const FULL_CONTACT: f64 = 1e-9;
+
 /// The solid under the indenter, of the scene's medium.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize)]
 #[serde(rename_all = "lowercase")]
@@ -53,14 +57,16 @@ impl Body {
     /// Fails on a depth `depth` (m) the body cannot be pressed to by depth control, its
     /// separation before loading having the mean `mean_height` (m). A periodic cell's depth
     /// is the approach from its deflected surface's mean plane, so its mean separation is
-    /// mean_height - depth, and a depth that makes it <= 0 is full contact or past it
-    /// (an unbounded force). A free half-space takes any depth.
+    /// mean_height - depth; at zero the cell is in full contact under any force above the
+    /// one that closes it (depth control leaves the force undetermined), and below zero no
+    /// force reaches it: a mean separation within `FULL_CONTACT` of the mean height of zero,
+    /// or below, is refused. A free half-space takes any depth.
     pub fn check_depth(self, mean_height: f64, depth: f64) -> Result<()> {
         match self {
             Body::HalfSpace => Ok(()),
             Body::Periodic => {
                 let separation = mean_height - depth;
-                if separation > 0.0 {
+                if separation > FULL_CONTACT * mean_height.abs() {
                     Ok(())
                 } else {
                     Err(Error::InvalidInput(format!(
