@@ -13,7 +13,6 @@
 
 use crate::bem::contact::{ContactSolver, ContactSummary, Target};
 use crate::bem::window::Window;
-use crate::halfspace::body::Operator;
 use crate::halfspace::operator::{FftPlans, SurfaceOperator};
 use crate::halfspace::periodic;
 use crate::model::grid::Grid;
@@ -193,7 +192,16 @@ pub fn solve_whole(
     let loading = match (&coarse, target) {
         (None, Target::Depth(d)) => {
             let separation = periodic::mean_separation(&grid.height, d);
-            load_to_separation(&mut solver, grid, compliance, separation, opts, monitor)?
+            load_to_separation(
+                &mut solver,
+                &grid.height,
+                &grid.allowed,
+                grid.dx,
+                compliance,
+                separation,
+                opts,
+                monitor,
+            )?
         }
         _ => 0,
     };
@@ -220,8 +228,9 @@ pub fn solve_whole(
 /// Relative error of the mean separation at which `load_to_separation` stops.
 const LOADING_TOL: f64 = 1e-3;
 
-/// Force-controlled solves bringing a cold periodic cell near the mean `separation` (m):
-/// returns their iterations, the pressure left in `solver`. A cold depth-controlled start
+/// Force-controlled solves bringing a cold periodic cell (separation `h` before loading, m,
+/// on the elements `allowed` of side `dx`, m) near the mean `separation` (m): returns their
+/// iterations, the pressure left in `solver`. A cold depth-controlled start
 /// (each overlapping element's own closing pressure) overloads a cell, whose zero-mean
 /// deflection then lifts the rest of the surface into contact; in full contact a uniform
 /// pressure change deflects nothing, Polonsky–Keer's line search along it is unbounded, and
@@ -230,18 +239,20 @@ const LOADING_TOL: f64 = 1e-3;
 /// secant steps in ln F (the separation falls about linearly in ln F), each solve at
 /// tolerance max(tol, `NESTED_TOL`) and warm-started from the last, until the separation is
 /// within `LOADING_TOL`.
-fn load_to_separation(
-    solver: &mut ContactSolver<Operator>,
-    grid: &Grid,
+#[allow(clippy::too_many_arguments)]
+pub fn load_to_separation<O: SurfaceOperator>(
+    solver: &mut ContactSolver<O>,
+    h: &[f64],
+    allowed: &[bool],
+    dx: f64,
     compliance: f64,
     separation: f64,
     opts: &SolverOptions,
     monitor: &mut dyn Monitor,
 ) -> Result<usize> {
-    let (h, allowed) = (&grid.height, &grid.allowed);
     let depth = periodic::depth_at_mean_separation(h, separation);
-    let closing = compliance * crate::halfspace::influence::coefficient(0, 0, grid.dx);
-    let mut force = grid.dx * grid.dx / closing
+    let closing = compliance * crate::halfspace::influence::coefficient(0, 0, dx);
+    let mut force = dx * dx / closing
         * h.iter()
             .zip(allowed)
             .filter(|(_, &a)| a)

@@ -7,6 +7,7 @@
 //! the body's operator. Points out of contact relax freely (s = 0).
 
 use crate::bem::contact::{ContactSolver, Target};
+use crate::bem::static_contact::load_to_separation;
 use crate::bem::viscous::Fields;
 use crate::halfspace::operator::SurfaceOperator;
 use crate::model::grid::Grid;
@@ -123,12 +124,29 @@ pub fn run_bem_on<O: SurfaceOperator>(
                     p_prev.copy_from_slice(p);
                     solver.set_pressure(&guess)?;
                 }
+                let mut started = warm;
+                if let (false, Target::Depth(d), true) =
+                    (warm, target, grid.body.loads_depth_by_force())
+                {
+                    let mean_sep = sep.iter().sum::<f64>() / n as f64;
+                    iterations += load_to_separation(
+                        &mut solver,
+                        &sep,
+                        &grid.allowed,
+                        grid.dx,
+                        1.0 / rule.g_eff,
+                        mean_sep - d,
+                        opts,
+                        monitor,
+                    )?;
+                    started = true;
+                }
                 let r = solver.solve(
                     &sep,
                     &grid.allowed,
                     1.0 / rule.g_eff,
                     target,
-                    warm,
+                    started,
                     0.0,
                     opts,
                     monitor,

@@ -54,6 +54,17 @@ impl Body {
         }
     }
 
+    /// Whether a cold depth-controlled solve is reached by force-controlled solves first: on
+    /// a periodic cell a cold depth-controlled start overloads the cell, whose zero-mean
+    /// deflection lifts the rest of its surface into contact, and Polonsky–Keer can end
+    /// released there (`crate::bem::static_contact::load_to_separation`).
+    pub fn loads_depth_by_force(self) -> bool {
+        match self {
+            Body::HalfSpace => false,
+            Body::Periodic => true,
+        }
+    }
+
     /// Fails on a depth `depth` (m) the body cannot be pressed to by depth control, its
     /// separation before loading having the mean `mean_height` (m). A periodic cell's depth
     /// is the approach from its deflected surface's mean plane, so its mean separation is
