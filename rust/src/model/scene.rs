@@ -362,6 +362,14 @@ impl Scene {
             })
             .collect()
     }
+
+    /// Each field time (s) with its index into `solved_times`.
+    pub fn field_points(&self) -> Vec<(f64, usize)> {
+        self.field_times()
+            .into_iter()
+            .zip(self.field_steps())
+            .collect()
+    }
 }
 
 /// A deserialisation error with the dotted key it happened at: "key 'indenter.c': ...".

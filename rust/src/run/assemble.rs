@@ -127,7 +127,7 @@ pub fn bem_report(
 }
 
 /// The report of an MDR run of `scene` (element spacing `dx`, m) from its series
-/// (`report_from`), with the radial fields at `field_times` (s), the output indices `steps`.
+/// (`report_from`), with the radial fields at (time, output index) `at`.
 pub fn mdr_report(
     scene: &Scene,
     settings: &RunSettings,
@@ -135,10 +135,10 @@ pub fn mdr_report(
     integrator: &str,
     mut s: Series<Fields1D>,
     wanted: Wanted,
-    field_times: &[f64],
-    steps: &[usize],
+    at: &[(f64, usize)],
 ) -> Result<Report> {
-    let fields = mdr_fields(scene, dx, &s, field_times, steps)?;
+    let (field_times, steps): (Vec<f64>, Vec<usize>) = at.iter().copied().unzip();
+    let fields = mdr_fields(scene, dx, &s, &field_times, &steps)?;
     let mut out = report_from(settings, dx, integrator, &mut s, wanted);
     out.fields = fields;
     Ok(out)

@@ -268,16 +268,8 @@ fn run_static(scene: &Scene, settings: &RunSettings, monitor: &mut dyn Monitor) 
             // one solve and no time step; the report is at t = 0
             s.steps = 0;
             s.t = vec![0.0];
-            mdr_report(
-                scene,
-                settings,
-                f.dx(),
-                "static",
-                s,
-                wanted,
-                &[0.0],
-                &fields_at,
-            )
+            let at: Vec<(f64, usize)> = fields_at.iter().map(|&k| (0.0, k)).collect();
+            mdr_report(scene, settings, f.dx(), "static", s, wanted, &at)
         }
     }
 }
@@ -301,7 +293,7 @@ fn run_viscous(scene: &Scene, settings: &RunSettings, monitor: &mut dyn Monitor)
     }
     let times = scene.solved_times();
     let steps = scene.field_steps();
-    let field_times = scene.field_times();
+    let at = scene.field_points();
     let wanted = Wanted::of(scene);
     let integrator = settings.integrator.name();
     match settings.method {
@@ -315,8 +307,7 @@ fn run_viscous(scene: &Scene, settings: &RunSettings, monitor: &mut dyn Monitor)
             };
             let s = viscous_bem(&grid, eta, &history, &request, settings, monitor)?;
             unbounded_inside(scene, &s.at_edge, &s.t)?;
-            let fields: Vec<(f64, usize)> = field_times.into_iter().zip(steps).collect();
-            Ok(bem_report(settings, &grid, integrator, s, wanted, &fields))
+            Ok(bem_report(settings, &grid, integrator, s, wanted, &at))
         }
         Method::Mdr => {
             let f = mdr_foundation(scene, settings.n)?;
@@ -334,16 +325,7 @@ fn run_viscous(scene: &Scene, settings: &RunSettings, monitor: &mut dyn Monitor)
                 }
             };
             let no_fields = scene.wants_fields() && s.fields.is_empty();
-            let mut out = mdr_report(
-                scene,
-                settings,
-                f.dx(),
-                integrator,
-                s,
-                wanted,
-                &field_times,
-                &steps,
-            )?;
+            let mut out = mdr_report(scene, settings, f.dx(), integrator, s, wanted, &at)?;
             if no_fields {
                 out.warnings
                     .push("the explicit MDR integrator computes no fields".into());
@@ -453,6 +435,7 @@ fn mdr_punch(
     let p0 = transforms::pressure_from_line_load(&unit.fields[0].line_load, f.dx(), &[0.0])?[0];
     // the contact never changes: one solve serves every output time
     s.solves = 1;
+    let at = scene.field_points();
     let mut out = mdr_report(
         scene,
         settings,
@@ -460,8 +443,7 @@ fn mdr_punch(
         "one solve",
         s,
         punch_wanted(scene),
-        &scene.field_times(),
-        &steps,
+        &at,
     )?;
     out.central_pressure = Some(out.force.iter().map(|&force| p0 * force).collect());
     Ok(out)
@@ -483,7 +465,7 @@ fn run_viscoelastic(
     let loading: Loading = scene.loading()?;
     let times = scene.solved_times();
     let steps = scene.field_steps();
-    let field_times = scene.field_times();
+    let at = scene.field_points();
     let dt = step_length(scene, settings).expect("validated: a duration");
     let rheology = stepped_rheology(scene, dt)?;
     let request = crate::stepping::Request {
@@ -507,16 +489,7 @@ fn run_viscoelastic(
                 &request,
                 monitor,
             )?;
-            mdr_report(
-                scene,
-                settings,
-                dx,
-                "viscoelastic",
-                s,
-                wanted,
-                &field_times,
-                &steps,
-            )
+            mdr_report(scene, settings, dx, "viscoelastic", s, wanted, &at)
         }
         Method::Bem => {
             let grid = bem_grid(scene, settings.n)?;
@@ -529,7 +502,6 @@ fn run_viscoelastic(
                 monitor,
             )?;
             unbounded_inside(scene, &s.at_edge, &s.t)?;
-            let at: Vec<(f64, usize)> = field_times.into_iter().zip(steps).collect();
             Ok(bem_report(settings, &grid, "viscoelastic", s, wanted, &at))
         }
     }
