@@ -6,7 +6,12 @@ use crate::contact::SolverOptions;
 use crate::error::Error;
 use crate::grid::Grid;
 use crate::loading::ForceHistory;
-use numpy::{PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods};
+use crate::scene::SceneArrays;
+use numpy::ndarray::Dimension;
+use numpy::{
+    IntoPyArray, PyArray2, PyArrayMethods, PyReadonlyArray, PyReadonlyArray1, PyReadonlyArray2,
+    PyUntypedArrayMethods,
+};
 use pyo3::prelude::*;
 
 /// A contiguous float64 array as a Vec, or InvalidInputError naming it.
@@ -67,4 +72,57 @@ pub(crate) fn options(
 /// A force history from samples (s, N).
 pub(crate) fn history(py: Python<'_>, times: Vec<f64>, forces: Vec<f64>) -> PyResult<ForceHistory> {
     ForceHistory::piecewise_linear(times, forces).map_err(|e| to_pyerr(py, e))
+}
+
+/// The values of a float64 array in row-major order, copied once (any memory layout).
+fn values<D: Dimension>(a: &PyReadonlyArray<'_, f64, D>) -> Vec<f64> {
+    match a.as_slice() {
+        Ok(s) => s.to_vec(),
+        Err(_) => a.as_array().iter().copied().collect(),
+    }
+}
+
+/// The [t, value] rows of a (k, 2) array of history samples, or InvalidInputError naming it.
+fn samples(py: Python<'_>, a: &PyReadonlyArray2<'_, f64>, name: &str) -> PyResult<Vec<[f64; 2]>> {
+    let shape = a.shape();
+    if shape[1] != 2 {
+        return Err(to_pyerr(
+            py,
+            Error::InvalidInput(format!(
+                "scene: {name} samples must be a (k, 2) array of [t, value] rows, got shape {shape:?}"
+            )),
+        ));
+    }
+    Ok(values(a).chunks_exact(2).map(|s| [s[0], s[1]]).collect())
+}
+
+/// History samples ([t, value] rows) as a (k, 2) numpy array.
+pub(crate) fn samples_array(py: Python<'_>, s: Vec<[f64; 2]>) -> PyResult<Bound<'_, PyArray2<f64>>> {
+    let k = s.len();
+    let flat: Vec<f64> = s.into_iter().flatten().collect();
+    flat.into_pyarray(py).reshape([k, 2])
+}
+
+/// The arrays of a scene from the bindings' arguments (see `Scene.build`), each copied once.
+pub(crate) fn scene_arrays(
+    py: Python<'_>,
+    heights: Option<PyReadonlyArray2<'_, f64>>,
+    r: Option<PyReadonlyArray1<'_, f64>>,
+    h: Option<PyReadonlyArray1<'_, f64>>,
+    slope: Option<PyReadonlyArray1<'_, f64>>,
+    force: Option<PyReadonlyArray2<'_, f64>>,
+    depth: Option<PyReadonlyArray2<'_, f64>>,
+) -> PyResult<SceneArrays> {
+    let line = |a: Option<PyReadonlyArray1<'_, f64>>| a.map(|a| values(&a));
+    Ok(SceneArrays {
+        heights: heights.map(|a| {
+            let shape = a.shape();
+            ([shape[0], shape[1]], values(&a))
+        }),
+        r: line(r),
+        h: line(h),
+        slope: line(slope),
+        force: force.map(|a| samples(py, &a, "force")).transpose()?,
+        depth: depth.map(|a| samples(py, &a, "depth")).transpose()?,
+    })
 }

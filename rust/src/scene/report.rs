@@ -28,6 +28,81 @@ pub const UNITS: [(&str, &str); 18] = [
     ("x, y, r", "m"),
 ];
 
+/// What a quantity of a report is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum QuantityKind {
+    /// One value per output time.
+    Series,
+    /// One number or label of the run.
+    Scalar,
+    /// A tuple of integers (a grid's shape, a window).
+    Shape,
+    /// A field at a field time: a map (BEM) or a radial profile (MDR).
+    Field,
+    /// The positions a field is given at.
+    Coordinate,
+}
+
+impl QuantityKind {
+    /// "series", "scalar", "shape", "field" or "coordinate".
+    pub fn name(self) -> &'static str {
+        match self {
+            QuantityKind::Series => "series",
+            QuantityKind::Scalar => "scalar",
+            QuantityKind::Shape => "shape",
+            QuantityKind::Field => "field",
+            QuantityKind::Coordinate => "coordinate",
+        }
+    }
+}
+
+/// Every quantity of a `Report` and its `FieldSet`s but the fields list and the warnings:
+/// name, unit (SI; empty for counts, flags and labels) and kind. Each kind in the order the
+/// Python `Result` lists it.
+pub const QUANTITIES: [(&str, &str, QuantityKind); 33] = [
+    ("t", "s", QuantityKind::Series),
+    ("depth", "m", QuantityKind::Series),
+    ("contact_length", "m", QuantityKind::Series),
+    ("force", "N", QuantityKind::Series),
+    ("area", "m^2", QuantityKind::Series),
+    ("velocity", "m/s", QuantityKind::Series),
+    ("stiffness_length", "m", QuantityKind::Series),
+    ("central_pressure", "Pa", QuantityKind::Series),
+    ("contact_fraction", "1", QuantityKind::Series),
+    ("patches", "1", QuantityKind::Series),
+    ("mean_gap", "m", QuantityKind::Series),
+    ("saturated", "", QuantityKind::Series),
+    ("at_edge", "", QuantityKind::Series),
+    ("method", "", QuantityKind::Scalar),
+    ("n", "", QuantityKind::Scalar),
+    ("dx", "m", QuantityKind::Scalar),
+    ("integrator", "", QuantityKind::Scalar),
+    ("steps", "", QuantityKind::Scalar),
+    ("solves", "", QuantityKind::Scalar),
+    ("iterations", "", QuantityKind::Scalar),
+    ("residual", "", QuantityKind::Scalar),
+    ("wall_time", "s", QuantityKind::Scalar),
+    ("solver", "", QuantityKind::Scalar),
+    ("grid_shape", "", QuantityKind::Shape),
+    ("window", "", QuantityKind::Shape),
+    ("x", "m", QuantityKind::Coordinate),
+    ("y", "m", QuantityKind::Coordinate),
+    ("r", "m", QuantityKind::Coordinate),
+    ("x_extended", "m", QuantityKind::Coordinate),
+    ("pressure", "Pa", QuantityKind::Field),
+    ("surface_velocity", "m/s", QuantityKind::Field),
+    ("deflection", "m", QuantityKind::Field),
+    ("gap", "m", QuantityKind::Field),
+];
+
+/// The unit of the report quantity `name` (`QUANTITIES`), None for an unknown name.
+pub fn unit(name: &str) -> Option<&'static str> {
+    QUANTITIES
+        .iter()
+        .find(|(n, _, _)| *n == name)
+        .map(|(_, u, _)| *u)
+}
+
 /// Fields at one time. BEM fields are (ny, nx) row-major maps over element centres `x`,
 /// `y`; MDR fields are radial profiles at radii `r` (inverse transforms of the 1D fields).
 #[derive(Debug, Clone, PartialEq, Serialize, Default)]
@@ -293,5 +368,27 @@ impl Report {
             "result": self,
             "units": units,
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The document's units (`UNITS`, the coordinates x, y, r as one entry) are those of
+    /// `QUANTITIES`, every quantity with a unit among them but the flat punch's extended
+    /// axis.
+    #[test]
+    fn document_units_are_the_quantities_units() {
+        let mut named = vec![];
+        for (names, u) in UNITS {
+            for name in names.split(", ") {
+                assert_eq!(unit(name), Some(u), "{name}");
+                named.push(name);
+            }
+        }
+        for (name, u, _) in QUANTITIES {
+            assert_eq!(!u.is_empty() && name != "x_extended", named.contains(&name), "{name}");
+        }
     }
 }
