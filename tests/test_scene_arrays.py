@@ -26,13 +26,13 @@ def map_scene(heights=HEIGHTS, **kwargs):
 
 def profile_scene():
     r = np.linspace(0.0, 2.0, 21)
-    return mv.Scene(indenter=mv.Profile(r=r, h=0.5 * r**2, slope=r, edge=2.0), medium=mv.Maxwell(G=1.0, eta=1.0),
-                    depth=([0.0, 1.0], [0.0, 0.2]), duration=1.0)
+    return mv.Scene(indenter=mv.Profile(r=r, h=0.5 * r**2, slope=r, edge=2.0),
+                    medium=mv.Maxwell(G=1.0, eta=1.0), depth=([0.0, 1.0], [0.0, 0.2]), duration=1.0)
 
 
 def test_the_parts_build_the_scene_the_whole_models_json_builds():
-    for scene in (map_scene(), profile_scene(),
-                  mv.Scene(indenter=mv.Paraboloid(c=1.0), medium=mv.Viscous(eta=1.0), force=1.0, duration=1.0)):
+    paraboloid = mv.Scene(indenter=mv.Paraboloid(c=1.0), medium=mv.Viscous(eta=1.0), force=1.0, duration=1.0)
+    for scene in (map_scene(), profile_scene(), paraboloid):
         core = scene._model
         assert _core.Scene.from_json(core.to_json()) == core
         assert _core.Scene.build(core.model(), **core.arrays()) == core
@@ -93,8 +93,9 @@ def test_a_sweep_sets_values_and_keeps_the_arrays():
         assert s.indenter is base.indenter  # the map is not read back
         assert np.array_equal(s._model.arrays()["heights"], HEIGHTS)
         assert s.history[1].tolist() == [0.0, 1e-3, 1e-3]
-    assert scenes[2] == mv.Scene(indenter=mv.HeightMap(HEIGHTS, dx=1e-3, periodic=True), medium=mv.Viscous(eta=2.0),
-                                 force=([0.0, 0.5, 1.0], [0.0, 1e-3, 1e-3]), duration=1.0)
+    assert scenes[2] == mv.Scene(indenter=mv.HeightMap(HEIGHTS, dx=1e-3, periodic=True),
+                                 medium=mv.Viscous(eta=2.0), force=([0.0, 0.5, 1.0], [0.0, 1e-3, 1e-3]),
+                                 duration=1.0)
     constant = mv.sweep_scenes(base, force=[5e-4])[0]
     assert constant.history[1].tolist() == [5e-4] and "force" not in constant._model.arrays()
     maps = mv.sweep_scenes(base, indenter__heights=[HEIGHTS, 2.0 * HEIGHTS])

@@ -81,7 +81,7 @@ class Scene:
     def arrays(self) -> dict[str, _F64]: ...
     def controlled_by(self) -> str: ...
     def history(self) -> tuple[_F64, _F64]: ...
-    def __eq__(self, other: object) -> bool: ...
+    def __eq__(self, value: object, /) -> bool: ...
     def __reduce__(self) -> tuple[Any, tuple[Any, ...]]: ...
     def to_json(self) -> str: ...
     def to_toml(self, method: str | None = None, n: int | None = None, path: str | None = None) -> str: ...
@@ -220,17 +220,18 @@ def run_scene(
     scene: Scene,
     method: str,
     n: int,
-    tol: float = 1e-10,
-    max_iter: int = 5000,
-    integrator: str = "implicit",
-    step: float = 0.01,
-    area_change: float = 0.01,
+    tol: float = ...,
+    max_iter: int = ...,
+    integrator: str = ...,
+    step: float = ...,
+    area_change: float = ...,
     dt: float | None = None,
     progress: _Progress = None,
-    precondition: bool = True,
+    precondition: bool = ...,
     dense_limit: int = ...,
-    active_limit: int | None = None,
-) -> Report: ...
+    active_limit: int | None = ...,
+) -> Report:
+    """Solves ``scene``; the defaults (``...``) are ``SOLVER_DEFAULTS``'s."""
 def contact_solve(
     height: _F64,
     allowed: NDArray[np.bool_],

@@ -37,8 +37,8 @@ OUTPUTS = tuple(name for name, *_ in _core.OUTPUTS)
 DEFAULT_OUTPUTS = tuple(name for name, _, _, default, _ in _core.OUTPUTS if default)
 #: Samples taken of a loading history given as a callable.
 CALLABLE_SAMPLES = 4001
-#: Keys of an indenter's table that the core takes as arrays.
-ARRAY_KEYS = ("heights", "r", "h", "slope")
+#: Keys of an indenter's table that the core takes as arrays, by the indenter's type.
+ARRAY_KEYS = {"heightmap": ("heights",), "profile": ("r", "h", "slope")}
 
 
 def _history(value, name, duration):
@@ -93,8 +93,9 @@ def _json(model):
 
 def _split(table: dict) -> tuple[dict, dict]:
     """An indenter's table as (its numbers, its arrays as contiguous float64 arrays)."""
-    numbers = {k: v for k, v in table.items() if k not in ARRAY_KEYS}
-    arrays = {k: np.ascontiguousarray(table[k], dtype=np.float64) for k in ARRAY_KEYS if k in table}
+    keys = ARRAY_KEYS.get(table["type"], ())
+    numbers = {k: v for k, v in table.items() if k not in keys}
+    arrays = {k: np.ascontiguousarray(table[k], dtype=np.float64) for k in keys if k in table}
     return numbers, arrays
 
 
@@ -105,7 +106,7 @@ def indenter_from_model(model: dict, arrays: dict | None = None) -> Indenter | H
     args = {k: v for k, v in model.items() if k != "type"}
     if kind == "heightmap" and arrays is not None:
         return HeightMap._of_core(arrays["heights"], **args)
-    args.update({k: v for k, v in (arrays or {}).items() if k in ARRAY_KEYS})
+    args.update({k: v for k, v in (arrays or {}).items() if k in ARRAY_KEYS.get(kind, ())})
     if kind == "heightmap":
         return HeightMap(np.asarray(args.pop("heights"), dtype=np.float64), **args)
     classes = {"rod": Rod, "paraboloid": Paraboloid, "cone": Cone, "sphere": Sphere,
@@ -268,6 +269,9 @@ class Scene:
         """The Scene of a core scene, which it holds as it is (not built again); ``indenter``
         and ``medium``: the Python objects of the core's, when the caller has them."""
         model = json.loads(core.model())
+        if "outputs" not in model:  # a scene built here names its outputs, the defaults too
+            model["outputs"] = list(DEFAULT_OUTPUTS)
+            core = core.with_values(json.dumps([["outputs", model["outputs"]]]))
         scene = cls.__new__(cls)
         values = {f.name: f.default for f in dataclasses.fields(cls) if f.init}
         values.update({k: model[k] for k in ("duration", "dt", "times") if k in model})

@@ -97,7 +97,10 @@ fn samples(py: Python<'_>, a: &PyReadonlyArray2<'_, f64>, name: &str) -> PyResul
 }
 
 /// History samples ([t, value] rows) as a (k, 2) numpy array.
-pub(crate) fn samples_array(py: Python<'_>, s: Vec<[f64; 2]>) -> PyResult<Bound<'_, PyArray2<f64>>> {
+pub(crate) fn samples_array(
+    py: Python<'_>,
+    s: Vec<[f64; 2]>,
+) -> PyResult<Bound<'_, PyArray2<f64>>> {
     let k = s.len();
     let flat: Vec<f64> = s.into_iter().flatten().collect();
     flat.into_pyarray(py).reshape([k, 2])

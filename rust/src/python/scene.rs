@@ -187,7 +187,10 @@ impl PyScene {
 
     /// (times (s), values) of the force (N) or depth (m) history; a constant is one sample
     /// at t = 0.
-    fn history<'py>(&self, py: Python<'py>) -> (Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>) {
+    fn history<'py>(
+        &self,
+        py: Python<'py>,
+    ) -> (Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>) {
         let history = self.inner.force.as_ref().or(self.inner.depth.as_ref());
         let (t, v) = history.map_or((vec![], vec![]), History::samples);
         (t.into_pyarray(py), v.into_pyarray(py))

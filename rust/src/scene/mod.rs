@@ -541,7 +541,10 @@ mod tests {
         };
         for (k, o) in Output::ALL.into_iter().enumerate() {
             assert_eq!(position(o), k);
-            assert_eq!(serde_json::to_string(&o).unwrap(), format!("\"{}\"", o.name()));
+            assert_eq!(
+                serde_json::to_string(&o).unwrap(),
+                format!("\"{}\"", o.name())
+            );
             assert!(!o.unit().is_empty());
         }
         assert_eq!(Output::Pressure.unit(), "Pa");

@@ -303,7 +303,11 @@ impl Scene {
     /// and the arrays of `replace`, validated. A change at a key drops the arrays under it
     /// (a height map's heights given as a list replace its array); a nested key needs its
     /// table to exist.
-    pub fn with_values(&self, changes: Vec<(String, Value)>, replace: SceneArrays) -> Result<Scene> {
+    pub fn with_values(
+        &self,
+        changes: Vec<(String, Value)>,
+        replace: SceneArrays,
+    ) -> Result<Scene> {
         let mut model: Value = serde_json::from_str(&self.model()).expect("the model is JSON");
         let mut arrays = self.arrays();
         for (key, value) in changes {
@@ -346,7 +350,10 @@ mod tests {
     use crate::scene::file::SceneFile;
 
     fn parts_of(scene: &Scene) -> (Value, SceneArrays) {
-        (serde_json::from_str(&scene.model()).unwrap(), scene.arrays())
+        (
+            serde_json::from_str(&scene.model()).unwrap(),
+            scene.arrays(),
+        )
     }
 
     fn scene(text: &str) -> Scene {
@@ -402,7 +409,10 @@ mod tests {
     fn an_array_belongs_in_one_place() {
         let s = scene(PROFILE);
         let full: Value = serde_json::from_str(&s.to_json()).unwrap();
-        assert_eq!(Scene::from_parts(full.clone(), SceneArrays::default()).unwrap(), s);
+        assert_eq!(
+            Scene::from_parts(full.clone(), SceneArrays::default()).unwrap(),
+            s
+        );
         let refused = |model: Value, arrays: SceneArrays, word: &str| {
             let e = Scene::from_parts(model, arrays).unwrap_err().to_string();
             assert!(e.contains(word), "{e}");
@@ -428,7 +438,10 @@ mod tests {
     fn values_change_without_the_arrays_moving() {
         let s = scene(PROFILE);
         let changed = s
-            .with_values(vec![("medium.tau1".into(), Value::from(4.0))], SceneArrays::default())
+            .with_values(
+                vec![("medium.tau1".into(), Value::from(4.0))],
+                SceneArrays::default(),
+            )
             .unwrap();
         let mut expected = s.clone();
         if let crate::scene::Medium::StandardSolid { tau1, .. } = &mut expected.medium {
@@ -436,7 +449,10 @@ mod tests {
         }
         assert_eq!(changed, expected);
         let constant = s
-            .with_values(vec![("force".into(), Value::from(2.0))], SceneArrays::default())
+            .with_values(
+                vec![("force".into(), Value::from(2.0))],
+                SceneArrays::default(),
+            )
             .unwrap();
         assert_eq!(constant.force, Some(History::Constant(2.0)));
         let replace = SceneArrays {

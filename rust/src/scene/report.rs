@@ -388,7 +388,11 @@ mod tests {
             }
         }
         for (name, u, _) in QUANTITIES {
-            assert_eq!(!u.is_empty() && name != "x_extended", named.contains(&name), "{name}");
+            assert_eq!(
+                !u.is_empty() && name != "x_extended",
+                named.contains(&name),
+                "{name}"
+            );
         }
     }
 }
