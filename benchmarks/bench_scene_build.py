@@ -34,7 +34,7 @@ from mdrvisc.store import scene_key
 def json_path(heights: np.ndarray, dx: float):
     """The scene built as before: the heights as JSON text, parsed by the core."""
     model = {"indenter": {"type": "heightmap", "heights": heights.tolist(), "dx": dx},
-             "medium": {"type": "elastic", "G": 1.0}, "force": 1e-3}
+             "medium": {"type": "elastic", "G": 1.0}, "force": 1e-3, "outputs": ["depth", "contact_length"]}
     return _core.Scene.from_json(json.dumps(model, allow_nan=False))
 
 
