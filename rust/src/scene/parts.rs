@@ -267,9 +267,9 @@ impl Scene {
         }
         let optional = [
             ("duration", duration.as_ref().map(text)),
-            ("times", times.as_ref().map(|v| text(v))),
-            ("outputs", outputs.as_ref().map(|v| text(v))),
-            ("field_times", field_times.as_ref().map(|v| text(v))),
+            ("times", times.as_ref().map(text)),
+            ("outputs", outputs.as_ref().map(text)),
+            ("field_times", field_times.as_ref().map(text)),
             ("dt", dt.as_ref().map(text)),
         ];
         keys.extend(optional.into_iter().filter_map(|(k, v)| v.map(|v| (k, v))));
