@@ -2,14 +2,18 @@
 and the array-level solvers. Units are SI (m, s, N, Pa, Pa s)."""
 
 from collections.abc import Callable
-from typing import final
+from typing import Any, final
 
 import numpy as np
 from numpy.typing import NDArray
 
 __all__ = [
+    "DEFAULT_N",
     "EQUIVALENT_CONE_FACTOR",
     "MAGNITUDE",
+    "OUTPUTS",
+    "QUANTITIES",
+    "SOLVER_DEFAULTS",
     "Curve",
     "FieldSet",
     "Indenter",
@@ -34,6 +38,16 @@ __all__ = [
 
 MAGNITUDE: float
 EQUIVALENT_CONE_FACTOR: float
+#: (name, unit, kind ("series" or "field"), computed by default, height maps only) of each output.
+OUTPUTS: tuple[tuple[str, str, str, bool, bool], ...]
+#: (name, unit (empty for counts, flags, labels), kind) of each quantity of a report; kinds
+#: "series", "scalar", "shape", "coordinate", "field".
+QUANTITIES: tuple[tuple[str, str, str], ...]
+#: Defaults of run_scene's solver options: tol, max_iter, integrator, step, area_change, dt,
+#: precondition, dense_limit, active_limit.
+SOLVER_DEFAULTS: dict[str, Any]
+#: Resolution of a run that names none, by method ("bem", "mdr").
+DEFAULT_N: dict[str, int]
 
 _Progress = Callable[[str, int, int], object] | None
 _F64 = NDArray[np.float64]
@@ -43,6 +57,32 @@ class Scene:
     """A validated scene of the crate's scene model."""
     @staticmethod
     def from_json(text: str) -> Scene: ...
+    @staticmethod
+    def build(
+        model: str,
+        heights: _F64 | None = None,
+        r: _F64 | None = None,
+        h: _F64 | None = None,
+        slope: _F64 | None = None,
+        force: _F64 | None = None,
+        depth: _F64 | None = None,
+    ) -> Scene: ...
+    def with_values(
+        self,
+        changes: str,
+        heights: _F64 | None = None,
+        r: _F64 | None = None,
+        h: _F64 | None = None,
+        slope: _F64 | None = None,
+        force: _F64 | None = None,
+        depth: _F64 | None = None,
+    ) -> Scene: ...
+    def model(self) -> str: ...
+    def arrays(self) -> dict[str, _F64]: ...
+    def controlled_by(self) -> str: ...
+    def history(self) -> tuple[_F64, _F64]: ...
+    def __eq__(self, value: object, /) -> bool: ...
+    def __reduce__(self) -> tuple[Any, tuple[Any, ...]]: ...
     def to_json(self) -> str: ...
     def to_toml(self, method: str | None = None, n: int | None = None, path: str | None = None) -> str: ...
     def output_times(self) -> _F64: ...
@@ -180,17 +220,18 @@ def run_scene(
     scene: Scene,
     method: str,
     n: int,
-    tol: float = 1e-10,
-    max_iter: int = 5000,
-    integrator: str = "implicit",
-    step: float = 0.01,
-    area_change: float = 0.01,
+    tol: float = ...,
+    max_iter: int = ...,
+    integrator: str = ...,
+    step: float = ...,
+    area_change: float = ...,
     dt: float | None = None,
     progress: _Progress = None,
-    precondition: bool = True,
+    precondition: bool = ...,
     dense_limit: int = ...,
-    active_limit: int | None = None,
-) -> Report: ...
+    active_limit: int | None = ...,
+) -> Report:
+    """Solves ``scene``; the defaults (``...``) are ``SOLVER_DEFAULTS``'s."""
 def contact_solve(
     height: _F64,
     allowed: NDArray[np.bool_],

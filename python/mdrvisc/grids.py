@@ -21,7 +21,8 @@ import json
 import sys
 from pathlib import Path
 
-from . import _core
+import numpy as np
+
 from .errors import InvalidInputError
 from .scene import Scene, _json
 from .scenefile import parse_scene
@@ -42,18 +43,27 @@ def axis_path(name: str) -> tuple[str, ...]:
     return parts
 
 
-def _with_values(base: dict, assignment: dict) -> Scene:
-    """The scene of the model ``base`` with the values of ``assignment`` ({axis: value})."""
-    model = json.loads(json.dumps(base))
+#: Axes whose values may be numpy arrays, which go to the core as arrays (the name of each
+#: in :meth:`mdrvisc._core.Scene.with_values`).
+_ARRAY_AXES = {"indenter.heights": "heights", "indenter.r": "r", "indenter.h": "h", "indenter.slope": "slope"}
+
+
+def _with_values(base: Scene, assignment: dict) -> Scene:
+    """``base`` with the values of ``assignment`` ({axis: value}), set on its core scene: the
+    model's other values and its arrays are not read again."""
+    changes, arrays = {}, {}
     for name, value in assignment.items():
-        *head, last = axis_path(name)
-        table = model
-        for key in head:
-            if not isinstance(table.get(key), dict):
-                raise InvalidInputError(f"sweep: axis {name!r}: the scene has no table {key!r}")
-            table = table[key]
-        table[last] = value.tolist() if hasattr(value, "tolist") else value
-    return Scene._from_core(_core.Scene.from_json(_json(model)))
+        key = ".".join(axis_path(name))
+        if key in _ARRAY_AXES and isinstance(value, np.ndarray):
+            arrays[_ARRAY_AXES[key]] = np.ascontiguousarray(value, dtype=np.float64)
+        else:
+            changes[key] = value.tolist() if hasattr(value, "tolist") else value
+    _json(changes)  # a non-finite value is an error naming its axis
+    core = base._model.with_values(json.dumps(list(changes.items())), **arrays)
+    # the array axes are the indenter's
+    tables = {key.split(".")[0] for key in changes} | ({"indenter"} if arrays else set())
+    return Scene._from_core(core, indenter=None if "indenter" in tables else base.indenter,
+                            medium=None if "medium" in tables else base.medium)
 
 
 def _axes(axes: dict) -> dict:
@@ -76,8 +86,7 @@ def sweep_scenes(base: Scene, **axes) -> list[Scene]:
     fastest. ``sweep_scenes(scene, medium__tau1=[0.1, 1, 10], force=[0.5, 1])`` gives six
     scenes. Each scene is validated as it is built (an invalid value raises, naming it)."""
     axes = _axes(axes)
-    model = json.loads(base.to_json())
-    return [_with_values(model, dict(zip(axes, combo))) for combo in itertools.product(*axes.values())]
+    return [_with_values(base, dict(zip(axes, combo))) for combo in itertools.product(*axes.values())]
 
 
 def zip_scenes(base: Scene, **axes) -> list[Scene]:
@@ -87,8 +96,7 @@ def zip_scenes(base: Scene, **axes) -> list[Scene]:
     lengths = {name: len(values) for name, values in axes.items()}
     if len(set(lengths.values())) != 1:
         raise InvalidInputError(f"zip_scenes: the axes must be of equal length, got {lengths}")
-    model = json.loads(base.to_json())
-    return [_with_values(model, dict(zip(axes, combo))) for combo in zip(*axes.values())]
+    return [_with_values(base, dict(zip(axes, combo))) for combo in zip(*axes.values())]
 
 
 def load_sweep(path) -> tuple[list[Scene], str, int]:

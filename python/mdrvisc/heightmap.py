@@ -145,9 +145,18 @@ class HeightMap:
         return (np.arange(ny) - 0.5 * (ny - 1)) * self._dx
 
     def _model(self, extent: float | None = None) -> dict:
-        """The map in the scene model's form (a scene file's ``[indenter]`` table)."""
-        return {"type": "heightmap", "heights": self._heights.tolist(), "dx": self._dx,
-                "periodic": self._periodic}
+        """The map in the scene model's form (a scene file's ``[indenter]`` table), its
+        heights as the read-only array, which the core copies once."""
+        return {"type": "heightmap", "heights": self._heights, "dx": self._dx, "periodic": self._periodic}
+
+    @classmethod
+    def _of_core(cls, heights: np.ndarray, dx: float, periodic: bool = False) -> HeightMap:
+        """The map of a core scene's heights (a float64 array of its own, validated there),
+        held without a copy."""
+        heights.flags.writeable = False
+        out = cls.__new__(cls)
+        out._heights, out._dx, out._periodic = heights, float(dx), bool(periodic)
+        return out
 
     def __repr__(self) -> str:
         """``HeightMap(shape=(ny, nx), dx=..., periodic=...)``."""

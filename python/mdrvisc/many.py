@@ -122,15 +122,15 @@ def scene_parameters(scene: Scene) -> dict:
         elif isinstance(value, (int, float, str)) and not isinstance(value, bool):
             out[prefix] = value
 
-    walk(json.loads(scene.to_json()), "")
+    walk(json.loads(scene._model.model()), "")
     return out
 
 
-def _solve_json(text: str, method: str, n: int, options: dict):
-    """(Result, None) of the scene model ``text``, or (None, the exception) when it raised
+def _solve_core(core, method: str, n: int, options: dict):
+    """(Result, None) of the core scene ``core``, or (None, the exception) when it raised
     (an exception that cannot be pickled back is replaced by an MdrviscError saying it)."""
     try:
-        scene = Scene._from_core(_core.Scene.from_json(text))
+        scene = Scene._from_core(core)
         return solve(scene, method, n, **options), None
     except Exception as exc:  # a failed scene is reported, the sweep goes on
         try:
@@ -141,8 +141,9 @@ def _solve_json(text: str, method: str, n: int, options: dict):
 
 
 def _solve_chunk(chunk):
-    """[(index, Result or None, exception or None)] of a chunk [(index, text, method, n, options)]."""
-    return [(index, *_solve_json(text, method, n, options)) for index, text, method, n, options in chunk]
+    """[(index, Result or None, exception or None)] of a chunk [(index, core scene, method, n,
+    options)]; a core scene travels to a worker process as its model's text and its arrays."""
+    return [(index, *_solve_core(core, method, n, options)) for index, core, method, n, options in chunk]
 
 
 def _start_worker(threads: int) -> None:
@@ -164,7 +165,7 @@ POOL_RESTARTS = 2
 
 
 def _run_local(tasks, workers: int, advance, collect) -> None:
-    """Solves ``tasks`` [(index, text, method, n, options)] in ``workers`` processes; when a
+    """Solves ``tasks`` [(index, core scene, method, n, options)] in ``workers`` processes; when a
     worker dies (killed, out of memory), the chunks not finished go to a new pool, at most
     :data:`POOL_RESTARTS` times."""
     if workers <= 1 or len(tasks) <= 1:
@@ -308,7 +309,7 @@ def solve_many(scenes: Iterable[Scene], method: str = "bem", n: int | None = Non
             sweep.results[index] = shelf.load(key)
             sweep.loaded += 1
         else:
-            tasks.append((index, scene.to_json(), method, ns[index], solve_options))
+            tasks.append((index, scene._model, method, ns[index], solve_options))
 
     def collect(index: int, result: Result | None, error: BaseException | None) -> None:
         if error is not None:

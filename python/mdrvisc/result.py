@@ -1,6 +1,7 @@
 """Results: what a solve computed, and how. One type serves :func:`mdrvisc.solve`,
 :func:`mdrvisc.arrays.contact` and :func:`mdrvisc.arrays.viscous`; it saves to and loads
-from ``.npz`` without pickle, and gives a pandas table of its time series."""
+from ``.npz`` without pickle, and gives a pandas table of its time series. The names of its
+quantities, their kinds and units are the compiled core's (``mdrvisc._core.QUANTITIES``)."""
 
 from __future__ import annotations
 
@@ -11,6 +12,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from . import _core
 from .errors import ResolutionWarning
 
 if TYPE_CHECKING:
@@ -18,20 +20,21 @@ if TYPE_CHECKING:
 
 __all__ = ["Result", "Fields", "UNITS"]
 
-#: Units of the quantities of a result (SI).
-UNITS = {"t": "s", "depth": "m", "contact_length": "m", "area": "m^2", "force": "N", "velocity": "m/s",
-         "stiffness_length": "m", "central_pressure": "Pa", "contact_fraction": "1", "patches": "1",
-         "mean_gap": "m", "dx": "m", "wall_time": "s", "pressure": "Pa", "surface_velocity": "m/s",
-         "deflection": "m", "gap": "m", "x": "m", "y": "m", "r": "m", "x_extended": "m"}
+#: Units of the quantities of a result (SI) that have one.
+UNITS = {name: unit for name, unit, _ in _core.QUANTITIES if unit}
+
+
+def _of_kind(kind: str) -> tuple[str, ...]:
+    """The names of the report's quantities of ``kind``, in the core's order."""
+    return tuple(name for name, _, k in _core.QUANTITIES if k == kind)
+
 
 #: Series: one entry per output time (None where not computed).
-SERIES = ("t", "depth", "contact_length", "force", "area", "velocity", "stiffness_length",
-          "central_pressure", "contact_fraction", "patches", "mean_gap", "saturated", "at_edge")
+SERIES = _of_kind("series")
 #: The run's own numbers and labels.
-SCALARS = ("method", "n", "dx", "integrator", "steps", "solves", "iterations", "residual", "wall_time",
-           "solver")
+SCALARS = _of_kind("scalar")
 #: Tuples of integers.
-SHAPES = ("grid_shape", "window")
+SHAPES = _of_kind("shape")
 
 
 @dataclasses.dataclass(frozen=True)

@@ -1,6 +1,8 @@
 """Scenes: what to compute. A :class:`Scene` builds the compiled core's scene model, which
 validates it, fills in its defaults and later solves it; this module only converts Python
-inputs (numbers, arrays, callables) into that model's form."""
+inputs (numbers, arrays, callables) into that model's parts: its numbers as JSON text, its
+arrays (height maps, tabulated profiles, sampled histories) as numpy arrays, each copied
+once into the core."""
 
 from __future__ import annotations
 
@@ -20,7 +22,8 @@ from .profiles import Axisymmetric, Profile
 
 __all__ = ["Scene", "OUTPUTS"]
 
-#: Outputs a scene may ask for. ``depth`` and ``contact_length`` are always computed;
+#: Outputs a scene may ask for (the compiled core's list, ``mdrvisc._core.OUTPUTS``, with
+#: their units and kinds). ``depth`` and ``contact_length`` are always computed;
 #: ``velocity`` (dd/dt, m/s) is a series of every time-dependent medium (exact for a viscous
 #: one, a second-order backward difference over the steps for the others);
 #: ``stiffness_length`` (F / (4 eta dd/dt), m; F (1 - nu) / (2 eta dd/dt) for a Poisson ratio
@@ -29,17 +32,18 @@ __all__ = ["Scene", "OUTPUTS"]
 #: ``field_times``. A :class:`~mdrvisc.HeightMap` always reports ``contact_fraction`` (real
 #: contact area over the map's), ``patches`` (connected contact patches) and ``mean_gap`` (m),
 #: and ``gap`` (m) fields when named; other indenters refuse these four.
-OUTPUTS = ("depth", "contact_length", "velocity", "stiffness_length", "pressure",
-           "surface_velocity", "deflection", "contact_fraction", "patches", "mean_gap", "gap")
+OUTPUTS = tuple(name for name, *_ in _core.OUTPUTS)
 #: Outputs of a scene that names none.
-DEFAULT_OUTPUTS = ("depth", "contact_length")
+DEFAULT_OUTPUTS = tuple(name for name, _, _, default, _ in _core.OUTPUTS if default)
 #: Samples taken of a loading history given as a callable.
 CALLABLE_SAMPLES = 4001
+#: Keys of an indenter's table that the core takes as arrays, by the indenter's type.
+ARRAY_KEYS = {"heightmap": ("heights",), "profile": ("r", "h", "slope")}
 
 
 def _history(value, name, duration):
     """A force or depth given as a number, (times, values) or a callable, in the model's form:
-    a number or a list of [t, value] pairs."""
+    a number, or a (k, 2) array of [t, value] rows."""
     if isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, bool):
         return _number("Scene", name, value)
     if callable(value):
@@ -61,7 +65,7 @@ def _history(value, name, duration):
             f"Scene: {name} must be a number, a pair (times, values) or a callable, got {value!r}") from exc
     if t.ndim != 1 or t.shape != v.shape or t.size == 0:
         raise InvalidInputError(f"Scene: the {name} history needs two 1-D arrays of equal, non-zero length")
-    return np.column_stack([t, v]).tolist()
+    return np.column_stack([t, v])
 
 
 def _array_or_none(name, value):
@@ -87,10 +91,22 @@ def _json(model):
         raise
 
 
-def indenter_from_model(model: dict) -> Indenter | HeightMap:
-    """The indenter of a scene model's ``[indenter]`` table."""
+def _split(table: dict) -> tuple[dict, dict]:
+    """An indenter's table as (its numbers, its arrays as contiguous float64 arrays)."""
+    keys = ARRAY_KEYS.get(table["type"], ())
+    numbers = {k: v for k, v in table.items() if k not in keys}
+    arrays = {k: np.ascontiguousarray(table[k], dtype=np.float64) for k in keys if k in table}
+    return numbers, arrays
+
+
+def indenter_from_model(model: dict, arrays: dict | None = None) -> Indenter | HeightMap:
+    """The indenter of a scene model's ``[indenter]`` table; ``arrays``: the core's arrays
+    of a scene (:meth:`mdrvisc._core.Scene.arrays`), for the table's keys that it leaves out."""
     kind = model["type"]
     args = {k: v for k, v in model.items() if k != "type"}
+    if kind == "heightmap" and arrays is not None:
+        return HeightMap._of_core(arrays["heights"], **args)
+    args.update({k: v for k, v in (arrays or {}).items() if k in ARRAY_KEYS.get(kind, ())})
     if kind == "heightmap":
         return HeightMap(np.asarray(args.pop("heights"), dtype=np.float64), **args)
     classes = {"rod": Rod, "paraboloid": Paraboloid, "cone": Cone, "sphere": Sphere,
@@ -163,9 +179,14 @@ class Scene:
             raise InvalidInputError(
                 f"Scene: outputs must be names from {OUTPUTS}, got {self.outputs!r}") from None
         model = {"medium": self.medium._model(), "outputs": list(outputs)}
+        arrays = {}
         for name in ("force", "depth"):
             if getattr(self, name) is not None:
-                model[name] = _history(getattr(self, name), name, self.duration)
+                history = _history(getattr(self, name), name, self.duration)
+                if isinstance(history, np.ndarray):
+                    arrays[name] = history
+                else:
+                    model[name] = history
         if self.duration is not None:
             model["duration"] = _positive("Scene", "duration", self.duration)
         if self.dt is not None:
@@ -173,23 +194,33 @@ class Scene:
         for name in ("times", "field_times"):
             if getattr(self, name) is not None:
                 model[name] = _array_or_none(name, getattr(self, name))
-        core = self._build(model)
+        self._adopt(self._build(model, arrays), outputs, model.get("field_times"))
+
+    def _adopt(self, core, outputs: tuple, field_times) -> None:
+        """Holds the core scene ``core``, with the ``outputs`` and requested ``field_times``
+        (None: the duration) it was built with; a time-dependent scene's times are the core's."""
         set_ = object.__setattr__.__get__(self)
         set_("_model", core)
         set_("outputs", outputs)
         if not isinstance(self.medium, Elastic):
             set_("duration", float(self.duration))
             set_("times", core.output_times())
-            set_("field_times", np.asarray(model.get("field_times", [self.duration]), dtype=np.float64))
+            set_("field_times", np.asarray(field_times if field_times is not None else [self.duration],
+                                           dtype=np.float64))
 
-    def _build(self, model):
-        """The core scene of ``model`` with its indenter; an unbounded sampled profile is
-        tabulated as far as the solve needs it (from 1 m, doubling)."""
+    def _build(self, model, arrays):
+        """The core scene of ``model`` and ``arrays`` with its indenter; an unbounded sampled
+        profile is tabulated as far as the solve needs it (from 1 m, doubling)."""
+
+        def build(table):
+            numbers, own = _split(table)
+            return _core.Scene.build(_json({**model, "indenter": numbers}), **arrays, **own)
+
         if not (isinstance(self.indenter, Axisymmetric) and self.indenter.footprint_half_width is None):
-            return _core.Scene.from_json(_json({**model, "indenter": self.indenter._model()}))
+            return build(self.indenter._model())
         extent = 1.0
         for _ in range(60):
-            core = _core.Scene.from_json(_json({**model, "indenter": self.indenter._model(extent)}))
+            core = build(self.indenter._model(extent))
             try:
                 needed = core.extent_needed()
             except DomainError:
@@ -207,12 +238,9 @@ class Scene:
 
     @property
     def history(self) -> tuple[np.ndarray, np.ndarray]:
-        """(times (s), values) of the force (N) or depth (m) history as the model holds it."""
-        value = json.loads(self._model.to_json())[self.controlled_by]
-        if isinstance(value, float):
-            return np.array([0.0]), np.array([value])
-        samples = np.asarray(value, dtype=np.float64)
-        return samples[:, 0].copy(), samples[:, 1].copy()
+        """(times (s), values) of the force (N) or depth (m) history as the model holds it; a
+        constant is one sample at t = 0."""
+        return self._model.history()
 
     def wants(self, output: str) -> bool:
         """Whether the scene asks for ``output``."""
@@ -236,20 +264,35 @@ class Scene:
         return cls._from_core(_core.load_scene_file(str(path))[0])
 
     @classmethod
-    def _from_core(cls, core) -> Scene:
-        """The Scene of a core scene model."""
-        model = json.loads(core.to_json())
-        args = {k: model[k] for k in ("duration", "dt", "times", "field_times") if k in model}
-        for name in ("force", "depth"):
-            if name in model:
-                value = model[name]
-                args[name] = value if isinstance(value, float) else tuple(np.asarray(value).T)
-        return cls(indenter=indenter_from_model(model["indenter"]), medium=medium_from_model(model["medium"]),
-                   outputs=tuple(model.get("outputs", ("depth", "contact_length"))), **args)
+    def _from_core(cls, core, indenter: Indenter | HeightMap | None = None,
+                   medium: _Medium | None = None) -> Scene:
+        """The Scene of a core scene, which it holds as it is (not built again); ``indenter``
+        and ``medium``: the Python objects of the core's, when the caller has them."""
+        model = json.loads(core.model())
+        if "outputs" not in model:  # a scene built here names its outputs, the defaults too
+            model["outputs"] = list(DEFAULT_OUTPUTS)
+            core = core.with_values(json.dumps([["outputs", model["outputs"]]]))
+        scene = cls.__new__(cls)
+        values = {f.name: f.default for f in dataclasses.fields(cls) if f.init}
+        values.update({k: model[k] for k in ("duration", "dt", "times") if k in model})
+        name = core.controlled_by()
+        values[name] = model[name] if name in model else core.history()
+        values["indenter"] = indenter if indenter is not None else indenter_from_model(
+            model["indenter"], core.arrays())
+        values["medium"] = medium if medium is not None else medium_from_model(model["medium"])
+        for key, value in values.items():
+            object.__setattr__(scene, key, value)
+        scene._adopt(core, tuple(model.get("outputs", DEFAULT_OUTPUTS)), model.get("field_times"))
+        return scene
+
+    def __reduce__(self):
+        """Pickles as the core scene (its model's text and its arrays); a callable history
+        comes back as its samples, an Axisymmetric indenter as its tabulated Profile."""
+        return (Scene._from_core, (self._model,))
 
     def __eq__(self, other) -> bool:
-        """Scenes are equal when their models are."""
-        return isinstance(other, Scene) and self.to_json() == other.to_json()
+        """Scenes are equal when their models and arrays are."""
+        return isinstance(other, Scene) and self._model == other._model
 
     __hash__ = None
 

@@ -18,10 +18,13 @@ from .progress import ProgressBar
 from .result import Result
 from .scene import Scene
 
-__all__ = ["solve", "DEFAULT_N"]
+__all__ = ["solve", "DEFAULT_N", "SOLVER_DEFAULTS"]
 
-#: Resolutions used when ``n`` is not given: the paper's.
-DEFAULT_N = {"bem": 257, "mdr": 66049}
+#: Resolutions used when ``n`` is not given: the paper's (the compiled core's, by method).
+DEFAULT_N = dict(_core.DEFAULT_N)
+#: Defaults of the solver options: the compiled core's (its ``SolverOptions`` and
+#: ``ExplicitControl``), which the signature of :func:`solve` repeats.
+SOLVER_DEFAULTS = dict(_core.SOLVER_DEFAULTS)
 
 
 _log = logging.getLogger("mdrvisc")
@@ -35,10 +38,12 @@ def resolution(scene: Scene, method: str, n: int | None) -> int:
     return scene.indenter.n if isinstance(scene.indenter, HeightMap) else DEFAULT_N[method]
 
 
-def solve(scene: Scene, method: str = "bem", n: int | None = None, tol: float = 1e-10,
-          max_iter: int = 5000, progress: Callable[[str, int, int], object] | bool | None = None,
-          integrator: str = "implicit", step: float = 0.01, area_change: float = 0.01,
-          dt: float | None = None) -> Result:
+def solve(scene: Scene, method: str = "bem", n: int | None = None, tol: float = SOLVER_DEFAULTS["tol"],
+          max_iter: int = SOLVER_DEFAULTS["max_iter"],
+          progress: Callable[[str, int, int], object] | bool | None = None,
+          integrator: str = SOLVER_DEFAULTS["integrator"], step: float = SOLVER_DEFAULTS["step"],
+          area_change: float = SOLVER_DEFAULTS["area_change"],
+          dt: float | None = SOLVER_DEFAULTS["dt"]) -> Result:
     """Solves ``scene`` by ``method`` ("bem" or "mdr") at resolution ``n``.
 
     Parameters

@@ -17,11 +17,17 @@ __all__ = ["Store", "scene_key"]
 
 
 def scene_key(scene: Scene, method: str, n: int, options: dict) -> str:
-    """A SHA-256 (hex) of the scene's canonical serialisation (its model as JSON), the method,
-    the resolution and the solve options (every one, defaults included): equal keys, equal
-    results."""
-    text = json.dumps({"scene": json.loads(scene.to_json()), "method": method, "n": int(n),
-                       "options": options}, sort_keys=True, separators=(",", ":"))
+    """A SHA-256 (hex) of what decides the result: the scene's model (its numbers, as JSON),
+    the shape and a SHA-256 of the bytes of each of its arrays (a height map's heights, a
+    tabulated profile's samples, sampled histories), the method, the resolution and the
+    solve options (every one, defaults included): equal keys, equal results."""
+    document = {"scene": json.loads(scene._model.model()), "method": method, "n": int(n),
+                "options": options}
+    arrays = scene._model.arrays()
+    if arrays:
+        document["arrays"] = {name: [list(a.shape), hashlib.sha256(a).hexdigest()]
+                              for name, a in arrays.items()}
+    text = json.dumps(document, sort_keys=True, separators=(",", ":"))
     return hashlib.sha256(text.encode()).hexdigest()
 
 

@@ -115,6 +115,79 @@ impl Output {
     }
 }
 
+/// Whether an output is a series (one value per output time) or a field (a map or a radial
+/// profile at each field time).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum OutputKind {
+    /// One value per output time.
+    Series,
+    /// A map (BEM) or a radial profile (MDR) at each field time.
+    Field,
+}
+
+impl OutputKind {
+    /// "series" or "field".
+    pub fn name(self) -> &'static str {
+        match self {
+            OutputKind::Series => "series",
+            OutputKind::Field => "field",
+        }
+    }
+}
+
+impl Output {
+    /// Every output, in the order the scene files' documentation lists them.
+    pub const ALL: [Output; 11] = [
+        Output::Depth,
+        Output::ContactLength,
+        Output::Velocity,
+        Output::StiffnessLength,
+        Output::Pressure,
+        Output::SurfaceVelocity,
+        Output::Deflection,
+        Output::ContactFraction,
+        Output::Patches,
+        Output::MeanGap,
+        Output::Gap,
+    ];
+
+    /// The output's name in scene files, reports and the Python package.
+    pub fn name(self) -> &'static str {
+        match self {
+            Output::Depth => "depth",
+            Output::ContactLength => "contact_length",
+            Output::Velocity => "velocity",
+            Output::StiffnessLength => "stiffness_length",
+            Output::Pressure => "pressure",
+            Output::SurfaceVelocity => "surface_velocity",
+            Output::Deflection => "deflection",
+            Output::ContactFraction => "contact_fraction",
+            Output::Patches => "patches",
+            Output::MeanGap => "mean_gap",
+            Output::Gap => "gap",
+        }
+    }
+
+    /// The unit of the output's values (SI), from the table `crate::model::quantities::QUANTITIES`.
+    pub fn unit(self) -> &'static str {
+        super::quantities::unit(self.name()).expect("every output is a quantity of the report")
+    }
+
+    /// A series or a field.
+    pub fn kind(self) -> OutputKind {
+        if self.is_field() {
+            OutputKind::Field
+        } else {
+            OutputKind::Series
+        }
+    }
+
+    /// Whether a scene that names no outputs computes it (`DEFAULT_OUTPUTS`).
+    pub fn is_default(self) -> bool {
+        DEFAULT_OUTPUTS.contains(&self)
+    }
+}
+
 /// A rigid indenter pressed into a half-space: what to compute, independent of the method.
 #[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
@@ -447,6 +520,34 @@ mod tests {
             c: 1.0,
             edge: Some(2.56),
         })
+    }
+
+    /// The list of outputs is complete, and each name is the one scene files use.
+    #[test]
+    fn outputs_are_listed_once_by_their_file_names() {
+        let position = |o: Output| match o {
+            Output::Depth => 0,
+            Output::ContactLength => 1,
+            Output::Velocity => 2,
+            Output::StiffnessLength => 3,
+            Output::Pressure => 4,
+            Output::SurfaceVelocity => 5,
+            Output::Deflection => 6,
+            Output::ContactFraction => 7,
+            Output::Patches => 8,
+            Output::MeanGap => 9,
+            Output::Gap => 10,
+        };
+        for (k, o) in Output::ALL.into_iter().enumerate() {
+            assert_eq!(position(o), k);
+            assert_eq!(
+                serde_json::to_string(&o).unwrap(),
+                format!("\"{}\"", o.name())
+            );
+            assert!(!o.unit().is_empty());
+        }
+        assert_eq!(Output::Pressure.unit(), "Pa");
+        assert_eq!(Output::Gap.kind(), OutputKind::Field);
     }
 
     #[test]

@@ -131,6 +131,15 @@ pub const MAX_MDR_N: usize = 1 << 26;
 /// Viscoelastic steps per duration when neither the scene nor the settings give dt.
 pub const DEFAULT_STEPS: f64 = 500.0;
 
+/// Resolution of a run that names none: the paper's, 257 x 257 BEM elements over the
+/// footprint or 66049 MDR elements.
+pub fn default_n(method: Method) -> usize {
+    match method {
+        Method::Bem => 257,
+        Method::Mdr => 66049,
+    }
+}
+
 /// How to solve a scene.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RunSettings {

@@ -1,6 +1,7 @@
 //! pyo3 bindings (cargo feature "python"): numpy in, typed objects out (`Scene`, `Report`,
 //! `FieldSet`, `SurfaceOperator`). Computations run on a rayon worker with the GIL released
-//! (`monitor`); inputs are converted in `convert`; scenes in `scene`, arrays in `arrays`, random surfaces in `surfaces`.
+//! (`monitor`); inputs are converted in `convert`; scenes in `scene`, arrays in `arrays`, random surfaces in `surfaces`;
+//! the schema Python builds its lists from (outputs, report quantities, defaults) in `schema`.
 
 mod arrays;
 mod convert;
@@ -9,6 +10,7 @@ mod monitor;
 mod pool;
 mod report;
 mod scene;
+mod schema;
 mod surfaces;
 
 /// The compiled core of mdrvisc.
@@ -38,4 +40,10 @@ mod core_module {
         load_scene_file, paper_scenes, parse_scene_file, parse_scene_table, run_scene, PyIndenter,
         PyScene,
     };
+
+    /// Adds the schema: `OUTPUTS`, `QUANTITIES`, `SOLVER_DEFAULTS`, `DEFAULT_N`.
+    #[pymodule_init]
+    fn init(m: &pyo3::Bound<'_, pyo3::types::PyModule>) -> pyo3::PyResult<()> {
+        super::schema::add(m)
+    }
 }

@@ -1,15 +1,20 @@
-//! Scenes across the boundary: the scene model built from JSON (what the Python `Scene`
-//! sends), scene files, the paper's scenes, and `run_scene`, which solves one.
+//! Scenes across the boundary: the scene model built from its parts (what the Python
+//! `Scene` sends: the model's numbers as JSON, its arrays as numpy arrays), scene files, the
+//! paper's scenes, and `run_scene`, which solves one.
 
+use super::convert::{self, samples_array};
 use super::monitor::{to_pyerr, PyMonitor};
 use super::report::PyReport;
 use crate::model::settings::ExplicitControl;
-use crate::model::settings::DENSE_LIMIT;
-use crate::model::{file, Indenter, Integrator, Method, RunSettings, Scene, SceneFile};
+use crate::model::settings::SolverOptions;
+use crate::model::{
+    file, History, Indenter, Integrator, Method, RunSettings, Scene, SceneArrays, SceneFile,
+};
 use crate::paper;
 use crate::support::error::Error;
-use numpy::{IntoPyArray, PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1};
+use numpy::{IntoPyArray, PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2};
 use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyTuple};
 
 /// A validated scene of the crate's scene model.
 #[pyclass(name = "Scene", module = "mdrvisc._core", frozen)]
@@ -37,6 +42,45 @@ fn unpack(f: SceneFile) -> (PyScene, &'static str, usize) {
     )
 }
 
+/// The model text of `build` and `with_values` as JSON, or InvalidInputError.
+fn parse_json(py: Python<'_>, what: &str, text: &str) -> PyResult<serde_json::Value> {
+    serde_json::from_str(text)
+        .map_err(|e| to_pyerr(py, Error::InvalidInput(format!("scene: {what}: {e}"))))
+}
+
+/// The numpy arrays of `arrays` by the names of `build`'s arguments, in its order.
+type ArraysOut<'py> = (
+    Option<Bound<'py, PyArray2<f64>>>,
+    Option<Bound<'py, PyArray1<f64>>>,
+    Option<Bound<'py, PyArray1<f64>>>,
+    Option<Bound<'py, PyArray1<f64>>>,
+    Option<Bound<'py, PyArray2<f64>>>,
+    Option<Bound<'py, PyArray2<f64>>>,
+);
+
+fn arrays_out(py: Python<'_>, arrays: SceneArrays) -> PyResult<ArraysOut<'_>> {
+    let SceneArrays {
+        heights,
+        r,
+        h,
+        slope,
+        force,
+        depth,
+    } = arrays;
+    let heights = heights
+        .map(|(shape, values)| values.into_pyarray(py).reshape(shape))
+        .transpose()?;
+    let line = |v: Option<Vec<f64>>| v.map(|v| v.into_pyarray(py));
+    Ok((
+        heights,
+        line(r),
+        line(h),
+        line(slope),
+        force.map(|s| samples_array(py, s)).transpose()?,
+        depth.map(|s| samples_array(py, s)).transpose()?,
+    ))
+}
+
 #[pymethods]
 impl PyScene {
     /// Parses and validates a scene from JSON text (the scene-file keys, without method
@@ -46,6 +90,126 @@ impl PyScene {
         Scene::from_json(text)
             .map(|inner| PyScene { inner })
             .map_err(|e| to_pyerr(py, e))
+    }
+
+    /// Builds and validates a scene from its model without the arrays (JSON text: the keys
+    /// of a scene file but method and n) and its arrays, each copied once: a height map's
+    /// `heights` (m, (ny, nx)), a tabulated profile's `r`, `h` (m) and `slope`, sampled
+    /// `force` (N) or `depth` (m) histories as (k, 2) arrays of [t (s), value] rows. An
+    /// array's key is left out of the model.
+    #[staticmethod]
+    #[pyo3(signature = (model, heights=None, r=None, h=None, slope=None, force=None, depth=None))]
+    #[allow(clippy::too_many_arguments)]
+    fn build(
+        py: Python<'_>,
+        model: &str,
+        heights: Option<PyReadonlyArray2<'_, f64>>,
+        r: Option<PyReadonlyArray1<'_, f64>>,
+        h: Option<PyReadonlyArray1<'_, f64>>,
+        slope: Option<PyReadonlyArray1<'_, f64>>,
+        force: Option<PyReadonlyArray2<'_, f64>>,
+        depth: Option<PyReadonlyArray2<'_, f64>>,
+    ) -> PyResult<Self> {
+        let model = parse_json(py, "model", model)?;
+        let arrays = convert::scene_arrays(py, heights, r, h, slope, force, depth)?;
+        Scene::from_parts(model, arrays)
+            .map(|inner| PyScene { inner })
+            .map_err(|e| to_pyerr(py, e))
+    }
+
+    /// The scene with the values of `changes` (JSON text: a list of [dotted model key,
+    /// value], applied in order) and the arrays given (as in `build`) in place of its own,
+    /// validated. A change at an array's key replaces the array; the other arrays are copied
+    /// as they are, not read again.
+    #[pyo3(signature = (changes, heights=None, r=None, h=None, slope=None, force=None, depth=None))]
+    #[allow(clippy::too_many_arguments)]
+    fn with_values(
+        &self,
+        py: Python<'_>,
+        changes: &str,
+        heights: Option<PyReadonlyArray2<'_, f64>>,
+        r: Option<PyReadonlyArray1<'_, f64>>,
+        h: Option<PyReadonlyArray1<'_, f64>>,
+        slope: Option<PyReadonlyArray1<'_, f64>>,
+        force: Option<PyReadonlyArray2<'_, f64>>,
+        depth: Option<PyReadonlyArray2<'_, f64>>,
+    ) -> PyResult<Self> {
+        let changes: Vec<(String, serde_json::Value)> =
+            serde_json::from_value(parse_json(py, "changes", changes)?).map_err(|e| {
+                to_pyerr(
+                    py,
+                    Error::InvalidInput(format!("scene: changes must be [key, value] pairs: {e}")),
+                )
+            })?;
+        let arrays = convert::scene_arrays(py, heights, r, h, slope, force, depth)?;
+        self.inner
+            .with_values(changes, arrays)
+            .map(|inner| PyScene { inner })
+            .map_err(|e| to_pyerr(py, e))
+    }
+
+    /// The model without the arrays (JSON text, the keys in a scene file's order): the
+    /// `model` of `build`.
+    fn model(&self) -> String {
+        self.inner.model()
+    }
+
+    /// The arrays of the scene (copies) by the names of `build`'s arguments; only those the
+    /// scene holds.
+    fn arrays<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let (heights, r, h, slope, force, depth) = arrays_out(py, self.inner.arrays())?;
+        let out = PyDict::new(py);
+        let names = ["heights", "r", "h", "slope", "force", "depth"];
+        let values = [
+            heights.map(Bound::into_any),
+            r.map(Bound::into_any),
+            h.map(Bound::into_any),
+            slope.map(Bound::into_any),
+            force.map(Bound::into_any),
+            depth.map(Bound::into_any),
+        ];
+        for (name, value) in names.into_iter().zip(values) {
+            if let Some(value) = value {
+                out.set_item(name, value)?;
+            }
+        }
+        Ok(out)
+    }
+
+    /// "force" or "depth": what the loading prescribes.
+    fn controlled_by(&self) -> &'static str {
+        if self.inner.force.is_some() {
+            "force"
+        } else {
+            "depth"
+        }
+    }
+
+    /// (times (s), values) of the force (N) or depth (m) history; a constant is one sample
+    /// at t = 0.
+    fn history<'py>(
+        &self,
+        py: Python<'py>,
+    ) -> (Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>) {
+        let history = self.inner.force.as_ref().or(self.inner.depth.as_ref());
+        let (t, v) = history.map_or((vec![], vec![]), History::samples);
+        (t.into_pyarray(py), v.into_pyarray(py))
+    }
+
+    /// Scenes are equal when their models and arrays are.
+    fn __eq__(&self, other: &Self) -> bool {
+        self.inner == other.inner
+    }
+
+    /// Pickles as `build`'s arguments: the model's text and the arrays as numpy arrays.
+    fn __reduce__<'py>(
+        slf: &Bound<'py, Self>,
+    ) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyTuple>)> {
+        let py = slf.py();
+        let scene = &slf.get().inner;
+        let (heights, r, h, slope, force, depth) = arrays_out(py, scene.arrays())?;
+        let args = (scene.model(), heights, r, h, slope, force, depth).into_pyobject(py)?;
+        Ok((slf.get_type().getattr("build")?, args))
     }
 
     /// The scene as JSON text.
@@ -203,8 +367,24 @@ pub(crate) fn paper_scenes(quick: bool) -> Vec<(String, PyScene, &'static str, u
 }
 
 /// Solves `scene` by `method` ("bem" or "mdr") at resolution `n`; see `mdrvisc.solve`.
+/// The defaults are `SolverOptions::default()`'s and `ExplicitControl::default()`'s
+/// (`SOLVER_DEFAULTS`).
 #[pyfunction]
-#[pyo3(signature = (scene, method, n, tol=1e-10, max_iter=5000, integrator="implicit", step=0.01, area_change=0.01, dt=None, progress=None, precondition=true, dense_limit=DENSE_LIMIT, active_limit=None))]
+#[pyo3(signature = (
+    scene,
+    method,
+    n,
+    tol = SolverOptions::default().tol,
+    max_iter = SolverOptions::default().max_iter,
+    integrator = Integrator::Implicit.name(),
+    step = ExplicitControl::default().step,
+    area_change = ExplicitControl::default().area_change,
+    dt = None,
+    progress = None,
+    precondition = SolverOptions::default().precondition,
+    dense_limit = SolverOptions::default().dense_limit,
+    active_limit = SolverOptions::default().active_limit,
+))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn run_scene(
     py: Python<'_>,

@@ -295,3 +295,30 @@ impl Report {
         })
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::quantities::{unit, QUANTITIES};
+
+    /// The document's units (`UNITS`, the coordinates x, y, r as one entry) are those of
+    /// `QUANTITIES`, every quantity with a unit among them but the flat punch's extended
+    /// axis.
+    #[test]
+    fn document_units_are_the_quantities_units() {
+        let mut named = vec![];
+        for (names, u) in UNITS {
+            for name in names.split(", ") {
+                assert_eq!(unit(name), Some(u), "{name}");
+                named.push(name);
+            }
+        }
+        for (name, u, _) in QUANTITIES {
+            assert_eq!(
+                !u.is_empty() && name != "x_extended",
+                named.contains(&name),
+                "{name}"
+            );
+        }
+    }
+}
