@@ -1,10 +1,11 @@
 //! pyo3 bindings (cargo feature "python"): numpy in, typed objects out (`Scene`, `Report`,
 //! `FieldSet`, `SurfaceOperator`). Computations run on a rayon worker with the GIL released
-//! (`monitor`); inputs are converted in `convert`; scenes in `scene`, arrays in `arrays`, random surfaces in `surfaces`.
+//! (`monitor`); inputs are converted in `convert`; scenes in `scene`, indenters and media in `model`, arrays in `arrays`, random surfaces in `surfaces`.
 
 mod arrays;
 mod convert;
 mod curve;
+mod model;
 mod monitor;
 mod pool;
 mod report;
@@ -32,10 +33,11 @@ mod core_module {
     #[pymodule_export]
     const EQUIVALENT_CONE_FACTOR: f64 = crate::scene::pyramid::EQUIVALENT_CONE_FACTOR;
     #[pymodule_export]
+    use super::model::{PyIndenter, PyMedium};
+    #[pymodule_export]
     use super::report::{PyFieldSet, PyReport};
     #[pymodule_export]
     use super::scene::{
-        load_scene_file, paper_scenes, parse_scene_file, parse_scene_table, run_scene, PyIndenter,
-        PyScene,
+        load_scene_file, paper_scenes, parse_scene_file, parse_scene_table, run_scene, PyScene,
     };
 }

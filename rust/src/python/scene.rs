@@ -8,7 +8,7 @@ use crate::error::Error;
 use crate::integrator::ExplicitControl;
 use crate::paper;
 use crate::scene::{self, file, Indenter, Integrator, Method, RunSettings, Scene, SceneFile};
-use numpy::{IntoPyArray, PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1};
+use numpy::{IntoPyArray, PyArray1, PyArray2, PyArrayMethods};
 use pyo3::prelude::*;
 
 /// A validated scene of the crate's scene model.
@@ -249,62 +249,4 @@ pub(crate) fn run_scene(
     let report =
         PyMonitor::new(progress).run(py, |monitor| scene::run(&scene, &settings, monitor))?;
     Ok(PyReport { inner: report })
-}
-
-/// A validated indenter of the scene model, evaluated where the Python layer needs the
-/// crate's own numbers (a tabulated profile's interpolant).
-#[pyclass(name = "Indenter", module = "mdrvisc._core", frozen)]
-pub(crate) struct PyIndenter {
-    inner: Indenter,
-}
-
-impl PyIndenter {
-    fn map<'py>(
-        &self,
-        py: Python<'py>,
-        values: PyReadonlyArray1<'py, f64>,
-        f: impl Fn(&Indenter, f64) -> crate::Result<f64>,
-    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        let out: crate::Result<Vec<f64>> = values
-            .as_array()
-            .iter()
-            .map(|&v| f(&self.inner, v))
-            .collect();
-        Ok(out.map_err(|e| to_pyerr(py, e))?.into_pyarray(py))
-    }
-}
-
-#[pymethods]
-impl PyIndenter {
-    /// Parses and validates an indenter from JSON text (a scene file's `[indenter]` table).
-    #[staticmethod]
-    fn from_json(py: Python<'_>, text: &str) -> PyResult<Self> {
-        let inner: Indenter = serde_json::from_str(text)
-            .map_err(|e| to_pyerr(py, Error::InvalidInput(format!("indenter: {e}"))))?;
-        inner.validate().map_err(|e| to_pyerr(py, e))?;
-        Ok(PyIndenter { inner })
-    }
-
-    /// Heights above the tip (m) at radii `r` (m).
-    fn height<'py>(
-        &self,
-        py: Python<'py>,
-        r: PyReadonlyArray1<'py, f64>,
-    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        self.map(py, r, Indenter::height)
-    }
-
-    /// MDR profile g (m) at 1D coordinates `x` (m).
-    fn profile_1d<'py>(
-        &self,
-        py: Python<'py>,
-        x: PyReadonlyArray1<'py, f64>,
-    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        self.map(py, x, Indenter::profile_1d)
-    }
-
-    /// Contact radius (m) at tip depth `d` (m).
-    fn radius_at_depth(&self, py: Python<'_>, d: f64) -> PyResult<f64> {
-        self.inner.radius_at_depth(d).map_err(|e| to_pyerr(py, e))
-    }
 }
