@@ -433,7 +433,6 @@ impl PyMedium {
     /// The medium of kind `kind` (a scene file's `type`) with the named parameters (Pa, s,
     /// Pa s; a Prony series's G_inf, G1, tau1, ...) and Poisson ratio `nu`; validated.
     #[new]
-    #[pyo3(signature = (kind, parameters, nu=medium::INCOMPRESSIBLE))]
     fn new(py: Python<'_>, kind: &str, parameters: Vec<(String, f64)>, nu: f64) -> PyResult<Self> {
         Medium::from_parameters(kind, &parameters, nu)
             .map(|inner| PyMedium { inner })
@@ -443,7 +442,6 @@ impl PyMedium {
     /// The medium of kind `kind` from its parameter values in the order of `parameters` (a
     /// Prony series: G_inf, G1, tau1, G2, ...) and Poisson ratio `nu`; validated.
     #[staticmethod]
-    #[pyo3(signature = (kind, values, nu=medium::INCOMPRESSIBLE))]
     fn from_values(py: Python<'_>, kind: &str, values: Vec<f64>, nu: f64) -> PyResult<Self> {
         Medium::from_values(kind, &values, nu)
             .map(|inner| PyMedium { inner })
