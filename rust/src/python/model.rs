@@ -3,7 +3,7 @@
 //! depths) and rheology (relaxation modulus, creep compliance, series, parameter names) to
 //! it. Arrays of any shape go in and come back in that shape.
 
-use super::monitor::to_pyerr;
+use super::monitor::{in_pool, to_pyerr};
 use crate::error::Error;
 use crate::scene::indenter::{MdrProfile, Reach};
 use crate::scene::medium::{self, KINDS};
@@ -16,6 +16,7 @@ use numpy::{
     PyUntypedArrayMethods,
 };
 use pyo3::prelude::*;
+use rayon::prelude::*;
 use std::cell::RefCell;
 
 /// What an `Indenter` holds: one of the crate's indenters, or an axisymmetric profile known
@@ -504,14 +505,14 @@ impl PyMedium {
         let shape = t.shape().to_vec();
         let times = t.as_array().iter().copied().collect::<Vec<f64>>();
         let m = &self.inner;
-        let out = py
-            .detach(|| {
-                times
-                    .iter()
-                    .map(|&v| m.creep_compliance(v))
-                    .collect::<crate::Result<Vec<f64>>>()
-            })
-            .map_err(|e| to_pyerr(py, e))?;
+        // a Prony series steps each time on its own grid: in parallel
+        let out = in_pool(py, || {
+            times
+                .par_iter()
+                .map(|&v| m.creep_compliance(v))
+                .collect::<crate::Result<Vec<f64>>>()
+        })?
+        .map_err(|e| to_pyerr(py, e))?;
         let array = ArrayD::from_shape_vec(IxDyn(&shape), out)
             .map_err(|e| to_pyerr(py, Error::InvalidInput(e.to_string())))?;
         Ok(array.into_pyarray(py))
