@@ -129,7 +129,7 @@ def test_the_graph_covers_the_package(graph):
                    "mdrvisc.paper.report"):
         assert module in graph
     assert "mdrvisc.geometry" in graph["mdrvisc"]
-    assert "mdrvisc.analytic" in graph["mdrvisc.geometry"]
+    assert "mdrvisc.geometry" in graph["mdrvisc.profiles"]
     assert "mdrvisc._validate" in graph["mdrvisc.media"]
     assert "mdrvisc.analytic" in graph["mdrvisc.paper.studies"]  # from .. import analytic
     assert "mdrvisc.paper.studies" in graph["mdrvisc.paper.report"]

@@ -231,9 +231,12 @@ def lee_radok_depth_from_impulse(
     :class:`mdrvisc.geometry.Indenter`), viscosity eta (Pa s).
 
     The indenter computes it: this is :meth:`mdrvisc.geometry.Indenter.depth_from_impulse`
-    (closed forms for Rod, Paraboloid and Cone; numerical otherwise), which
-    raises DomainError once the contact circle reaches the edge of a square footprint. Any
-    object with a ``depth_from_impulse(impulse, eta)`` method is accepted as the indenter.
+    (the compiled core's closed forms for Rod, Paraboloid, Cone and Pyramid; bisection and
+    Simpson's rule otherwise, as the solvers size their grids), which raises DomainError once
+    the contact circle reaches the edge of a square footprint. Any object with a
+    ``depth_from_impulse(impulse, eta)`` method is accepted as the indenter. The closed forms
+    here (:func:`paraboloid_depth`, :func:`cone_depth`, :func:`rod_velocity`) are independent
+    of it.
     """
     depth_from_impulse = getattr(indenter, "depth_from_impulse", None)
     if isinstance(indenter, type) or not callable(depth_from_impulse):

@@ -11,6 +11,10 @@ covers, where it can touch): a disc, a centred square of edge L (``edge``), or t
 reproduces the depth, force and contact radius of the 3D contact; a square footprint of edge
 L maps to a 1D indenter of half-length L / sqrt(pi) (equal area). Tabulated and
 user-defined profiles are in :mod:`mdrvisc.profiles`.
+
+Each indenter holds the compiled core's indenter (``_core``), built once and validated by it,
+and delegates its height maps, footprint, MDR profile, contact radii and Lee-Radok depths to
+it: the numbers are the solvers' own.
 """
 
 import abc
@@ -21,41 +25,32 @@ from numpy.typing import ArrayLike
 
 from . import _core
 from ._validate import _array, _optional_positive, _out, _positive
-from .analytic import cone_depth, paraboloid_depth, sphere_mdr_profile
 from .errors import DomainError, InvalidInputError
 
 __all__ = ["Indenter", "Rod", "Paraboloid", "Cone", "Sphere", "Pyramid"]
 
 
-def _bisect(g, target, hi):
-    """Root a in [0, hi] of the increasing function g(a) = target, to the last bit.
-
-    Requires g(0) <= target <= g(hi); g is only called strictly inside (0, hi), so ``hi`` may be
-    a point where g is undefined (the sphere's rim).
-    """
-    lo = 0.0
-    while True:
-        mid = 0.5 * (lo + hi)
-        if not lo < mid < hi:
-            return hi
-        if g(mid) < target:
-            lo = mid
-        else:
-            hi = mid
-
-
 class Indenter(abc.ABC):
     """A rigid indenter: height map, footprint and MDR profile (axisymmetric, or the
-    pyramid's equivalent cone).
-
-    Subclasses describe the footprint with ``_disc`` (its radius, m) or ``_square`` (its edge,
-    m); neither means an unbounded footprint.
+    pyramid's equivalent cone), computed by the compiled core's indenter it holds.
     """
 
-    _disc = None
-    _square = None
-    #: Whether element centres exactly on the rim of a disc footprint belong to it.
-    _rim_inside = True
+    #: The compiled core's indenter, built at construction.
+    _core: _core.Indenter
+
+    @abc.abstractmethod
+    def _build(self) -> _core.Indenter:
+        """The compiled core's indenter of this one, validated by the core."""
+
+    def __getstate__(self) -> dict:
+        """The state without the compiled core's indenter, which :meth:`__setstate__`
+        rebuilds: indenters pickle and copy."""
+        return {k: v for k, v in self.__dict__.items() if k != "_core"}
+
+    def __setstate__(self, state: dict) -> None:
+        """Restores :meth:`__getstate__`'s state and rebuilds the compiled core's indenter."""
+        self.__dict__.update(state)
+        self._core = self._build()
 
     @abc.abstractmethod
     def _model(self, extent: float | None = None) -> dict:
@@ -64,7 +59,8 @@ class Indenter(abc.ABC):
 
     def _footprint_model(self) -> dict:
         """``edge`` or nothing, for the scene model."""
-        return {} if self._square is None else {"edge": self._square}
+        edge = getattr(self, "edge", None)
+        return {} if edge is None else {"edge": edge}
 
     def height_map(self, x: ArrayLike, y: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
         """Heights of the indenter over a grid of element centres.
@@ -82,28 +78,7 @@ class Indenter(abc.ABC):
                 raise InvalidInputError(
                     f"{name}: {axis} must be a non-empty 1-D array, got shape {values.shape}"
                 )
-        xx, yy = np.meshgrid(x, y)
-        r = np.hypot(xx, yy)
-        if self._disc is not None:
-            mask = r <= self._disc if self._rim_inside else r < self._disc
-        elif self._square is not None:
-            half = 0.5 * self._square
-            mask = (np.abs(xx) <= half) & (np.abs(yy) <= half)
-        else:
-            mask = np.ones(r.shape, dtype=bool)
-        h = np.zeros(r.shape)
-        h[mask] = self._surface(xx[mask], yy[mask])
-        return h, mask
-
-    def _surface(self, x, y):
-        """Height (m) of the true shape at points (``x``, ``y``) (m, 1-D arrays) inside the
-        footprint: f(r) for an axisymmetric indenter."""
-        return self._height(np.hypot(x, y))
-
-    @abc.abstractmethod
-    def _height(self, r):
-        """Height f(r) (m) at radii ``r`` (m, 1-D array) inside the footprint, of the
-        axisymmetric indenter MDR solves."""
+        return self._core.height_map(x, y)
 
     @property
     def footprint_half_width(self) -> float | None:
@@ -111,11 +86,7 @@ class Indenter(abc.ABC):
 
         Disc: its radius; square of edge L: L/2; unbounded: None.
         """
-        if self._disc is not None:
-            return self._disc
-        if self._square is not None:
-            return 0.5 * self._square
-        return None
+        return self._core.half_width
 
     @property
     def mdr_half_length(self) -> float | None:
@@ -123,29 +94,26 @@ class Indenter(abc.ABC):
 
         Disc: its radius; square of edge L: L / sqrt(pi) (equal area); unbounded: None.
         """
-        if self._disc is not None:
-            return self._disc
-        if self._square is not None:
-            return self._square / math.sqrt(math.pi)
-        return None
+        return self._core.half_length_1d
 
     @property
     def is_flat(self) -> bool:
         """True for a flat face (the rod), whose contact never changes."""
-        return False
+        return self._core.is_flat
 
     def _coordinates(self, x):
         """``x`` (m) validated for :meth:`profile_1d`: finite, and on the 1D indenter of a disc
         footprint (``|x|`` <= radius; < radius where the rim is outside the footprint)."""
         name = type(self).__name__
         x = _array(name, "x", x)
-        if self._disc is not None:
-            off = np.abs(x) > self._disc if self._rim_inside else np.abs(x) >= self._disc
+        rim = self._core.rim_inside
+        if rim is not None:
+            disc = self._core.half_width
+            off = np.abs(x) > disc if rim else np.abs(x) >= disc
             if off.any():
-                bound = "<=" if self._rim_inside else "<"
                 raise InvalidInputError(
-                    f"{name}: profile_1d needs |x| {bound} {self._disc!r} (the 1D indenter), "
-                    f"got x = {float(x[off].flat[0])!r}"
+                    f"{name}: profile_1d needs |x| {'<=' if rim else '<'} {disc!r} (the 1D "
+                    f"indenter), got x = {float(x[off].flat[0])!r}"
                 )
         return x
 
@@ -158,17 +126,18 @@ class Indenter(abc.ABC):
             )
         return float(d)
 
-    @abc.abstractmethod
     def profile_1d(self, x: ArrayLike) -> np.ndarray:
-        """MDR 1D profile g(x) (m), even in x; float64 array of the shape of ``x`` (m)."""
+        """MDR 1D profile g(x) (m), even in x; float64 array of the shape of ``x`` (m). For a
+        disc footprint ``|x|`` must lie on the 1D indenter (InvalidInputError otherwise)."""
+        return self._core.profile_1d(self._coordinates(x))
 
-    @abc.abstractmethod
     def contact_radius_at_depth(self, d: float) -> float:
         """Radius a (m) of the 3D contact at tip depth ``d`` (m), from the MDR relation d = g(a).
 
-        Holds for elastic and viscous half-spaces alike. The footprint's edge is ignored except
+        Holds for elastic and viscous media alike. The footprint's edge is ignored except
         for discs, whose radius caps a (the contact then covers the whole face).
         """
+        return self._core.radius_at_depth(self._depth(d))
 
     def depth_from_impulse(self, impulse: ArrayLike, eta: float) -> float | np.ndarray:
         """Depth (m) of the indenter pressed into a viscous half-space by an impulse.
@@ -181,32 +150,26 @@ class Indenter(abc.ABC):
         correspondence the same map gives the elastic depth under a force F with J -> F and
         eta -> G.
 
-        Rod, Paraboloid and Cone use closed forms (:mod:`mdrvisc.analytic`); other indenters
-        are solved numerically (bisection on a, Gauss-Legendre quadrature of the integral). Once
-        the contact fills a disc footprint of radius R (Rod, ``Axisymmetric(..., radius=R)``)
-        the indenter moves on like a rod: d = g(R) + (J - J_R) / (8 eta R). Raises
-        DomainError once the contact circle reaches the edge of a square footprint, where it
-        stops being circular and no closed form applies.
+        Computed by the compiled core, as the solvers size their grids: closed forms for Rod,
+        Paraboloid, Cone and Pyramid (its equivalent cone), otherwise bisection on a with
+        Simpson's rule for the integral. Once the contact fills a disc footprint of radius R
+        (Rod, ``Axisymmetric(..., radius=R)``, ``Profile(..., radius=R)``) the indenter moves
+        on like a rod: d = g(R) + (J - J_R) / (8 eta R). Raises DomainError once the contact
+        circle reaches the edge of a square footprint, where it stops being circular and no
+        closed form applies.
         """
         owner = f"{type(self).__name__}.depth_from_impulse"
         impulse = _array(owner, "impulse", impulse, minimum=0.0)
         eta = _positive(owner, "eta", eta)
-        return self._depth_from_impulse(impulse, eta)
-
-    def _depth_from_impulse(self, impulse: np.ndarray, eta: float) -> float | np.ndarray:
-        """:meth:`depth_from_impulse` for a validated ``impulse`` (array, N s) and ``eta``
-        (Pa s). Here numerically; subclasses with a closed form or a bounded footprint
-        override it."""
-        return _LeeRadok(self, eta, disc=None, rim=None,
-                         edge=getattr(self, "edge", None)).depths(impulse)
-
-    def _check_square(self, depth, impulse):
-        """DomainError if the contact circle at the largest ``depth`` (m) outgrows the square
-        footprint (the largest ``impulse``, N s, is named); nothing without a square."""
-        if self._square is not None and np.size(depth):
-            radius = self.contact_radius_at_depth(float(np.max(depth)))
-            if radius > 0.5 * self._square:
-                raise _edge_error(self, float(np.max(impulse)))
+        depth = self._core.depth_under_load(np.asarray(impulse / (4.0 * eta)))
+        outgrown = np.isnan(depth)
+        if outgrown.any():
+            raise DomainError(
+                f"{owner}: at an impulse of {float(impulse[outgrown].flat[0])!r} N s the contact "
+                f"radius of {self!r} exceeds half the edge ({self.footprint_half_width!r} m); "
+                "the contact is no longer circular"
+            )
+        return _out(depth)
 
 
 class Rod(Indenter):
@@ -216,52 +179,39 @@ class Rod(Indenter):
     """
 
     def __init__(self, radius: float) -> None:
-        self._disc = _positive("Rod", "radius", radius)
+        self._radius = _positive("Rod", "radius", radius)
+        self._core = self._build()
+
+    def _build(self):
+        return _core.Indenter.rod(self._radius)
 
     @property
     def radius(self) -> float:
         """Radius of the face (m)."""
-        return self._disc
-
-    @property
-    def is_flat(self) -> bool:
-        """True: the rod's contact is its whole face, at every depth."""
-        return True
-
-    def _height(self, r):
-        return np.zeros_like(r)
-
-    def profile_1d(self, x: ArrayLike) -> np.ndarray:
-        """MDR profile g = 0 (m) for ``|x|`` <= radius (m); other x raise InvalidInputError."""
-        return np.zeros_like(self._coordinates(x))
-
-    def contact_radius_at_depth(self, d: float) -> float:
-        """The rod's radius (m): the whole face touches at any depth ``d`` >= 0 (m)."""
-        self._depth(d)
-        return self._disc
-
-    def _depth_from_impulse(self, impulse: np.ndarray, eta: float) -> float | np.ndarray:
-        """8 eta a d = J: the rod's depth rate is F / (8 a eta)."""
-        return _out(impulse / (8.0 * eta * self._disc))
+        return self._radius
 
     def _model(self, extent=None):
-        return {"type": "rod", "radius": self._disc}
+        return {"type": "rod", "radius": self._radius}
 
     def __repr__(self) -> str:
         """``Rod(radius=...)``."""
-        return f"Rod(radius={self._disc!r})"
+        return f"Rod(radius={self._radius!r})"
 
 
 class Paraboloid(Indenter):
     """Paraboloid of revolution h = c r^2 (radius of curvature R = 1/(2c)).
 
     Parameters: ``c`` (1/m) > 0; ``edge`` (m): side of a centred square footprint, or None for
-    an unbounded paraboloid. MDR profile g = 2 c x^2.
+    an unbounded paraboloid. MDR profile g = 2 c x^2; contact radius a = sqrt(d / (2c)).
     """
 
     def __init__(self, c: float, edge: float | None = None) -> None:
         self._c = _positive("Paraboloid", "c", c)
-        self._square = _optional_positive("Paraboloid", "edge", edge)
+        self._edge = _optional_positive("Paraboloid", "edge", edge)
+        self._core = self._build()
+
+    def _build(self):
+        return _core.Indenter.paraboloid(self._c, self._edge)
 
     @property
     def c(self) -> float:
@@ -271,32 +221,14 @@ class Paraboloid(Indenter):
     @property
     def edge(self) -> float | None:
         """Side of the square footprint (m), or None (unbounded)."""
-        return self._square
-
-    def _height(self, r):
-        return self._c * r * r
-
-    def profile_1d(self, x: ArrayLike) -> np.ndarray:
-        """MDR profile g = 2 c x^2 (m) at ``x`` (m)."""
-        x = self._coordinates(x)
-        return 2.0 * self._c * x * x
-
-    def contact_radius_at_depth(self, d: float) -> float:
-        """Contact radius a = sqrt(d / (2c)) (m) at depth ``d`` (m)."""
-        return math.sqrt(self._depth(d) / (2.0 * self._c))
-
-    def _depth_from_impulse(self, impulse: np.ndarray, eta: float) -> float | np.ndarray:
-        """Closed form d = (3 J sqrt(2c) / (16 eta))^(2/3) (:func:`analytic.paraboloid_depth`)."""
-        depth = paraboloid_depth(impulse, 1.0, self._c, eta)
-        self._check_square(depth, impulse)
-        return depth
+        return self._edge
 
     def _model(self, extent=None):
         return {"type": "paraboloid", "c": self._c, **self._footprint_model()}
 
     def __repr__(self) -> str:
         """``Paraboloid(c=..., edge=...)``."""
-        return f"Paraboloid(c={self._c!r}, edge={self._square!r})"
+        return f"Paraboloid(c={self._c!r}, edge={self._edge!r})"
 
 
 class Cone(Indenter):
@@ -304,12 +236,16 @@ class Cone(Indenter):
 
     Parameters: ``slope`` (dimensionless, the cotangent of the half-opening angle) > 0;
     ``edge`` (m): side of a centred square footprint, or None (unbounded). MDR profile
-    g = (pi/2) slope ``|x|``.
+    g = (pi/2) slope ``|x|``; contact radius a = 2 d / (pi slope).
     """
 
     def __init__(self, slope: float, edge: float | None = None) -> None:
         self._slope = _positive("Cone", "slope", slope)
-        self._square = _optional_positive("Cone", "edge", edge)
+        self._edge = _optional_positive("Cone", "edge", edge)
+        self._core = self._build()
+
+    def _build(self):
+        return _core.Indenter.cone(self._slope, self._edge)
 
     @property
     def slope(self) -> float:
@@ -319,75 +255,42 @@ class Cone(Indenter):
     @property
     def edge(self) -> float | None:
         """Side of the square footprint (m), or None (unbounded)."""
-        return self._square
-
-    def _height(self, r):
-        return self._slope * r
-
-    def profile_1d(self, x: ArrayLike) -> np.ndarray:
-        """MDR profile g = (pi/2) slope ``|x|`` (m) at ``x`` (m)."""
-        x = self._coordinates(x)
-        return 0.5 * math.pi * self._slope * np.abs(x)
-
-    def contact_radius_at_depth(self, d: float) -> float:
-        """Contact radius a = 2 d / (pi slope) (m) at depth ``d`` (m)."""
-        return 2.0 * self._depth(d) / (math.pi * self._slope)
-
-    def _depth_from_impulse(self, impulse: np.ndarray, eta: float) -> float | np.ndarray:
-        """Closed form d = sqrt(pi s J / (8 eta)) (:func:`analytic.cone_depth`)."""
-        depth = cone_depth(impulse, 1.0, self._slope, eta)
-        self._check_square(depth, impulse)
-        return depth
+        return self._edge
 
     def _model(self, extent=None):
         return {"type": "cone", "slope": self._slope, **self._footprint_model()}
 
     def __repr__(self) -> str:
         """``Cone(slope=..., edge=...)``."""
-        return f"Cone(slope={self._slope!r}, edge={self._square!r})"
+        return f"Cone(slope={self._slope!r}, edge={self._edge!r})"
 
 
 class Sphere(Indenter):
     """Exact spherical cap of radius ``radius`` = R (m): h = R - sqrt(R^2 - r^2) for r < R.
 
     Footprint: the open disc r < R. MDR profile (closed form)
-    g(x) = (``|x|``/2) ln((R + ``|x|``) / (R - ``|x|``)) for ``|x|`` < R, growing without bound at the rim.
+    g(x) = (``|x|``/2) ln((R + ``|x|``) / (R - ``|x|``)) for ``|x|`` < R, growing without bound at the rim;
+    the contact radius at a depth by bisection on it, to the last bit.
     """
 
-    _rim_inside = False
-
     def __init__(self, radius: float) -> None:
-        self._disc = _positive("Sphere", "radius", radius)
+        self._radius = _positive("Sphere", "radius", radius)
+        self._core = self._build()
+
+    def _build(self):
+        return _core.Indenter.sphere(self._radius)
 
     @property
     def radius(self) -> float:
         """Radius R of the sphere (m)."""
-        return self._disc
-
-    def _height(self, r):
-        radius = self._disc
-        return r * r / (radius + np.sqrt((radius - r) * (radius + r)))
-
-    def profile_1d(self, x: ArrayLike) -> np.ndarray:
-        """MDR profile g(x) (m) at ``x`` (m); ``|x|`` >= radius raises InvalidInputError."""
-        x = self._coordinates(x)
-        return np.asarray(sphere_mdr_profile(x, self._disc), dtype=np.float64)
-
-    def contact_radius_at_depth(self, d: float) -> float:
-        """Contact radius a < R (m) with g(a) = ``d`` (m), by bisection on the closed form."""
-        d = self._depth(d)
-        return _bisect(lambda a: sphere_mdr_profile(a, self._disc), d, self._disc)
-
-    def _depth_from_impulse(self, impulse: np.ndarray, eta: float) -> float | np.ndarray:
-        """Numerical; the rim, where g diverges, bounds the contact radius."""
-        return _LeeRadok(self, eta, disc=None, rim=self._disc, edge=None).depths(impulse)
+        return self._radius
 
     def _model(self, extent=None):
-        return {"type": "sphere", "radius": self._disc}
+        return {"type": "sphere", "radius": self._radius}
 
     def __repr__(self) -> str:
         """``Sphere(radius=...)``."""
-        return f"Sphere(radius={self._disc!r})"
+        return f"Sphere(radius={self._radius!r})"
 
 
 class Pyramid(Indenter):
@@ -408,18 +311,23 @@ class Pyramid(Indenter):
     Contact radius, in both methods: the radius sqrt(A / pi) of the disc of the contact's
     area A; the cone's is 8 % larger than the pyramid's at the same force (the pyramid's
     contact is a square with inward-curved sides and corners along its edges).
+    Its MDR profile, contact radius and Lee-Radok depth are the equivalent cone's.
     """
 
     def __init__(self, half_angle: float, edge: float | None = None) -> None:
-        alpha = _positive("Pyramid", "half_angle", half_angle)
-        if not alpha < 0.5 * math.pi:
+        self._alpha = _positive("Pyramid", "half_angle", half_angle)
+        self._edge = _optional_positive("Pyramid", "edge", edge)
+        self._core = self._build()
+        self._cone = Cone(slope=self._core.equivalent_cone_slope, edge=self._edge)
+
+    def _build(self):
+        alpha = self._alpha
+        try:
+            return _core.Indenter.pyramid(alpha, self._edge)
+        except InvalidInputError as exc:  # the core's range check, named as this class names it
             hint = (f" ({alpha!r} degrees is math.radians({alpha!r}) = {math.radians(alpha)!r})"
                     if alpha < 90.0 else "")
-            raise InvalidInputError(
-                f"Pyramid: half_angle must be an angle in (0, pi/2) radians, got {alpha!r}{hint}")
-        self._alpha = alpha
-        self._square = _optional_positive("Pyramid", "edge", edge)
-        self._cone = Cone(slope=1.0 / (_core.EQUIVALENT_CONE_FACTOR * math.tan(alpha)), edge=self._square)
+            raise InvalidInputError(f"Pyramid: {str(exc).split('pyramid ', 1)[-1]}{hint}") from None
 
     @property
     def half_angle(self) -> float:
@@ -429,7 +337,7 @@ class Pyramid(Indenter):
     @property
     def edge(self) -> float | None:
         """Side of the square base (m), or None (unbounded)."""
-        return self._square
+        return self._edge
 
     @property
     def equivalent_cone(self) -> Cone:
@@ -437,120 +345,9 @@ class Pyramid(Indenter):
         the same footprint."""
         return self._cone
 
-    def _surface(self, x, y):
-        return np.maximum(np.abs(x), np.abs(y)) / math.tan(self._alpha)
-
-    def _height(self, r):
-        return self._cone._height(r)
-
-    def profile_1d(self, x: ArrayLike) -> np.ndarray:
-        """MDR profile (m) of the equivalent cone, g = (pi/2) cot(psi) ``|x|``, at ``x`` (m)."""
-        return self._cone.profile_1d(x)
-
-    def contact_radius_at_depth(self, d: float) -> float:
-        """The equivalent cone's contact radius a = 2 d / (pi cot(psi)) (m) at depth ``d`` (m):
-        the radius of the disc of the pyramid's contact area."""
-        return self._cone.contact_radius_at_depth(d)
-
-    def _depth_from_impulse(self, impulse: np.ndarray, eta: float) -> float | np.ndarray:
-        """The equivalent cone's closed form (:func:`analytic.cone_depth`)."""
-        depth = cone_depth(impulse, 1.0, self._cone.slope, eta)
-        self._check_square(depth, impulse)
-        return depth
-
     def _model(self, extent=None):
         return {"type": "pyramid", "half_angle": self._alpha, **self._footprint_model()}
 
     def __repr__(self) -> str:
         """``Pyramid(half_angle=..., edge=...)``."""
-        return f"Pyramid(half_angle={self._alpha!r}, edge={self._square!r})"
-
-
-# ----------------------------------------------------------------------------- Lee-Radok
-def _edge_error(indenter, impulse):
-    """The DomainError for a contact circle that outgrows a square footprint."""
-    return DomainError(
-        f"{type(indenter).__name__}.depth_from_impulse: at an impulse of {impulse!r} N s the "
-        f"contact radius of {indenter!r} exceeds half the edge ({0.5 * indenter.edge!r} m); "
-        "the contact is no longer circular"
-    )
-
-
-#: Gauss-Legendre rule of the Lee-Radok impulse integral (exact for polynomials of degree 127).
-_GAUSS_NODES, _GAUSS_WEIGHTS = np.polynomial.legendre.leggauss(64)
-
-
-class _LeeRadok:
-    """Numerical Lee-Radok depth of one indenter from J(a) = 8 eta int_0^a (g(a) - g(x)) dx.
-
-    ``disc``: radius of a disc footprint the contact can fill (then the indenter moves on like a
-    rod); ``rim``: radius where g diverges (the sphere), which bounds the contact radius;
-    ``edge``: side of a square footprint, whose half bounds it. None of them: the contact radius
-    is sought up to 2^20 m.
-    """
-
-    def __init__(self, indenter, eta, disc, rim, edge):
-        self.indenter = indenter
-        self.eta = eta
-        self.disc = disc
-        self.rim = rim
-        self.edge = edge
-
-    def depths(self, impulse):
-        """Depths (m) at the validated ``impulse`` array (N s): a float for a 0-d one."""
-        return _out(np.vectorize(self, otypes=[np.float64])(impulse))
-
-    def g(self, x):
-        """The indenter's 1D profile at one point (m)."""
-        return float(self.indenter.profile_1d(x))
-
-    def impulse(self, a):
-        """Impulse (N s) that brings the contact radius to ``a`` (m): 8 eta times
-        integral_0^a (g(a) - g(x)) dx by Gauss-Legendre quadrature on nodes graded towards
-        x = a, x = a (1 - (1 - u)^2), where g' may be log-singular (a sphere near its rim)."""
-        if a == 0.0:
-            return 0.0
-        u = 0.5 * (_GAUSS_NODES + 1.0)
-        x = a * (1.0 - (1.0 - u) ** 2)
-        jacobian = 2.0 * a * (1.0 - u)
-        values = self.g(a) - np.asarray(self.indenter.profile_1d(x), dtype=np.float64)
-        return 8.0 * self.eta * float(np.sum(0.5 * _GAUSS_WEIGHTS * jacobian * values))
-
-    def __call__(self, impulse):
-        """Depth (m) reached at ``impulse`` (N s)."""
-        if impulse == 0.0:
-            return 0.0
-        if self.disc is not None:
-            filled = self.impulse(self.disc)
-            if impulse >= filled:
-                return self.g(self.disc) + (impulse - filled) / (8.0 * self.eta * self.disc)
-            upper = self.disc
-        else:
-            upper = self._bracket(impulse)
-        # bisection: the impulse grows with the contact radius
-        low, high = 0.0, upper
-        while high - low > 4.0 * np.finfo(float).eps * high:
-            middle = 0.5 * (low + high)
-            if self.impulse(middle) < impulse:
-                low = middle
-            else:
-                high = middle
-        return self.g(0.5 * (low + high))
-
-    def _bracket(self, impulse):
-        """A contact radius (m) whose impulse is at least ``impulse``."""
-        if self.edge is not None:
-            candidates = [0.5 * self.edge]
-        elif self.rim is not None:
-            candidates = [self.rim * (1.0 - 2.0**-k) for k in range(1, 53)]
-        else:
-            candidates = [2.0**k for k in range(21)]
-        for upper in candidates:
-            if self.impulse(upper) >= impulse:
-                return upper
-        if self.edge is not None:
-            raise _edge_error(self.indenter, impulse)
-        raise DomainError(
-            f"{type(self.indenter).__name__}.depth_from_impulse: no contact radius of "
-            f"{self.indenter!r} up to {candidates[-1]!r} m carries an impulse of {impulse!r} N s"
-        )
+        return f"Pyramid(half_angle={self._alpha!r}, edge={self._edge!r})"

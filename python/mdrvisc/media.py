@@ -13,17 +13,21 @@ step one fitted to it over each run's time range (see :class:`PowerLaw`).
 A constant Poisson ratio is what makes the elastic-viscoelastic correspondence with
 E*(t) = 2 G(t) / (1 - nu) exact; a medium whose nu changes with time (a bulk modulus that
 relaxes differently from the shear modulus) is not modelled.
+
+Each medium is computed by the compiled core's medium of the same parameters (built on
+demand, so that media stay plain picklable data): its relaxation modulus, creep compliance,
+series and parameter names are the solvers' own.
 """
 
 import dataclasses
-import math
 from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import ArrayLike
 
+from . import _core
 from ._core import MAGNITUDE
-from ._validate import _array, _number, _poisson_ratio, _positive
+from ._validate import _array, _number, _out, _poisson_ratio, _positive
 from .errors import InvalidInputError
 
 __all__ = ["Viscous", "Elastic", "KelvinVoigt", "Maxwell", "StandardSolid", "Prony", "PowerLaw"]
@@ -43,6 +47,11 @@ def _times(t):
     return t
 
 
+def _message(error: InvalidInputError) -> str:
+    """The compiled core's message of ``error`` without its "invalid input: " prefix."""
+    return str(error).removeprefix("invalid input: ")
+
+
 def _young(values: dict[str, float], nu: float) -> dict[str, float]:
     """Of parameters by name (G_inf, G1, tau1, ...), the shear moduli (and their errors) as
     Young's moduli E = 2 (1 + nu) G, named with G written E (E_inf, E1, ...)."""
@@ -52,23 +61,59 @@ def _young(values: dict[str, float], nu: float) -> dict[str, float]:
 
 class _Medium:
     """Shared interface: shear relaxation modulus G(t) (Pa), shear creep compliance J(t)
-    (1/Pa), Poisson ratio ``nu`` and Young's modulus E(t) = 2 (1 + nu) G(t) (Pa)."""
+    (1/Pa), Poisson ratio ``nu`` and Young's modulus E(t) = 2 (1 + nu) G(t) (Pa), computed
+    by the compiled core's medium."""
 
     nu: float
 
-    def _check_nu(self) -> None:
-        """Validates the Poisson ratio (-1 < nu <= 0.5) and stores it as a float."""
+    def _check(self) -> None:
+        """Validates the Poisson ratio (-1 < nu <= 0.5), stores it as a float, and has the
+        compiled core check the whole medium (its errors named after this class)."""
         object.__setattr__(self, "nu", _poisson_ratio(type(self).__name__, self.nu))
+        try:
+            self._compiled()
+        except InvalidInputError as exc:
+            raise InvalidInputError(f"{type(self).__name__}: {_message(exc)}") from None
+
+    def _values(self) -> list[float]:
+        """The parameter values in the compiled core's order (the fields but nu)."""
+        return [getattr(self, f.name) for f in dataclasses.fields(self) if f.name != "nu"]
+
+    def _compiled(self) -> _core.Medium:
+        """The compiled core's medium of these parameters."""
+        return _core.Medium.from_values(type(self).__name__.lower(), self._values(), self.nu)
+
+    @classmethod
+    def _from_values(cls, values: list[float], nu: float):
+        """The medium from its parameter values in the compiled core's order."""
+        return cls(*values, nu=nu)
+
+    @classmethod
+    def _from_parameters(cls, values: dict[str, float], nu: float):
+        """The medium of this class with the parameters ``values`` by the names of
+        :meth:`_parameters` (a Prony series: G_inf, G1, tau1, ...) and Poisson ratio ``nu``;
+        InvalidInputError, listing the names, for a missing or unknown one."""
+        try:
+            core = _core.Medium(cls.__name__.lower(), list(values.items()), nu)
+        except InvalidInputError as exc:
+            raise InvalidInputError(f"{cls.__name__}: {_message(exc)}") from None
+        return cls._from_values([value for _, value in core.parameters()], nu)
+
+    @classmethod
+    def _parameter_names(cls, terms: int = 0) -> list[str]:
+        """The names of the medium's parameters, in the compiled core's order (a Prony series
+        of ``terms`` terms: G_inf, G1, tau1, G2, tau2, ...); the Poisson ratio is not one."""
+        return _core.Medium.parameter_names(cls.__name__.lower(), terms)
 
     def rheology(self) -> Rheology:
         """(G_inf, [(G_k, tau_k), ...], eta): the shear relaxation modulus as a Prony series
         with a dashpot (Pa, s, Pa s)."""
-        raise NotImplementedError
+        return self._compiled().rheology()
 
     def _parameters(self) -> dict[str, float]:
         """The parameters of G(t) by name (a Prony series: G_inf, G1, tau1, G2, ...); the
         Poisson ratio is not one of them."""
-        return {f.name: getattr(self, f.name) for f in dataclasses.fields(self) if f.name != "nu"}
+        return dict(self._compiled().parameters())
 
     @property
     def young_moduli(self) -> dict[str, float]:
@@ -91,9 +136,7 @@ class _Medium:
     def relaxation_modulus(self, t: ArrayLike) -> float | np.ndarray:
         """Shear relaxation modulus G(t) (Pa) for t > 0 (the dashpot's delta at t = 0 left
         out)."""
-        g_inf, terms, _ = self.rheology()
-        t = _times(t)
-        return g_inf + sum(g * np.exp(-t / tau) for g, tau in terms)
+        return _out(self._compiled().relaxation_modulus(_times(t)))
 
     def young_modulus(self, t: ArrayLike) -> float | np.ndarray:
         """Young's relaxation modulus E(t) = 2 (1 + nu) G(t) (Pa) for t > 0 (constant nu)."""
@@ -101,28 +144,9 @@ class _Medium:
 
     def creep_compliance(self, t: ArrayLike) -> float | np.ndarray:
         """Shear creep compliance J(t) (1/Pa): shear strain under a unit step of shear
-        stress, by exact-exponential stepping of the hereditary law on a fine geometric time
-        grid (closed forms in the subclasses)."""
-        g_inf, terms, eta = self.rheology()
-        t = _times(t)
-        end = max(float(np.max(t, initial=0.0)), 1e-300)
-        taus = [tau for _, tau in terms] or [end]
-        grid = np.unique(np.concatenate([[0.0], np.geomspace(min(taus) * 1e-6, end, 20000), t.ravel()]))
-        x, q, out = 0.0, np.zeros(len(terms)), np.empty(grid.size)
-        out[0] = 0.0 if eta > 0 else 1.0 / (g_inf + sum(g for g, _ in terms))
-        x = out[0]
-        q = np.array([g * x for g, _ in terms])
-        for i in range(1, grid.size):
-            dt = grid[i] - grid[i - 1]
-            e = np.array([np.exp(-dt / tau) for _, tau in terms])
-            # (tau/dt)(1 - exp(-dt/tau)), by its series where dt/tau underflows the quotient
-            a = np.array([g * (1 - 0.5 * dt / tau if dt / tau < 1e-8 else (tau / dt) * -np.expm1(-dt / tau))
-                          for g, tau in terms])
-            g_eff = g_inf + a.sum() + eta / dt
-            x_new = (1.0 - (e @ q - (a.sum() + eta / dt) * x)) / g_eff
-            q = e * q + a * (x_new - x)
-            x = out[i] = x_new
-        return np.interp(t, grid, out)
+        stress. Closed forms (given in each medium's docstring); for a Prony series,
+        exact-exponential stepping of the hereditary law on a fine geometric time grid."""
+        return _out(self._compiled().creep_compliance(_times(t)))
 
 
 @dataclass(frozen=True)
@@ -130,7 +154,7 @@ class Viscous(_Medium):
     """Newtonian viscous half-space of shear viscosity ``eta`` (Pa s) and Poisson ratio ``nu``.
 
     Radok's correspondence: every elastic result for a fixed contact holds for deflection
-    *rates* with G replaced by eta.
+    *rates* with G replaced by eta. Shear creep compliance J(t) = t / eta (1/Pa).
     """
 
     eta: float
@@ -138,40 +162,27 @@ class Viscous(_Medium):
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "eta", _positive("Viscous", "eta", self.eta))
-        self._check_nu()
-
-    def rheology(self) -> Rheology:
-        return 0.0, [], self.eta
-
-    def creep_compliance(self, t: ArrayLike) -> float | np.ndarray:
-        """Shear creep compliance J(t) = t / eta (1/Pa)."""
-        return _times(t) / self.eta
+        self._check()
 
 
 @dataclass(frozen=True)
 class Elastic(_Medium):
     """Linear elastic half-space of shear modulus ``G`` (Pa) and Poisson ratio ``nu``
     (Young's modulus E = 2 (1 + nu) G: ``young_moduli["E"]``); a scene with it and no
-    duration is one static contact solve."""
+    duration is one static contact solve. Shear creep compliance J(t) = 1 / G (1/Pa)."""
 
     G: float
     nu: float = 0.5
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "G", _positive("Elastic", "G", self.G))
-        self._check_nu()
-
-    def rheology(self) -> Rheology:
-        return self.G, [], 0.0
-
-    def creep_compliance(self, t: ArrayLike) -> float | np.ndarray:
-        """Shear creep compliance J(t) = 1 / G (1/Pa)."""
-        return np.full(np.shape(_times(t)), 1.0 / self.G)
+        self._check()
 
 
 @dataclass(frozen=True)
 class KelvinVoigt(_Medium):
-    """Spring ``G`` (Pa) parallel to a dashpot ``eta`` (Pa s); Poisson ratio ``nu``."""
+    """Spring ``G`` (Pa) parallel to a dashpot ``eta`` (Pa s); Poisson ratio ``nu``. Shear
+    creep compliance J(t) = (1 - exp(-G t / eta)) / G (1/Pa)."""
 
     G: float
     eta: float
@@ -180,20 +191,13 @@ class KelvinVoigt(_Medium):
     def __post_init__(self) -> None:
         object.__setattr__(self, "G", _positive("KelvinVoigt", "G", self.G))
         object.__setattr__(self, "eta", _positive("KelvinVoigt", "eta", self.eta))
-        self._check_nu()
-
-    def rheology(self) -> Rheology:
-        return self.G, [], self.eta
-
-    def creep_compliance(self, t: ArrayLike) -> float | np.ndarray:
-        """Shear creep compliance J(t) = (1 - exp(-G t / eta)) / G (1/Pa)."""
-        return -np.expm1(-self.G * _times(t) / self.eta) / self.G
+        self._check()
 
 
 @dataclass(frozen=True)
 class Maxwell(_Medium):
     """Spring ``G`` (Pa) in series with a dashpot ``eta`` (Pa s), tau = eta / G; Poisson ratio
-    ``nu``."""
+    ``nu``. Shear creep compliance J(t) = 1 / G + t / eta (1/Pa)."""
 
     G: float
     eta: float
@@ -202,20 +206,14 @@ class Maxwell(_Medium):
     def __post_init__(self) -> None:
         object.__setattr__(self, "G", _positive("Maxwell", "G", self.G))
         object.__setattr__(self, "eta", _positive("Maxwell", "eta", self.eta))
-        self._check_nu()
-
-    def rheology(self) -> Rheology:
-        return 0.0, [(self.G, self.eta / self.G)], 0.0
-
-    def creep_compliance(self, t: ArrayLike) -> float | np.ndarray:
-        """Shear creep compliance J(t) = 1 / G + t / eta (1/Pa)."""
-        return 1.0 / self.G + _times(t) / self.eta
+        self._check()
 
 
 @dataclass(frozen=True)
 class StandardSolid(_Medium):
     """Standard linear solid: G(t) = G_inf + G1 exp(-t / tau1) (Pa, s); Poisson ratio ``nu``
-    (Young's moduli ``young_moduli["E_inf"]`` and ``["E1"]``)."""
+    (Young's moduli ``young_moduli["E_inf"]`` and ``["E1"]``). Shear creep compliance
+    J(t) = 1/G_inf + (1/G0 - 1/G_inf) exp(-G_inf t / (G0 tau1)) (1/Pa), G0 = G_inf + G1."""
 
     G_inf: float
     G1: float
@@ -225,23 +223,13 @@ class StandardSolid(_Medium):
     def __post_init__(self) -> None:
         for name in ("G_inf", "G1", "tau1"):
             object.__setattr__(self, name, _positive("StandardSolid", name, getattr(self, name)))
-        self._check_nu()
-
-    def rheology(self) -> Rheology:
-        return self.G_inf, [(self.G1, self.tau1)], 0.0
-
-    def creep_compliance(self, t: ArrayLike) -> float | np.ndarray:
-        """Shear creep compliance J(t) = 1/G_inf + (1/G0 - 1/G_inf) exp(-G_inf t / (G0 tau1))
-        (1/Pa), G0 = G_inf + G1."""
-        g0 = self.G_inf + self.G1
-        decay = np.exp(-self.G_inf * _times(t) / (g0 * self.tau1))
-        return 1.0 / self.G_inf + (1.0 / g0 - 1.0 / self.G_inf) * decay
+        self._check()
 
 
 @dataclass(frozen=True)
 class Prony(_Medium):
-    """Generalised Maxwell body: G(t) = G_inf + sum_k G_k exp(-t / tau_k) (Pa, s); Poisson
-    ratio ``nu``."""
+    """Generalised Maxwell body: G(t) = G_inf + sum_k G_k exp(-t / tau_k) (Pa, s), G_inf >= 0;
+    Poisson ratio ``nu``."""
 
     G_inf: float
     terms: tuple
@@ -249,8 +237,6 @@ class Prony(_Medium):
 
     def __post_init__(self) -> None:
         g_inf = _number("Prony", "G_inf", self.G_inf)
-        if g_inf < 0:
-            raise InvalidInputError(f"Prony: G_inf must be finite and >= 0, got {self.G_inf!r}")
         try:
             terms = tuple((_positive("Prony", "G_k", g), _positive("Prony", "tau_k", tau))
                           for g, tau in self.terms)
@@ -258,26 +244,23 @@ class Prony(_Medium):
             if isinstance(exc, InvalidInputError):
                 raise
             raise InvalidInputError(f"Prony: terms must be pairs (G_k, tau_k), got {self.terms!r}") from exc
-        if g_inf == 0 and not terms:
-            raise InvalidInputError("Prony: the medium has no stiffness (G_inf = 0 and no terms)")
         object.__setattr__(self, "G_inf", g_inf)
         object.__setattr__(self, "terms", terms)
-        self._check_nu()
+        self._check()
 
-    def _parameters(self) -> dict[str, float]:
-        out = {"G_inf": self.G_inf}
-        for k, (g, tau) in enumerate(self.terms, 1):
-            out[f"G{k}"], out[f"tau{k}"] = g, tau
-        return out
+    def _values(self) -> list[float]:
+        return [self.G_inf, *(value for term in self.terms for value in term)]
 
-    def rheology(self) -> Rheology:
-        return self.G_inf, list(self.terms), 0.0
+    @classmethod
+    def _from_values(cls, values: list[float], nu: float):
+        return cls(values[0], tuple(zip(values[1::2], values[2::2])), nu=nu)
 
 
 @dataclass(frozen=True)
 class PowerLaw(_Medium):
     """Power-law rheology G(t) = G0 (t / t0)^-beta (Pa, s), 0 < beta < 1: the standard model
     of cell rheology (a continuous spectrum of relaxation times); Poisson ratio ``nu``.
+    Shear creep compliance J(t) = (t / t0)^beta / (G0 Gamma(1 - beta) Gamma(1 + beta)) (1/Pa).
 
     ``t0`` is a reference time (default 1 s): only G0 t0^beta enters G(t), so a fit holds it.
     Both methods step the power law as a Prony series with a long-time modulus and a
@@ -293,12 +276,9 @@ class PowerLaw(_Medium):
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "G0", _positive("PowerLaw", "G0", self.G0))
-        beta = _positive("PowerLaw", "beta", self.beta)
-        if beta >= 1.0:
-            raise InvalidInputError(f"PowerLaw: beta must lie in (0, 1), got {self.beta!r}")
-        object.__setattr__(self, "beta", beta)
+        object.__setattr__(self, "beta", _positive("PowerLaw", "beta", self.beta))
         object.__setattr__(self, "t0", _positive("PowerLaw", "t0", self.t0))
-        self._check_nu()
+        self._check()
 
     def rheology(self) -> Rheology:
         """Refused: the power law has no finite Prony series; the solvers fit one over each
@@ -306,16 +286,6 @@ class PowerLaw(_Medium):
         raise InvalidInputError(
             "PowerLaw has no finite Prony series: the solvers step one fitted over each run's time "
             "range; use relaxation_modulus and creep_compliance for its closed forms")
-
-    def relaxation_modulus(self, t: ArrayLike) -> float | np.ndarray:
-        """Shear relaxation modulus G(t) = G0 (t / t0)^-beta (Pa) for t > 0."""
-        return self.G0 * (_times(t) / self.t0) ** -self.beta
-
-    def creep_compliance(self, t: ArrayLike) -> float | np.ndarray:
-        """Shear creep compliance J(t) = (t / t0)^beta / (G0 Gamma(1 - beta) Gamma(1 + beta))
-        (1/Pa)."""
-        scale = math.gamma(1.0 - self.beta) * math.gamma(1.0 + self.beta)
-        return (_times(t) / self.t0) ** self.beta / (self.G0 * scale)
 
 
 #: Media solved by the general viscoelastic stepping (not the exact viscous impulse step).

@@ -1,8 +1,9 @@
 """Indenters given by samples or by a function: ``Profile`` (a tabulated profile, e.g. a
-measured tip) and ``Axisymmetric`` (any profile f(r), sampled into a table for the scene
-model and integrated by tanh-sinh quadrature for its own MDR profile). Lengths in m."""
+measured tip, held by the compiled core) and ``Axisymmetric`` (any profile f(r), sampled into
+a table for the scene model and integrated by tanh-sinh quadrature for its own MDR profile,
+the one thing only Python can evaluate; its contact radii and Lee-Radok depths are the
+compiled core's bisection and quadrature of that profile). Lengths in m."""
 
-import json
 import math
 from collections.abc import Callable
 
@@ -11,8 +12,8 @@ from numpy.typing import ArrayLike
 
 from . import _core
 from ._validate import _array, _optional_positive
-from .errors import DomainError, InvalidInputError
-from .geometry import Indenter, _bisect, _LeeRadok
+from .errors import InvalidInputError
+from .geometry import Indenter
 
 __all__ = ["Axisymmetric", "Profile", "PROFILE_SAMPLES"]
 
@@ -78,9 +79,6 @@ class Axisymmetric(Indenter):
     error ~1e-10 at ``|x|`` = 10 l, ~1e-7 at 100 l for a bump of width l).
     """
 
-    # x values per block of the vectorised quadrature (block * nodes ~ 2^18 evaluations).
-    _BLOCK = 2048
-
     def __init__(self, f: Callable[[np.ndarray], ArrayLike],
                  df: Callable[[np.ndarray], ArrayLike] | None = None,
                  edge: float | None = None, radius: float | None = None) -> None:
@@ -93,40 +91,117 @@ class Axisymmetric(Indenter):
                 f"Axisymmetric: give edge or radius, not both (got edge={edge!r}, "
                 f"radius={radius!r})"
             )
-        self._f = f
-        self._df = df
-        self._square = _optional_positive("Axisymmetric", "edge", edge)
-        self._disc = _optional_positive("Axisymmetric", "radius", radius)
-        size = self.footprint_half_width or 1.0
+        self._edge = _optional_positive("Axisymmetric", "edge", edge)
+        self._radius = _optional_positive("Axisymmetric", "radius", radius)
+        self._function = _Function(f, df, self._radius, self._edge)
+        self._core = self._build()
+
+    def _build(self):
+        fills = True
+        if self._radius is not None:
+            try:  # g diverges at the rim (a spherical cap): the contact never fills the disc
+                with np.errstate(divide="ignore", invalid="ignore"):
+                    self._function.profile(np.array([self._radius]))
+            except InvalidInputError:
+                fills = False
+        return _core.Indenter.from_functions(self._function.height, self._function.profile,
+                                             edge=self._edge, radius=self._radius, fills=fills)
+
+    @property
+    def f(self) -> Callable[[np.ndarray], ArrayLike]:
+        """The profile f(r) (m)."""
+        return self._function.f
+
+    @property
+    def df(self) -> Callable[[np.ndarray], ArrayLike] | None:
+        """The derivative f'(r) given by the caller, or None (central differences)."""
+        return self._function.df
+
+    @property
+    def edge(self) -> float | None:
+        """Side of the square footprint (m), or None."""
+        return self._edge
+
+    @property
+    def radius(self) -> float | None:
+        """Radius of the disc footprint (m), or None."""
+        return self._radius
+
+    def profile_1d(self, x: ArrayLike) -> np.ndarray:
+        """MDR profile g(x) (m) at ``x`` (m) by tanh-sinh quadrature (see the class docstring).
+
+        For a disc footprint ``|x|`` <= radius is required.
+        """
+        return self._function.profile(self._coordinates(x))
+
+    def contact_radius_at_depth(self, d: float) -> float:
+        """Contact radius a (m) with g(a) = ``d`` (m), by the compiled core's bisection on the
+        numerical profile.
+
+        A disc footprint caps a at its radius. Otherwise a is sought up to 2^20 times the
+        footprint's half-width (or 1 m when unbounded); DomainError when no radius there
+        reaches d.
+        """
+        return super().contact_radius_at_depth(d)
+
+    def _model(self, extent=None):
+        """The profile sampled at PROFILE_SAMPLES equal steps of r from 0 to the footprint's
+        farthest point (a disc's radius, a square's corner) or, unbounded, to ``extent``,
+        with its slopes; where a slope is not finite (a cap's rim) without slopes."""
+        if self._radius is not None:
+            extent = self._radius
+        elif self._edge is not None:
+            extent = self._edge / math.sqrt(2.0)
+        elif extent is None:
+            raise InvalidInputError("Axisymmetric: an unbounded profile needs an extent to be tabulated")
+        r = np.linspace(0.0, extent, PROFILE_SAMPLES)
+        h = self._function.height(r)
+        inner = np.concatenate([[r[1] * 1e-6], r[1:]])
+        with np.errstate(divide="ignore", invalid="ignore"):
+            try:
+                slope = self._function.slope(inner)
+            except InvalidInputError:
+                slope = None
+        table = {"type": "profile", "r": r.tolist(), "h": h.tolist()}
+        if slope is not None and np.all(np.isfinite(slope)):
+            table["slope"] = slope.tolist()
+        if self._radius is not None:
+            table["radius"] = self._radius
+        return {**table, **self._footprint_model()}
+
+    def __repr__(self) -> str:
+        """``Axisymmetric(f=<name>, df=<name or None>, edge=..., radius=...)``."""
+
+        def name(func):
+            return None if func is None else getattr(func, "__qualname__", repr(func))
+
+        return (
+            f"Axisymmetric(f={name(self.f)}, df={name(self.df)}, edge={self._edge!r}, "
+            f"radius={self._radius!r})"
+        )
+
+
+class _Function:
+    """An Axisymmetric's profile f(r) (m) with its slope and its MDR profile g(x) (m) by
+    tanh-sinh quadrature: what the compiled core calls back (it holds no reference to the
+    indenter, so the two form no cycle). ``radius`` (m) bounds a disc footprint, ``edge`` (m)
+    a square one; f is checked at construction (see Axisymmetric)."""
+
+    # x values per block of the vectorised quadrature (block * nodes ~ 2^18 evaluations).
+    _BLOCK = 2048
+
+    def __init__(self, f, df, radius, edge):
+        self.f, self.df, self.radius = f, df, radius
+        size = radius or (None if edge is None else 0.5 * edge) or 1.0
         values = self._call(f, "f", size * np.array([0.0, 0.25, 0.5, 1.0]))
-        self._scale = float(np.max(np.abs(values[1:])))
-        if abs(values[0]) > 1e-12 * self._scale:
+        self.scale = float(np.max(np.abs(values[1:])))
+        if abs(values[0]) > 1e-12 * self.scale:
             raise InvalidInputError(
                 f"Axisymmetric: f(0) must be 0 (the tip is the origin), got {float(values[0])!r}"
             )
         if df is not None:
             self._call(df, "df", size * np.array([0.25, 0.5]))
-        self._sin_theta, self._weights = _tanh_sinh_sin_nodes()
-
-    @property
-    def f(self) -> Callable[[np.ndarray], ArrayLike]:
-        """The profile f(r) (m)."""
-        return self._f
-
-    @property
-    def df(self) -> Callable[[np.ndarray], ArrayLike] | None:
-        """The derivative f'(r) given by the caller, or None (central differences)."""
-        return self._df
-
-    @property
-    def edge(self) -> float | None:
-        """Side of the square footprint (m), or None."""
-        return self._square
-
-    @property
-    def radius(self) -> float | None:
-        """Radius of the disc footprint (m), or None."""
-        return self._disc
+        self.sin_theta, self.weights = _tanh_sinh_sin_nodes()
 
     @staticmethod
     def _call(func, name, r):
@@ -145,117 +220,37 @@ class Axisymmetric(Indenter):
             )
         return out
 
-    def _height(self, r):
-        h = self._call(self._f, "f", r)
-        if (h < -1e-12 * self._scale).any():
+    def height(self, r):
+        """f(r) (m) at radii ``r`` (m), checked: >= 0 (to 1e-12 of its scale), clipped at 0."""
+        h = self._call(self.f, "f", r)
+        if (h < -1e-12 * self.scale).any():
             raise InvalidInputError(
                 f"Axisymmetric: f must be >= 0 (height above the tip), got "
                 f"{float(h.min())!r}"
             )
         return np.maximum(h, 0.0)
 
-    def _slope(self, r):
+    def slope(self, r):
         """f'(r) (dimensionless) at radii r > 0 (m)."""
-        if self._df is not None:
-            return self._call(self._df, "df", r)
+        if self.df is not None:
+            return self._call(self.df, "df", r)
         step = _CBRT_EPS * r
         upper = r + step
-        if self._disc is not None:
-            upper = np.minimum(upper, self._disc)
+        if self.radius is not None:
+            upper = np.minimum(upper, self.radius)
         lower = r - step
-        f = self._f
-        return (self._call(f, "f", upper) - self._call(f, "f", lower)) / (upper - lower)
+        return (self._call(self.f, "f", upper) - self._call(self.f, "f", lower)) / (upper - lower)
 
-    def profile_1d(self, x: ArrayLike) -> np.ndarray:
-        """MDR profile g(x) (m) at ``x`` (m) by tanh-sinh quadrature (see the class docstring).
-
-        For a disc footprint ``|x|`` <= radius is required.
-        """
-        x = self._coordinates(x)
-        flat = np.abs(x).ravel()
+    def profile(self, x):
+        """g(x) (m) at ``x`` (m, any shape) by the tanh-sinh rule."""
+        flat = np.abs(np.asarray(x, dtype=np.float64)).ravel()
         g = np.zeros_like(flat)
         positive = np.flatnonzero(flat)
         for start in range(0, positive.size, self._BLOCK):
             index = positive[start : start + self._BLOCK]
-            r = flat[index, np.newaxis] * self._sin_theta
-            g[index] = flat[index] * (self._slope(r) @ self._weights)
-        return g.reshape(x.shape)
-
-    def contact_radius_at_depth(self, d: float) -> float:
-        """Contact radius a (m) with g(a) = ``d`` (m), by bisection on the numerical profile.
-
-        A disc footprint caps a at its radius. Otherwise a is sought up to 2^20 times the
-        footprint's half-width (or 1 m when unbounded); DomainError when no radius there
-        reaches d.
-        """
-        d = self._depth(d)
-
-        def g(a):
-            return float(self.profile_1d(a))
-
-        if self._disc is not None:
-            try:
-                with np.errstate(divide="ignore", invalid="ignore"):
-                    covered = g(self._disc) <= d
-            except InvalidInputError:  # g diverges at the rim (a spherical cap): never covered
-                covered = False
-            return self._disc if covered else _bisect(g, d, self._disc)
-        start = self.footprint_half_width or 1.0
-        for doublings in range(21):
-            hi = start * 2.0**doublings
-            if g(hi) >= d:
-                return _bisect(g, d, hi)
-        raise DomainError(f"{self!r}: no contact radius up to {hi!r} m reaches depth {d!r} m")
-
-    def _depth_from_impulse(self, impulse: np.ndarray, eta: float) -> float | np.ndarray:
-        """Numerical. A disc footprint is filled (then the indenter moves on like a rod)
-        unless g diverges at its rim, which then bounds the contact radius (a spherical cap);
-        a square footprint's half edge bounds it."""
-        disc = rim = None
-        if self._disc is not None:
-            try:
-                with np.errstate(divide="ignore", invalid="ignore"):
-                    self.profile_1d(self._disc)
-                disc = self._disc
-            except InvalidInputError:  # g diverges at the rim, like the sphere's
-                rim = self._disc
-        return _LeeRadok(self, eta, disc=disc, rim=rim, edge=self._square).depths(impulse)
-
-    def _model(self, extent=None):
-        """The profile sampled at PROFILE_SAMPLES equal steps of r from 0 to the footprint's
-        farthest point (a disc's radius, a square's corner) or, unbounded, to ``extent``,
-        with its slopes; where a slope is not finite (a cap's rim) without slopes."""
-        if self._disc is not None:
-            extent = self._disc
-        elif self._square is not None:
-            extent = self._square / math.sqrt(2.0)
-        elif extent is None:
-            raise InvalidInputError("Axisymmetric: an unbounded profile needs an extent to be tabulated")
-        r = np.linspace(0.0, extent, PROFILE_SAMPLES)
-        h = self._height(r)
-        inner = np.concatenate([[r[1] * 1e-6], r[1:]])
-        with np.errstate(divide="ignore", invalid="ignore"):
-            try:
-                slope = self._slope(inner)
-            except InvalidInputError:
-                slope = None
-        table = {"type": "profile", "r": r.tolist(), "h": h.tolist()}
-        if slope is not None and np.all(np.isfinite(slope)):
-            table["slope"] = slope.tolist()
-        if self._disc is not None:
-            table["radius"] = self._disc
-        return {**table, **self._footprint_model()}
-
-    def __repr__(self) -> str:
-        """``Axisymmetric(f=<name>, df=<name or None>, edge=..., radius=...)``."""
-
-        def name(func):
-            return None if func is None else getattr(func, "__qualname__", repr(func))
-
-        return (
-            f"Axisymmetric(f={name(self._f)}, df={name(self._df)}, edge={self._square!r}, "
-            f"radius={self._disc!r})"
-        )
+            r = flat[index, np.newaxis] * self.sin_theta
+            g[index] = flat[index] * (self.slope(r) @ self.weights)
+        return g.reshape(np.shape(x))
 
 
 #: Samples of an Axisymmetric profile in the scene model (cubic Hermite between them).
@@ -290,9 +285,13 @@ class Profile(Indenter):
         self._r = _array("Profile", "r", r).ravel()
         self._h = _array("Profile", "h", h).ravel()
         self._slope_samples = None if slope is None else _array("Profile", "slope", slope).ravel()
-        self._square = _optional_positive("Profile", "edge", edge)
-        self._disc = _optional_positive("Profile", "radius", radius)
-        self._core = _core.Indenter.from_json(json.dumps(self._model()))
+        self._edge = _optional_positive("Profile", "edge", edge)
+        self._radius = _optional_positive("Profile", "radius", radius)
+        self._core = self._build()
+
+    def _build(self):
+        return _core.Indenter.profile(self._r, self._h, self._slope_samples, self._edge,
+                                      self._radius)
 
     @property
     def r(self) -> np.ndarray:
@@ -309,28 +308,26 @@ class Profile(Indenter):
         """Slopes at the samples, or None (piecewise linear)."""
         return self._slope_samples
 
+    @property
+    def edge(self) -> float | None:
+        """Side of the square footprint (m), or None."""
+        return self._edge
+
+    @property
+    def radius(self) -> float | None:
+        """Radius of the disc footprint (m), or None."""
+        return self._radius
+
     def _model(self, extent=None):
         table = {"type": "profile", "r": self._r.tolist(), "h": self._h.tolist()}
         if self._slope_samples is not None:
             table["slope"] = self._slope_samples.tolist()
-        if self._disc is not None:
-            table["radius"] = self._disc
+        if self._radius is not None:
+            table["radius"] = self._radius
         return {**table, **self._footprint_model()}
-
-    def _height(self, r):
-        return self._core.height(np.ascontiguousarray(r, dtype=np.float64).ravel()).reshape(np.shape(r))
-
-    def profile_1d(self, x: ArrayLike) -> np.ndarray:
-        """MDR profile g(x) (m) at ``x`` (m)."""
-        x = _array("Profile", "x", x)
-        return self._core.profile_1d(np.ascontiguousarray(x, dtype=np.float64).ravel()).reshape(x.shape)
-
-    def contact_radius_at_depth(self, d: float) -> float:
-        """Contact radius a (m) with g(a) = ``d`` (m); a disc footprint caps it."""
-        return self._core.radius_at_depth(self._depth(d))
 
     def __repr__(self) -> str:
         """``Profile(<n> samples up to r=..., slope=..., edge=..., radius=...)``."""
         return (f"Profile({self._r.size} samples up to r={float(self._r[-1])!r}, "
                 f"slope={'given' if self._slope_samples is not None else None}, "
-                f"edge={self._square!r}, radius={self._disc!r})")
+                f"edge={self._edge!r}, radius={self._radius!r})")

@@ -1,11 +1,13 @@
 //! pyo3 bindings (cargo feature "python"): numpy in, typed objects out (`Scene`, `Report`,
 //! `FieldSet`, `SurfaceOperator`). Computations run on a rayon worker with the GIL released
-//! (`monitor`); inputs are converted in `convert`; scenes in `scene`, arrays in `arrays`, random surfaces in `surfaces`;
-//! the schema Python builds its lists from (outputs, report quantities, defaults) in `schema`.
+//! (`monitor`); inputs are converted in `convert`; scenes in `scene`, indenters and media in
+//! `model`, arrays in `arrays`, random surfaces in `surfaces`; the schema Python builds its
+//! lists from (outputs, report quantities, defaults) in `schema`.
 
 mod arrays;
 mod convert;
 mod curve;
+mod model;
 mod monitor;
 mod pool;
 mod report;
@@ -34,11 +36,12 @@ mod core_module {
     #[pymodule_export]
     const EQUIVALENT_CONE_FACTOR: f64 = crate::model::indenter::pyramid::EQUIVALENT_CONE_FACTOR;
     #[pymodule_export]
+    use super::model::{PyIndenter, PyMedium};
+    #[pymodule_export]
     use super::report::{PyFieldSet, PyReport};
     #[pymodule_export]
     use super::scene::{
-        load_scene_file, paper_scenes, parse_scene_file, parse_scene_table, run_scene, PyIndenter,
-        PyScene,
+        load_scene_file, paper_scenes, parse_scene_file, parse_scene_table, run_scene, PyScene,
     };
 
     /// Adds the schema: `OUTPUTS`, `QUANTITIES`, `SOLVER_DEFAULTS`, `DEFAULT_N`.

@@ -121,6 +121,193 @@ pub enum Footprint {
     Unbounded,
 }
 
+impl Footprint {
+    /// Whether the point (`x`, `y`) (m) lies in the footprint.
+    pub fn covers(&self, x: f64, y: f64) -> bool {
+        match *self {
+            Footprint::Disc { radius, rim: true } => x.hypot(y) <= radius,
+            Footprint::Disc { radius, rim: false } => x.hypot(y) < radius,
+            Footprint::Square { edge } => x.abs() <= 0.5 * edge && y.abs() <= 0.5 * edge,
+            Footprint::Rectangle { width, length } => {
+                x.abs() <= 0.5 * width && y.abs() <= 0.5 * length
+            }
+            Footprint::Unbounded => true,
+        }
+    }
+}
+
+/// Where the MDR relations seek a contact radius (m).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Reach {
+    /// Within a disc footprint of this radius. With `fills` the contact fills the disc once
+    /// the profile at its rim falls short; without, the profile diverges at the rim (a
+    /// spherical cap), which bounds the radius from inside.
+    Disc {
+        /// Radius of the disc (m).
+        radius: f64,
+        /// Whether the contact can fill the disc.
+        fills: bool,
+    },
+    /// From 0 up to `start` times 2^`doublings`, the bound doubling from `start`.
+    Beyond {
+        /// First bound of the search (m).
+        start: f64,
+        /// How often the bound may double.
+        doublings: u32,
+    },
+}
+
+/// An even 1D MDR profile g (m) at many 1D coordinates (m) at once.
+pub type ProfileFn<'a> = &'a dyn Fn(&[f64]) -> Result<Vec<f64>>;
+
+/// The MDR relations of an axisymmetric 1D profile g known only as a function (one the
+/// caller evaluates), by the bisection and the quadrature `Indenter` uses.
+pub struct MdrProfile<'a> {
+    /// g (m) at many 1D coordinates (m) at once.
+    pub profile: ProfileFn<'a>,
+    /// The footprint; a square's half edge bounds the Lee–Radok contact radius.
+    pub footprint: Footprint,
+    /// Where contact radii are sought.
+    pub reach: Reach,
+}
+
+impl MdrProfile<'_> {
+    fn g(&self, x: f64) -> Result<f64> {
+        Ok((self.profile)(&[x])?[0])
+    }
+
+    /// Contact radius (m) at tip depth `d` (m): g(a) = d (0 at d <= 0, where the profile
+    /// is not evaluated); a filled disc caps it.
+    pub fn radius_at_depth(&self, d: f64) -> Result<f64> {
+        if d <= 0.0 {
+            return Ok(0.0);
+        }
+        bisect_radius(self.reach, |a| self.g(a), d, "depth")
+    }
+
+    /// Contact radius (m) under the MDR load `s` (m^2), as `Indenter::radius_at_load` (0 at
+    /// s <= 0, where the profile is not evaluated).
+    pub fn radius_at_load(&self, s: f64) -> Result<f64> {
+        if s <= 0.0 {
+            return Ok(0.0);
+        }
+        bisect_radius(self.reach, |a| mdr_load(self.profile, a), s, "load")
+    }
+
+    /// Depth (m) under the MDR load `s` (m^2), as `Indenter::depth_under_load`.
+    pub fn depth_under_load(&self, s: f64) -> Result<Option<f64>> {
+        let fills = matches!(self.reach, Reach::Disc { fills: true, .. });
+        lee_radok_depth(
+            self.footprint,
+            fills,
+            |s| self.radius_at_load(s),
+            |x| self.g(x),
+            |a| mdr_load(self.profile, a),
+            s,
+        )
+    }
+}
+
+/// integral_{-a}^{a} (g(a) - g(x)) dx (m^2) of an even 1D profile `g` by Simpson's rule on
+/// 512 panels: the MDR load (F / (4 G), or I / (4 eta) for an impulse I) at contact radius
+/// `a` (m).
+pub fn mdr_load(g: ProfileFn<'_>, a: f64) -> Result<f64> {
+    let panels = 512;
+    let h = a / panels as f64;
+    let mut x: Vec<f64> = (0..=panels).map(|i| i as f64 * h).collect();
+    x.push(a);
+    let values = g(&x)?;
+    let mut integral = 0.0;
+    for (i, &v) in values[..=panels].iter().enumerate() {
+        let w = if i == 0 || i == panels {
+            1.0
+        } else if i % 2 == 1 {
+            4.0
+        } else {
+            2.0
+        };
+        integral += w * v;
+    }
+    Ok(2.0 * (a * values[panels + 1] - integral * h / 3.0))
+}
+
+/// The radius a (m) with `f(a)` = `target` for an increasing f, sought within `reach`: a
+/// filled disc's radius when even its rim falls short; a domain error naming the target
+/// (`what`: "depth" or "load") when nothing within reach gets there.
+pub fn bisect_radius(
+    reach: Reach,
+    f: impl Fn(f64) -> Result<f64>,
+    target: f64,
+    what: &str,
+) -> Result<f64> {
+    let reaches = |a: f64| f(a).map(|v| v >= target);
+    let (mut lo, mut hi) = (0.0, 0.0);
+    match reach {
+        Reach::Disc { radius, fills } => {
+            if fills && !reaches(radius)? {
+                return Ok(radius);
+            }
+            hi = radius;
+        }
+        Reach::Beyond { start, doublings } => {
+            for k in 0..=doublings {
+                hi = start * 2f64.powi(k as i32);
+                if reaches(hi)? {
+                    break;
+                }
+                if k == doublings {
+                    let unit = if what == "depth" { "m" } else { "m^2" };
+                    let hint = if doublings == 0 {
+                        ": tabulate the profile further"
+                    } else {
+                        ""
+                    };
+                    return Err(Error::Domain(format!(
+                        "no contact radius up to {hi:?} m reaches {what} {target:?} {unit}{hint}"
+                    )));
+                }
+            }
+        }
+    }
+    loop {
+        let mid = 0.5 * (lo + hi);
+        if !(lo < mid && mid < hi) {
+            return Ok(hi);
+        }
+        if f(mid)? < target {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+}
+
+/// Lee–Radok depth (m) under the MDR load `s` (m^2): 0 without a load, else d = g(a) at the
+/// contact radius a under the load; once the contact fills a disc footprint (`fills`) of
+/// radius R the indenter moves on like a rod, d = g(R) + (s - s_R) / (2 R); None once the
+/// contact circle is wider than half a square's edge (half a rectangle's shorter side).
+fn lee_radok_depth(
+    footprint: Footprint,
+    fills: bool,
+    radius_at_load: impl Fn(f64) -> Result<f64>,
+    g: impl Fn(f64) -> Result<f64>,
+    load: impl Fn(f64) -> Result<f64>,
+    s: f64,
+) -> Result<Option<f64>> {
+    if s <= 0.0 {
+        return Ok(Some(0.0));
+    }
+    let a = radius_at_load(s)?;
+    match footprint {
+        Footprint::Disc { radius, .. } if fills && a >= radius => {
+            Ok(Some(g(radius)? + (s - load(radius)?) / (2.0 * radius)))
+        }
+        Footprint::Square { edge } if a > 0.5 * edge => Ok(None),
+        Footprint::Rectangle { width, length } if a > 0.5 * width.min(length) => Ok(None),
+        _ => g(a).map(Some),
+    }
+}
+
 impl Indenter {
     /// Fails on non-finite or non-positive parameters.
     pub fn validate(&self) -> Result<()> {
@@ -259,7 +446,7 @@ impl Indenter {
                 pyramid::equivalent_cone(*half_angle, *edge).radius_at_depth(d)?
             }
             Indenter::HeightMap(_) => return Err(not_axisymmetric("contact radius")),
-            _ => self.bisect(|a| self.profile_1d(a), d)?,
+            _ => bisect_radius(self.reach(), |a| self.profile_1d(a), d, "depth")?,
         })
     }
 
@@ -277,8 +464,42 @@ impl Indenter {
                 pyramid::equivalent_cone(*half_angle, *edge).radius_at_load(s)?
             }
             Indenter::HeightMap(_) => return Err(not_axisymmetric("contact radius")),
-            _ => self.bisect(|a| self.mdr_load(a), s)?,
+            _ => bisect_radius(self.reach(), |a| self.mdr_load(a), s, "load")?,
         })
+    }
+
+    /// Lee–Radok depth (m) under the MDR load `s` (m^2; F / (4 G), or I / (4 eta) for a
+    /// viscous impulse I): the monotone contact's d = g(a) at `radius_at_load`; once the
+    /// contact fills a disc footprint whose rim belongs to it (the rod, a tabulated profile's
+    /// disc) the indenter moves on like a rod, d = g(R) + (s - s_R) / (2 R). None once the
+    /// contact circle is wider than half a square's edge, where it stops being circular.
+    pub fn depth_under_load(&self, s: f64) -> Result<Option<f64>> {
+        let fills = matches!(self.footprint(), Footprint::Disc { rim: true, .. });
+        lee_radok_depth(
+            self.footprint(),
+            fills,
+            |s| self.radius_at_load(s),
+            |x| self.profile_1d(x),
+            |a| self.mdr_load(a),
+            s,
+        )
+    }
+
+    /// Heights above the tip (m) of the true shape (`surface`) over the grid of element
+    /// centres `x` (nx) by `y` (ny) (m), row-major (ny, nx), and whether each centre lies
+    /// in the footprint; 0 outside it.
+    pub fn height_map(&self, x: &[f64], y: &[f64]) -> Result<(Vec<f64>, Vec<bool>)> {
+        let footprint = self.footprint();
+        let mut height = Vec::with_capacity(x.len() * y.len());
+        let mut inside = Vec::with_capacity(x.len() * y.len());
+        for &yi in y {
+            for &xi in x {
+                let covered = footprint.covers(xi, yi);
+                inside.push(covered);
+                height.push(if covered { self.surface(xi, yi)? } else { 0.0 });
+            }
+        }
+        Ok((height, inside))
     }
 
     /// Depth (m) under the MDR load `s` (m^2) while the contact fits the footprint; None
@@ -297,70 +518,26 @@ impl Indenter {
         self.profile_1d(a).map(Some)
     }
 
-    /// integral_{-a}^{a} (g(a) - g(x)) dx (m^2) by Simpson's rule on 512 panels.
+    /// The MDR load at contact radius `a` (m): `mdr_load` of the profile (m^2).
     fn mdr_load(&self, a: f64) -> Result<f64> {
-        let panels = 512;
-        let h = a / panels as f64;
-        let mut integral = 0.0;
-        for i in 0..=panels {
-            let w = if i == 0 || i == panels {
-                1.0
-            } else if i % 2 == 1 {
-                4.0
-            } else {
-                2.0
-            };
-            integral += w * self.profile_1d(i as f64 * h)?;
-        }
-        Ok(2.0 * (a * self.profile_1d(a)? - integral * h / 3.0))
+        mdr_load(
+            &|x: &[f64]| x.iter().map(|&v| self.profile_1d(v)).collect(),
+            a,
+        )
     }
 
-    /// The radius a (m) with `f(a)` = target for an increasing f: within a disc footprint
-    /// (its radius when even the rim falls short), or up to 2^40 times the table's extent.
-    fn bisect(&self, f: impl Fn(f64) -> Result<f64>, target: f64) -> Result<f64> {
-        let (mut lo, mut hi) = (
-            0.0,
-            match self.footprint() {
-                Footprint::Disc { radius, .. } => radius,
-                _ => match self {
+    /// Where contact radii are sought: a disc footprint (filled when its rim belongs to it),
+    /// else up to a table's extent (1 m for closed forms, which never search).
+    fn reach(&self) -> Reach {
+        match self.footprint() {
+            Footprint::Disc { radius, rim } => Reach::Disc { radius, fills: rim },
+            _ => Reach::Beyond {
+                start: match self {
                     Indenter::Profile(p) => p.extent(),
                     _ => 1.0,
                 },
+                doublings: 0,
             },
-        );
-        let reaches = |a: f64| f(a).map(|v| v >= target);
-        if let Footprint::Disc { radius, rim } = self.footprint() {
-            if rim && !reaches(radius)? {
-                return Ok(radius);
-            }
-        } else if !reaches(hi)? {
-            return Err(Error::Domain(format!(
-                "no contact radius up to {hi} m reaches {target}: tabulate the profile further"
-            )));
-        }
-        loop {
-            let mid = 0.5 * (lo + hi);
-            if !(lo < mid && mid < hi) {
-                return Ok(hi);
-            }
-            if f(mid)? < target {
-                lo = mid;
-            } else {
-                hi = mid;
-            }
-        }
-    }
-
-    /// Whether a point at radius `r` (m), coordinates `x`, `y` (m), lies in the footprint.
-    fn covers(&self, x: f64, y: f64, r: f64) -> bool {
-        match self.footprint() {
-            Footprint::Disc { radius, rim: true } => r <= radius,
-            Footprint::Disc { radius, rim: false } => r < radius,
-            Footprint::Square { edge } => x.abs() <= 0.5 * edge && y.abs() <= 0.5 * edge,
-            Footprint::Rectangle { width, length } => {
-                x.abs() <= 0.5 * width && y.abs() <= 0.5 * length
-            }
-            Footprint::Unbounded => true,
         }
     }
 
@@ -386,7 +563,7 @@ impl Indenter {
         for iy in 0..m {
             for ix in 0..m {
                 let (x, y) = (centre(ix), centre(iy));
-                let inside = self.covers(x, y, x.hypot(y));
+                let inside = self.footprint().covers(x, y);
                 allowed.push(inside);
                 height.push(if inside { self.surface(x, y)? } else { 0.0 });
             }
@@ -413,10 +590,11 @@ mod tests {
     fn numeric_radius_matches_closed_forms() {
         let p = Indenter::Paraboloid { c: 0.7, edge: None };
         let a = p.radius_at_load(0.3).unwrap();
-        let numeric = p.bisect(|a| p.mdr_load(a), 0.3).unwrap();
+        let numeric = bisect_radius(p.reach(), |a| p.mdr_load(a), 0.3, "load").unwrap();
         assert!((numeric - a).abs() < 1e-9 * a);
         let d = p.radius_at_depth(0.2).unwrap();
-        assert!((p.bisect(|a| p.profile_1d(a), 0.2).unwrap() - d).abs() < 1e-12);
+        let bisected = bisect_radius(p.reach(), |a| p.profile_1d(a), 0.2, "depth").unwrap();
+        assert!((bisected - d).abs() < 1e-12);
     }
 
     /// The sphere's depth at contact radius a is (a/2) ln((R + a)/(R - a)) (MDR, exact).
@@ -456,6 +634,103 @@ mod tests {
                 cone.radius_at_load(x).unwrap()
             );
         }
+    }
+
+    /// Lee–Radok depths: the paraboloid's and the cone's closed forms, a filled disc moving
+    /// on like a rod (8 eta R d = J past the filling load), and None past a square's edge.
+    #[test]
+    fn depth_under_load_follows_lee_radok() {
+        let (c, s) = (0.7, 0.3);
+        let d = Indenter::Paraboloid { c, edge: None }
+            .depth_under_load(s)
+            .unwrap()
+            .unwrap();
+        // s = 8 c a^3 / 3 and d = 2 c a^2
+        let a = (3.0 * s / (8.0 * c)).cbrt();
+        assert!((d / (2.0 * c * a * a) - 1.0).abs() < 1e-15);
+        let cone = Indenter::Cone {
+            slope: 0.4,
+            edge: None,
+        };
+        let d = cone.depth_under_load(s).unwrap().unwrap();
+        assert!((d / (0.5 * PI * 0.4 * s).sqrt() - 1.0).abs() < 1e-15);
+        let rod = Indenter::Rod { radius: 0.5 };
+        assert_eq!(rod.depth_under_load(0.3).unwrap(), Some(0.3));
+        // a paraboloid table (exact cubic) on a disc of radius 0.5: filled at s = 8 c R^3 / 3
+        let r: Vec<f64> = (0..11).map(|i| 0.05 * i as f64).collect();
+        let table = ProfileTable {
+            h: r.iter().map(|&x| c * x * x).collect(),
+            slope: Some(r.iter().map(|&x| 2.0 * c * x).collect()),
+            r,
+            edge: None,
+            radius: Some(0.5),
+        };
+        let disc = Indenter::Profile(Box::new(Profile::try_from(table).unwrap()));
+        let filled = 8.0 * c * 0.125 / 3.0;
+        let d = disc.depth_under_load(filled + 0.2).unwrap().unwrap();
+        let expected = 2.0 * c * 0.25 + 0.2 / (2.0 * 0.5);
+        assert!((d / expected - 1.0).abs() < 1e-10, "{d} vs {expected}");
+        let square = Indenter::Paraboloid { c, edge: Some(1.0) };
+        let half_edge_load = 8.0 * c * 0.125 / 3.0;
+        assert!(square
+            .depth_under_load(0.99 * half_edge_load)
+            .unwrap()
+            .is_some());
+        assert_eq!(
+            square.depth_under_load(1.01 * half_edge_load).unwrap(),
+            None
+        );
+    }
+
+    /// A profile given as a function gets the numbers of the same indenter's own: the sphere's
+    /// closed-form profile through `MdrProfile` against `Indenter::Sphere`.
+    #[test]
+    fn a_profile_function_gets_the_indenters_numbers() {
+        let sphere = Indenter::Sphere { radius: 1.5 };
+        let g =
+            |x: &[f64]| -> Result<Vec<f64>> { x.iter().map(|&v| sphere.profile_1d(v)).collect() };
+        let mdr = MdrProfile {
+            profile: &g,
+            footprint: sphere.footprint(),
+            reach: Reach::Disc {
+                radius: 1.5,
+                fills: false,
+            },
+        };
+        for s in [1e-4, 0.2, 3.0] {
+            assert_eq!(
+                mdr.radius_at_load(s).unwrap(),
+                sphere.radius_at_load(s).unwrap()
+            );
+            assert_eq!(
+                mdr.depth_under_load(s).unwrap(),
+                sphere.depth_under_load(s).unwrap()
+            );
+        }
+        assert_eq!(
+            mdr.radius_at_depth(0.4).unwrap(),
+            sphere.radius_at_depth(0.4).unwrap()
+        );
+    }
+
+    /// An unbounded profile function that levels off is sought over 2^doublings times the
+    /// start, and the error names the depth.
+    #[test]
+    fn an_unreachable_depth_names_it() {
+        let g = |x: &[f64]| -> Result<Vec<f64>> {
+            Ok(x.iter().map(|&v| 1.0 - 1.0 / (1.0 + v * v)).collect())
+        };
+        let mdr = MdrProfile {
+            profile: &g,
+            footprint: Footprint::Unbounded,
+            reach: Reach::Beyond {
+                start: 1.0,
+                doublings: 20,
+            },
+        };
+        let e = mdr.radius_at_depth(5.0).unwrap_err().to_string();
+        assert!(e.contains("up to 1048576.0 m reaches depth 5.0 m"), "{e}");
+        assert!((mdr.radius_at_depth(0.5).unwrap() - 1.0).abs() < 1e-15);
     }
 
     /// A rod grid of n = 200 holds the 31417 elements of the paper's BEM disc.

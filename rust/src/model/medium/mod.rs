@@ -155,6 +155,39 @@ pub fn check_poisson_ratio(nu: f64) -> Result<()> {
     }
 }
 
+/// The kinds of media, as scene files name them (`type`).
+pub const KINDS: [&str; 7] = [
+    "elastic",
+    "viscous",
+    "kelvinvoigt",
+    "maxwell",
+    "standardsolid",
+    "prony",
+    "powerlaw",
+];
+
+/// The parameter names of a medium of kind `kind` (one of `KINDS`) with `terms` Prony terms
+/// (only a Prony series has any), in the order of `Medium::parameters`.
+pub fn parameter_names(kind: &str, terms: usize) -> Result<Vec<String>> {
+    if terms > 0 && kind != "prony" {
+        return Err(Error::InvalidInput(format!(
+            "only a Prony series has terms, not a medium of kind {kind:?}"
+        )));
+    }
+    let count = match kind {
+        "elastic" | "viscous" => 1,
+        "kelvinvoigt" | "maxwell" => 2,
+        "prony" => 1 + 2 * terms,
+        _ => 3,
+    };
+    let placeholder = Medium::from_ordered(kind, &vec![1.0; count], INCOMPRESSIBLE)?;
+    Ok(placeholder
+        .parameters()
+        .into_iter()
+        .map(|(n, _)| n)
+        .collect())
+}
+
 impl Medium {
     /// Fails on parameters that are not finite and positive (G_inf of a Prony series may
     /// be 0 when it has a term) and on a Poisson ratio outside (-1, 0.5].
@@ -291,6 +324,95 @@ impl Medium {
         }
     }
 
+    /// The medium of kind `kind` (one of `KINDS`) whose parameters, named as `parameters`
+    /// names them, are `values` (in any order), with Poisson ratio `nu`; validated. A missing,
+    /// repeated or unknown name is an error that lists the kind's names.
+    pub fn from_parameters(kind: &str, values: &[(String, f64)], nu: f64) -> Result<Medium> {
+        let terms = if kind == "prony" {
+            values.len().saturating_sub(1) / 2
+        } else {
+            0
+        };
+        let names = parameter_names(kind, terms)?;
+        let mut ordered = Vec::with_capacity(names.len());
+        for name in &names {
+            let mut found = values.iter().filter(|(n, _)| n == name);
+            match (found.next(), found.next()) {
+                (Some(&(_, v)), None) => ordered.push(v),
+                _ => {
+                    return Err(Error::InvalidInput(format!(
+                        "a {kind} medium needs the parameters {names:?} once each, got {:?}",
+                        values.iter().map(|(n, _)| n).collect::<Vec<_>>()
+                    )))
+                }
+            }
+        }
+        if values.len() != names.len() {
+            return Err(Error::InvalidInput(format!(
+                "a {kind} medium needs the parameters {names:?} once each, got {:?}",
+                values.iter().map(|(n, _)| n).collect::<Vec<_>>()
+            )));
+        }
+        Medium::from_values(kind, &ordered, nu)
+    }
+
+    /// The medium of kind `kind` (one of `KINDS`) from its parameters in the order of
+    /// `parameters` (a Prony series: G_inf, G1, tau1, G2, ...), with Poisson ratio `nu`;
+    /// validated.
+    pub fn from_values(kind: &str, values: &[f64], nu: f64) -> Result<Medium> {
+        let medium = Medium::from_ordered(kind, values, nu)?;
+        medium.validate()?;
+        Ok(medium)
+    }
+
+    /// The medium of kind `kind` from its parameters in the order of `parameters`
+    /// (unvalidated); an unknown kind or a wrong count is an error.
+    fn from_ordered(kind: &str, v: &[f64], nu: f64) -> Result<Medium> {
+        let wrong = || {
+            Error::InvalidInput(format!(
+                "a {kind} medium cannot have the {} parameters {v:?}",
+                v.len()
+            ))
+        };
+        Ok(match (kind, v) {
+            ("elastic", &[g]) => Medium::Elastic { g, nu },
+            ("viscous", &[eta]) => Medium::Viscous { eta, nu },
+            ("kelvinvoigt", &[g, eta]) => Medium::KelvinVoigt { g, eta, nu },
+            ("maxwell", &[g, eta]) => Medium::Maxwell { g, eta, nu },
+            ("standardsolid", &[g_inf, g1, tau1]) => Medium::StandardSolid {
+                g_inf,
+                g1,
+                tau1,
+                nu,
+            },
+            ("prony", [g_inf, rest @ ..]) if rest.len() % 2 == 0 => Medium::Prony {
+                g_inf: *g_inf,
+                terms: rest.chunks(2).map(|t| [t[0], t[1]]).collect(),
+                nu,
+            },
+            ("powerlaw", &[g0, beta, t0]) => Medium::PowerLaw { g0, beta, t0, nu },
+            (k, _) if KINDS.contains(&k) => return Err(wrong()),
+            _ => {
+                return Err(Error::InvalidInput(format!(
+                    "unknown medium kind {kind:?}; the kinds are {KINDS:?}"
+                )))
+            }
+        })
+    }
+
+    /// The medium's kind, as scene files name it (one of `KINDS`).
+    pub fn kind(&self) -> &'static str {
+        match self {
+            Medium::Elastic { .. } => "elastic",
+            Medium::Viscous { .. } => "viscous",
+            Medium::KelvinVoigt { .. } => "kelvinvoigt",
+            Medium::Maxwell { .. } => "maxwell",
+            Medium::StandardSolid { .. } => "standardsolid",
+            Medium::Prony { .. } => "prony",
+            Medium::PowerLaw { .. } => "powerlaw",
+        }
+    }
+
     /// The solvers' series over times [t_lo, t_hi] (s): the incompressible equivalent as
     /// G_inf + Prony terms + eta delta(t); exact for every medium but the power law, whose
     /// series holds there within `power_law::RELATIVE_ERROR`.
@@ -413,8 +535,9 @@ impl Medium {
         self.incompressible_equivalent()?.series()
     }
 
-    /// The medium's own shear modulus as G_inf + Prony terms + eta delta(t), unscaled.
-    fn series(&self) -> Result<Rheology> {
+    /// The medium's own shear modulus as G_inf + Prony terms + eta delta(t), unscaled (the
+    /// solvers step `rheology`, the incompressible equivalent's); the power law is refused.
+    pub fn series(&self) -> Result<Rheology> {
         self.validate()?;
         match self {
             Medium::Elastic { g, .. } => Rheology::new(*g, vec![], 0.0),
@@ -587,6 +710,68 @@ mod tests {
             );
             assert!((a - b).abs() < 1e-6 * a, "t = {t}: {a} vs {b}");
         }
+    }
+
+    /// Every kind rebuilds from its own parameters by name and by order, and its names are
+    /// `parameter_names`'; a missing or unknown name is refused with the kind's names.
+    #[test]
+    fn media_rebuild_from_their_named_parameters() {
+        let media = [
+            Medium::Elastic { g: 2.0, nu: 0.3 },
+            Medium::Viscous {
+                eta: 1.5,
+                nu: INCOMPRESSIBLE,
+            },
+            Medium::KelvinVoigt {
+                g: 1.0,
+                eta: 0.5,
+                nu: 0.2,
+            },
+            Medium::Maxwell {
+                g: 2.0,
+                eta: 1.0,
+                nu: INCOMPRESSIBLE,
+            },
+            Medium::StandardSolid {
+                g_inf: 1.0,
+                g1: 3.0,
+                tau1: 0.5,
+                nu: 0.4,
+            },
+            Medium::Prony {
+                g_inf: 0.5,
+                terms: vec![[1.0, 0.1], [2.0, 2.0]],
+                nu: INCOMPRESSIBLE,
+            },
+            Medium::PowerLaw {
+                g0: 2.0,
+                beta: 0.2,
+                t0: 1.0,
+                nu: 0.1,
+            },
+        ];
+        for m in &media {
+            let named = m.parameters();
+            let terms = match m {
+                Medium::Prony { terms, .. } => terms.len(),
+                _ => 0,
+            };
+            let names: Vec<String> = named.iter().map(|(n, _)| n.clone()).collect();
+            assert_eq!(parameter_names(m.kind(), terms).unwrap(), names);
+            let reversed: Vec<(String, f64)> = named.iter().rev().cloned().collect();
+            assert_eq!(
+                &Medium::from_parameters(m.kind(), &reversed, m.nu()).unwrap(),
+                m
+            );
+            let values: Vec<f64> = named.iter().map(|&(_, v)| v).collect();
+            assert_eq!(&Medium::from_values(m.kind(), &values, m.nu()).unwrap(), m);
+            assert!(KINDS.contains(&m.kind()));
+        }
+        let wrong = [("G".to_string(), 1.0), ("tau".to_string(), 1.0)];
+        let e = Medium::from_parameters("maxwell", &wrong, 0.5).unwrap_err();
+        assert!(e.to_string().contains(r#"["G", "eta"]"#), "{e}");
+        assert!(Medium::from_values("gel", &[1.0], 0.5).is_err());
+        assert!(parameter_names("maxwell", 2).is_err());
     }
 
     #[test]
