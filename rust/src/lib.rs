@@ -9,7 +9,7 @@
 //! surface operators (`operator`, `periodic`, `precondition`); contact solvers (`contact`,
 //! `static_contact`, `window`, `grid`); time stepping (`viscous`, `viscoelastic`, `mdr`,
 //! `rheology`, `integrator`, `loading`, `transforms`); the scene model (`scene`), which
-//! sizes grids, dispatches to the solvers and reports; and its applications (`paper`, the
+//! sizes grids, dispatches to the solvers and reports; and its applications (the
 //! binary, the Python bindings in `python`); random rough surfaces (`surfaces`).
 
 pub mod contact;
@@ -24,7 +24,6 @@ pub mod memory;
 pub mod monitor;
 pub mod npy;
 pub mod operator;
-pub mod paper;
 pub mod periodic;
 pub mod pool;
 pub mod power_law;

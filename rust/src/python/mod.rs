@@ -35,7 +35,6 @@ mod core_module {
     use super::report::{PyFieldSet, PyReport};
     #[pymodule_export]
     use super::scene::{
-        load_scene_file, paper_scenes, parse_scene_file, parse_scene_table, run_scene, PyIndenter,
-        PyScene,
+        load_scene_file, parse_scene_file, parse_scene_table, run_scene, PyIndenter, PyScene,
     };
 }

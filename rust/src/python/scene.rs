@@ -1,12 +1,11 @@
 //! Scenes across the boundary: the scene model built from JSON (what the Python `Scene`
-//! sends), scene files, the paper's scenes, and `run_scene`, which solves one.
+//! sends), scene files, and `run_scene`, which solves one.
 
 use super::monitor::{to_pyerr, PyMonitor};
 use super::report::PyReport;
 use crate::contact::DENSE_LIMIT;
 use crate::error::Error;
 use crate::integrator::ExplicitControl;
-use crate::paper;
 use crate::scene::{self, file, Indenter, Integrator, Method, RunSettings, Scene, SceneFile};
 use numpy::{IntoPyArray, PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1};
 use pyo3::prelude::*;
@@ -191,15 +190,6 @@ pub(crate) fn parse_scene_table(
     SceneFile::parse_json(text, source)
         .map(unpack)
         .map_err(|e| to_pyerr(py, e))
-}
-
-/// The paper's runs: (name, scene, method, n) each, at the paper's or quick resolutions.
-#[pyfunction]
-pub(crate) fn paper_scenes(quick: bool) -> Vec<(String, PyScene, &'static str, usize)> {
-    paper::scenes(quick)
-        .into_iter()
-        .map(|(name, scene, s)| (name, PyScene { inner: scene }, s.method.name(), s.n))
-        .collect()
 }
 
 /// Solves `scene` by `method` ("bem" or "mdr") at resolution `n`; see `mdrvisc.solve`.
