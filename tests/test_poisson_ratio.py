@@ -164,7 +164,7 @@ def test_fit_recovers_the_shear_moduli_at_a_poisson_ratio():
     # the same curve read as incompressible gives moduli smaller by 2 (1 - nu) = 1.4: the
     # contact modulus is what the curve fixes
     wrong = mv.fit(tip, mv.StandardSolid, t, depth=depth, force=force, substeps=4)
-    assert abs(wrong.G_inf * 1.4 / true.G_inf - 1.0) < 3e-5, wrong
+    assert abs(wrong.parameters["G_inf"] * 1.4 / true.G_inf - 1.0) < 3e-5, wrong
 
 
 @pytest.mark.parametrize("make", MEDIA, ids=lambda m: type(m(0.5)).__name__)
