@@ -42,7 +42,7 @@ from scipy.optimize import least_squares
 
 import mdrvisc as mv
 from _bench import best_of, header, run_worker, table
-from mdrvisc.fitting import _medium, _parameters
+from mdrvisc._fit_model import medium_of, parameters
 
 HERE = Path(__file__).resolve().parent
 RADIUS, RATE, T_PEAK, SAMPLES, N = 5e-6, 1e-6, 1.0, 2000, 500
@@ -65,21 +65,21 @@ def curve(true, indenter=None, clean=False):
 
 def scipy_fit(guess, t, depth, force):
     """Today's way: least_squares around mv.solve, parameters in logs."""
-    names = list(_parameters(guess))
-    base = _parameters(guess)
+    names = list(parameters(guess))
+    base = parameters(guess)
     solves = 0
 
     def residuals(x):
         nonlocal solves
         solves += 1
-        medium = _medium(type(guess), {**base, **dict(zip(names, np.exp(x)))}, guess.nu)
+        medium = medium_of(type(guess), {**base, **dict(zip(names, np.exp(x)))}, guess.nu)
         history = (np.concatenate([[0.0], t]), np.concatenate([[0.0], depth]))
         scene = mv.Scene(indenter=mv.Sphere(radius=RADIUS), medium=medium, depth=history,
                          duration=float(t[-1]), times=t, dt=float(t[1] - t[0]))
         return (mv.solve(scene, "mdr", 2 * N).force - force) / force.max()
 
     result = least_squares(residuals, np.log([base[k] for k in names]), method="trf")
-    return _medium(type(guess), dict(zip(names, np.exp(result.x))), guess.nu), solves
+    return medium_of(type(guess), dict(zip(names, np.exp(result.x))), guess.nu), solves
 
 
 def pyfmrheo_fit(python, tip, tip_param, t, depth, force, clean, true, guess, repeats):
@@ -107,7 +107,8 @@ def power_law_table(python, repeats) -> None:
         t, depth, force, clean = curve(true, tip, clean=True)
         ours_s, ours = best_of(
             lambda tip=tip, t=t, d=depth, f=force: mv.fit(tip, guess, t, depth=d, force=f, n=N), repeats)
-        rows.append([label, "mv.fit", ours.solves, ours_s, ours.G0, ours.stderr["G0"], ours.beta,
+        fitted = ours.parameters
+        rows.append([label, "mv.fit", ours.nfev, ours_s, fitted["G0"], ours.stderr["G0"], fitted["beta"],
                      ours.stderr["beta"], None, None])
         if python is None:
             rows.append([label, "PyFMRheo (not run: no --pyfmrheo-python)"] + [None] * 8)
@@ -117,7 +118,8 @@ def power_law_table(python, repeats) -> None:
             rows.append([label, f"PyFMRheo (failed: {theirs['failed']})"] + [None] * 8)
             continue
         g0, g0_err = theirs["E0"] / 3.0, theirs["E0_stderr"] / 3.0
-        diff = max(abs(g0 - ours.G0) / g0_err, abs(theirs["betaE"] - ours.beta) / theirs["betaE_stderr"])
+        diff = max(abs(g0 - fitted["G0"]) / g0_err,
+                   abs(theirs["betaE"] - fitted["beta"]) / theirs["betaE_stderr"])
         rows.append([label, f"PyFMRheo {theirs['version']} Ting", theirs["evaluations"], theirs["seconds"],
                      g0, g0_err, theirs["betaE"], theirs["betaE_stderr"], diff,
                      f"{theirs['deviation_approach']:.1e} / {theirs['deviation_retract']:.1e}"])
@@ -150,21 +152,21 @@ def target_table(repeats) -> None:
     rows = []
     for label, true, target in cases:
         t, depth, force = curve(true)
-        factors = np.resize([1.6, 0.6, 2.5, 0.7], len(_parameters(true)))
-        scaled = {k: v * f for (k, v), f in zip(_parameters(true).items(), factors)}
-        guess = _medium(type(true), scaled, true.nu)
+        factors = np.resize([1.6, 0.6, 2.5, 0.7], len(parameters(true)))
+        scaled = {k: v * f for (k, v), f in zip(parameters(true).items(), factors)}
+        guess = medium_of(type(true), scaled, true.nu)
         ours_s, ours = best_of(lambda g=guess, t=t, d=depth, f=force: mv.fit(
             mv.Sphere(radius=RADIUS), g, t, depth=d, force=f, n=N), args.repeats)
         start = time.perf_counter()
         theirs, solves = scipy_fit(guess, t, depth, force)
         scipy_s = time.perf_counter() - start
-        mine, other = _parameters(ours.medium), _parameters(theirs)
+        mine, other = parameters(ours.medium), parameters(theirs)
         in_errors = max(abs(mine[k] - other[k]) / ours.stderr[k] for k in mine)
-        truth = max(abs(mine[k] / v - 1) for k, v in _parameters(true).items())
-        rows.append([label, "mv.fit", ours.solves, ours_s, target, truth, in_errors])
+        truth = max(abs(mine[k] / v - 1) for k, v in parameters(true).items())
+        rows.append([label, "mv.fit", ours.nfev, ours_s, target, truth, in_errors])
         rows.append([label, "least_squares + mv.solve", solves, scipy_s, None, None, None])
         rows.append([label, "ratio", None, scipy_s / ours_s, None, None, None])
-    table(["case", "method", "solves", "wall s", "target s", "max rel. err vs true", "|diff| / stderr"], rows,
+    table(["case", "method", "nfev", "wall s", "target s", "max rel. err vs true", "|diff| / stderr"], rows,
           ["{}", "{}", "{}", "{:.3f}", "{:.1f}", "{:.2e}", "{:.2f}"])
 
 

@@ -13,6 +13,7 @@ import pytest
 from scipy import integrate, special
 
 import mdrvisc as mv
+from mdrvisc._fit_model import parameters
 from mdrvisc._least_squares import levenberg_marquardt
 from mdrvisc.analytic import ting_paraboloid_triangle
 
@@ -75,8 +76,8 @@ def test_noise_free_ting_paraboloid_is_recovered(true, options):
     options = {k: v for k, v in options.items() if k != "percent"}
     result = mv.fit(mv.Paraboloid(c=1 / (2 * R)), type(true), t, depth=depth, force=force,
                     **{"substeps": 4, **options})
-    errors = relative_errors(result, mv.fitting._parameters(true))
-    assert result.converged, result.message
+    errors = relative_errors(result, parameters(true))
+    assert result.success, result.message
     assert max(abs(e) for e in errors.values()) < 1e-4, errors
 
 
@@ -92,7 +93,7 @@ def test_noisy_ting_paraboloid_within_three_standard_errors(true, options):
         warnings.simplefilter("error", mv.IdentifiabilityWarning)
         result = mv.fit(mv.Paraboloid(c=1 / (2 * R)), type(true), t, depth=depth, force=noisy(force, 7),
                         **{k: v for k, v in options.items() if k not in ("substeps", "percent")})
-    check_noisy(result, mv.fitting._parameters(true), options.get("percent", True))
+    check_noisy(result, parameters(true), options.get("percent", True))
 
 
 def test_standard_solid_fit_recovers_the_separation_time():
@@ -134,9 +135,9 @@ def test_cone_ramp_and_hold(true):
     force = cone_ramp_hold(t, true, slope, 1.0)
     cone = mv.Cone(slope=slope)
     exact = mv.fit(cone, type(true), t, depth=depth, force=force, substeps=4)
-    assert max(abs(e) for e in relative_errors(exact, mv.fitting._parameters(true)).values()) < 1e-4
+    assert max(abs(e) for e in relative_errors(exact, parameters(true)).values()) < 1e-4
     result = mv.fit(cone, type(true), t, depth=depth, force=noisy(force, 11))
-    check_noisy(result, mv.fitting._parameters(true))
+    check_noisy(result, parameters(true))
 
 
 def prony_ramp_hold(t, medium, rate, t_ramp):
@@ -168,11 +169,11 @@ def test_prony_two_terms_from_a_relaxation():
     force = prony_ramp_hold(t, true, rate, t_ramp)
     tip = mv.Paraboloid(c=1 / (2 * R))
     exact = mv.fit(tip, mv.Prony, t, depth=depth, force=force, terms=2, substeps=16)
-    errors = relative_errors(exact, mv.fitting._parameters(true))
+    errors = relative_errors(exact, parameters(true))
     assert max(abs(e) for e in errors.values()) < 1e-4, errors
     for seed in (7, 8):
         result = mv.fit(tip, mv.Prony, t, depth=depth, force=noisy(force, seed), terms=2)
-        check_noisy(result, mv.fitting._parameters(true))
+        check_noisy(result, parameters(true))
 
 
 def power_law_ramp_hold(t, medium, t_ramp):
@@ -257,7 +258,7 @@ def test_bem_sphere_is_recovered_to_its_discretisation_error(bem_sphere):
     assert data_error < 6e-3
     result = mv.fit(mv.Sphere(radius=5e-6), mv.StandardSolid, bem.t, depth=bem.depth, force=bem.force,
                     substeps=8)
-    for name, e in relative_errors(result, mv.fitting._parameters(true)).items():
+    for name, e in relative_errors(result, parameters(true)).items():
         assert abs(e) < 2 * data_error, (name, e)
 
 
@@ -265,7 +266,7 @@ def test_bem_sphere_with_noise(bem_sphere):
     true, _, bem, _ = bem_sphere
     result = mv.fit(mv.Sphere(radius=5e-6), mv.StandardSolid, bem.t, depth=bem.depth,
                     force=noisy(bem.force, 13), substeps=8)
-    check_noisy(result, mv.fitting._parameters(true))
+    check_noisy(result, parameters(true))
 
 
 def test_creep_fit_under_force_control():
@@ -282,7 +283,7 @@ def test_creep_fit_under_force_control():
     force = rate * t
     result = mv.fit(mv.Paraboloid(c=1 / (2 * R)), mv.StandardSolid, t, depth=depth, force=force,
                     control="force", substeps=4)
-    assert max(abs(e) for e in relative_errors(result, mv.fitting._parameters(true)).values()) < 1e-4
+    assert max(abs(e) for e in relative_errors(result, parameters(true)).values()) < 1e-4
     assert result.forward == "elements"  # force control: no closed form over the contact
 
 
@@ -292,11 +293,40 @@ def test_result_table_and_held_parameters():
     force, _, _ = ting_paraboloid_triangle(t, true, R, V, T_PEAK)
     result = mv.fit(mv.Paraboloid(c=1 / (2 * R)), mv.StandardSolid(1.5e3, 1e3, 0.2), t, depth=depth,
                     force=force, fixed=("tau1",))
-    assert result.tau1 == 0.2 and result.stderr["tau1"] == 0.0 and result.free == ["G_inf", "G1"]
+    assert result.parameters["tau1"] == 0.2 and result.stderr["tau1"] == 0.0
+    assert result.free == ["G_inf", "G1"]
     assert isinstance(result.medium, mv.StandardSolid)
     text = repr(result)
     assert "held" in text and "G_inf" in text and "StandardSolid" in text
     assert result.forward == "hereditary" and "(hereditary)" in text
+
+
+def test_result_names_follow_scipy():
+    """``cost`` is half the weighted sum of squared residuals; ``jac``, the weighted residuals'
+    Jacobian in the parameters themselves, gives the standard errors (covariance 2 cost / dof
+    (J^T J)^-1) and, the force being homogeneous of degree one in the moduli under depth
+    control, sum_j G_j dr/dG_j = sqrt(w) model (Euler); ``status`` and ``success`` say why it
+    stopped; the fitted values are ``parameters`` and ``medium``, not attributes."""
+    true = mv.StandardSolid(G_inf=1e3, G1=2e3, tau1=0.2)
+    t, depth = triangle()
+    force = noisy(ting_paraboloid_triangle(t, true, R, V, T_PEAK)[0], seed=5)
+    w = np.linspace(1.0, 2.0, t.size)
+    result = mv.fit(mv.Paraboloid(c=1 / (2 * R)), mv.StandardSolid, t, depth=depth, force=force, weights=w)
+    assert result.success and result.status in (1, 2, 3) and result.nfev > result.nit >= 1
+    assert result.cost == pytest.approx(0.5 * np.sum(w * result.residuals**2), rel=1e-12)
+    assert result.jac.shape == (t.size, 3) and result.free == ["G_inf", "G1", "tau1"]
+    dof = t.size - 3
+    covariance = 2.0 * result.cost / dof * np.linalg.inv(result.jac.T @ result.jac)
+    for name, variance in zip(result.free, np.diag(covariance)):
+        assert math.sqrt(variance) == pytest.approx(result.stderr[name], rel=1e-6), name
+    euler = result.parameters["G_inf"] * result.jac[:, 0] + result.parameters["G1"] * result.jac[:, 1]
+    assert np.allclose(euler, np.sqrt(w) * result.model, rtol=1e-9, atol=1e-12 * np.max(result.model))
+    assert result.medium.G1 == result.parameters["G1"]
+    with pytest.raises(AttributeError):
+        result.G1  # noqa: B018
+    stopped = mv.fit(mv.Paraboloid(c=1 / (2 * R)), mv.StandardSolid, t, depth=depth, force=force, max_iter=1)
+    assert not stopped.success and stopped.status == 0 and stopped.nit == 1
+    assert "not converged" in repr(stopped) and "1 iterations" in stopped.message
     mv.Scene(indenter=mv.Paraboloid(c=1 / (2 * R)), medium=result.medium, force=1e-9, duration=1.0)
 
 
@@ -349,7 +379,7 @@ def test_levenberg_marquardt_matches_scipy():
     ours = levenberg_marquardt(residuals, np.log([0.5, 0.5, 5.0]))
     theirs = least_squares(lambda p: residuals(p)[0], np.log([0.5, 0.5, 5.0]), jac=lambda p: residuals(p)[1],
                            xtol=1e-14, ftol=1e-14, gtol=1e-14)
-    assert ours.converged
+    assert ours.converged and ours.status > 0
     assert np.allclose(ours.x, theirs.x, rtol=0, atol=1e-8)
 
 
@@ -369,6 +399,8 @@ def test_command_line_fit(tmp_path, capsys):
     assert main(["fit", *args, "--json"]) == 0
     document = json.loads(capsys.readouterr().out)
     assert abs(document["parameters"]["tau1"] / 0.2 - 1) < 1e-3
+    assert document["success"] is True and document["status"] > 0 and document["nit"] < document["nfev"]
+    assert document["cost"] >= 0 and "solves" not in document and "converged" not in document
     assert main(["fit", *args[:2], "blob:r=1", *args[3:]]) == 2
 
 
@@ -385,7 +417,7 @@ def test_weights_select_the_samples_that_count():
     tip = mv.Paraboloid(c=1 / (2 * R))
     approach_only = np.where(retract, 0.0, 1.0)
     picked = mv.fit(tip, mv.StandardSolid, t, depth=depth, force=corrupted, weights=approach_only, substeps=4)
-    errors = relative_errors(picked, mv.fitting._parameters(true))
+    errors = relative_errors(picked, parameters(true))
     print("approach only", errors)
     assert max(abs(e) for e in errors.values()) < 1e-4, errors
     other = mv.fit(tip, mv.StandardSolid, t, depth=depth, force=np.where(retract, 3.0 * force, force),
@@ -393,7 +425,7 @@ def test_weights_select_the_samples_that_count():
     for name, value in picked.parameters.items():
         assert abs(other.parameters[name] / value - 1.0) < 1e-9
     uniform = mv.fit(tip, mv.StandardSolid, t, depth=depth, force=corrupted, substeps=4)
-    errors = relative_errors(uniform, mv.fitting._parameters(true))
+    errors = relative_errors(uniform, parameters(true))
     print("uniform", errors)
     assert max(abs(e) for e in errors.values()) > 0.02, errors
     scaled = mv.fit(tip, mv.StandardSolid, t, depth=depth, force=corrupted, weights=7.0 * approach_only,
@@ -461,9 +493,9 @@ def test_noisy_creep_fit_under_force_control(seed):
     depth, force = creep_ramp_hold(true, t)
     tip = mv.Paraboloid(c=1 / (2 * R))
     exact = mv.fit(tip, mv.StandardSolid, t, depth=depth, force=force, control="force", substeps=4)
-    assert max(abs(e) for e in relative_errors(exact, mv.fitting._parameters(true)).values()) < 1e-4
+    assert max(abs(e) for e in relative_errors(exact, parameters(true)).values()) < 1e-4
     result = mv.fit(tip, mv.StandardSolid, t, depth=noisy(depth, seed), force=force, control="force")
-    check_noisy(result, mv.fitting._parameters(true))
+    check_noisy(result, parameters(true))
 
 
 def test_bem_cone_is_recovered_to_its_discretisation_error():
@@ -480,7 +512,7 @@ def test_bem_cone_is_recovered_to_its_discretisation_error():
     data_error = np.max(np.abs(bem.force / exact - 1.0))
     print("data error", data_error)
     result = mv.fit(mv.Cone(slope=slope), mv.StandardSolid, t, depth=bem.depth, force=bem.force, substeps=8)
-    errors = relative_errors(result, mv.fitting._parameters(true))
+    errors = relative_errors(result, parameters(true))
     print("fit errors", errors)
     for name, e in errors.items():
         assert abs(e) < 2 * data_error, (name, e, data_error)
@@ -497,16 +529,16 @@ def test_derived_modulus_column_is_the_forward_models_own(medium):
     forward model computes itself (measured agreement ~1e-13 of the largest entry)."""
     import json
 
-    from mdrvisc.fitting import _curves, _moduli, _parameters, _with_derived
+    from mdrvisc._fit_model import curves, moduli, with_derived
 
     t, depth = triangle(100)
     tip = mv.Paraboloid(c=1 / (2 * R))
-    curve, _ = _curves(tip, t, depth, depth, "depth", "depth", 300, 2)
-    free = [name for name in _parameters(medium) if name != "t0"]
-    derived = _moduli(_parameters(medium))[0]
+    curve, _ = curves(tip, t, depth, depth, "depth", "depth", 300, 2)
+    free = [name for name in parameters(medium) if name != "t0"]
+    derived = moduli(parameters(medium))[0]
     asked = [name for name in free if name != derived]
     model = [json.dumps(medium._model())]
     values, full, _, _ = curve.evaluate(model, free)[0]
     _, jac, _, _ = curve.evaluate(model, asked)[0]
-    rebuilt = _with_derived(values, jac, free, asked)
+    rebuilt = with_derived(values, jac, free, asked)
     assert np.max(np.abs(rebuilt - full)) <= 1e-10 * np.max(np.abs(full))

@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 
 import mdrvisc as mv
+from mdrvisc._fit_model import parameters
 from mdrvisc.analytic import ting_paraboloid_triangle
 from mdrvisc.cli import main
 from test_fit import T_PEAK, R, V, cone_ramp_hold, power_law_ramp_hold
@@ -94,11 +95,11 @@ def test_noise_free_raw_curve_recovers_contact_point_and_medium(true, options):
     t, z, deflection, _ = ting_raw(true)
     result = mv.fit(PARABOLOID, type(true), t, piezo=z, deflection=deflection, spring_constant=K,
                     **{"substeps": 8, **options})
-    assert result.converged, result.message
-    true_values = mv.fitting._parameters(true)
+    assert result.success, result.message
+    true_values = parameters(true)
     errors = {name: result.parameters[name] / value - 1 for name, value in true_values.items()}
     print(type(true).__name__, errors, (result.contact_point - Z_C) / (V * T_PEAK),
-          (result.baseline - BASELINE) / np.ptp(deflection), result.solves)
+          (result.baseline - BASELINE) / np.ptp(deflection), result.nfev)
     assert max(abs(e) for e in errors.values()) < 3e-4, errors
     assert abs(result.contact_point - Z_C) < 3e-4 * V * T_PEAK
     assert abs(result.baseline - BASELINE) < 1e-4 * np.ptp(deflection)
@@ -118,10 +119,10 @@ def test_soft_cantilever():
     for seed in range(20):
         t, z, deflection, _ = ting_raw(true, seed=seed, k=0.05)
         result = mv.fit(PARABOLOID, mv.StandardSolid, t, piezo=z, deflection=deflection, spring_constant=0.05)
-        assert result.converged, result.message
-        errors.append([result.parameters[n] / v - 1.0 for n, v in mv.fitting._parameters(true).items()])
+        assert result.success, result.message
+        errors.append([result.parameters[n] / v - 1.0 for n, v in parameters(true).items()])
         scores.append([(result.parameters[n] - v) / result.stderr[n]
-                       for n, v in mv.fitting._parameters(true).items()])
+                       for n, v in parameters(true).items()])
     errors, scores = np.array(errors), np.array(scores)
     mean, spread = errors.mean(axis=0), errors.std(axis=0, ddof=1)
     assert np.all(np.abs(mean) <= 3.0 * spread / math.sqrt(len(errors))), (mean, spread)
@@ -138,8 +139,13 @@ def test_noisy_raw_curve_within_three_standard_errors(offset):
     result = mv.fit(PARABOLOID, mv.StandardSolid, t, piezo=z, deflection=deflection, spring_constant=K,
                     contact_point=guess)
     print(result)
-    assert result.converged, result.message
-    check_raw(result, mv.fitting._parameters(true))
+    assert result.success, result.message
+    check_raw(result, parameters(true))
+    # jac is in the parameters themselves, the contact point and baseline in m: it gives
+    # their standard errors as the fit does, covariance 2 cost / dof (J^T J)^-1
+    covariance = 2.0 * result.cost / (t.size - len(result.free)) * np.linalg.inv(result.jac.T @ result.jac)
+    for name, variance in zip(result.free, np.diag(covariance)):
+        assert math.sqrt(variance) == pytest.approx(result.stderr[name], rel=1e-6), name
 
 
 def test_noisy_raw_cone_ramp_and_hold():
@@ -153,7 +159,7 @@ def test_noisy_raw_cone_ramp_and_hold():
     z, deflection = raw_curve(indentation, force, seed=9)
     result = mv.fit(mv.Cone(slope=slope), mv.Maxwell, t, piezo=z, deflection=deflection, spring_constant=K)
     print(result)
-    check_raw(result, mv.fitting._parameters(true))
+    check_raw(result, parameters(true))
 
 
 def test_noisy_raw_power_law():
@@ -230,7 +236,7 @@ def test_command_line_fits_a_raw_curve(tmp_path, capsys):
     assert "contact_point" in capsys.readouterr().out
     assert main(["fit", *args, "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
-    for name, value in mv.fitting._parameters(true).items():
+    for name, value in parameters(true).items():
         assert abs(out["parameters"][name] / value - 1) < 3e-4, (name, out["parameters"][name])
     assert abs(out["contact_point"] - Z_C) < 3e-4 * V * T_PEAK
     assert main(["fit", *args[:-4]]) == 2

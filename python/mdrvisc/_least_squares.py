@@ -16,17 +16,30 @@ import numpy as np
 Residuals = Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]]
 
 
+#: Why Levenberg-Marquardt stopped, as scipy.optimize.least_squares numbers it: 0 the
+#: iteration limit, 1 the gradient test (gtol), 2 the cost test (ftol; also when no step
+#: lowers the cost: a minimum to round-off), 3 the step test (xtol).
+MAX_ITER, GTOL, FTOL, XTOL = 0, 1, 2, 3
+
+
 @dataclass
 class Solution:
-    """Where Levenberg-Marquardt stopped."""
+    """Where Levenberg-Marquardt stopped: ``status`` (:data:`MAX_ITER`, :data:`GTOL`,
+    :data:`FTOL` or :data:`XTOL`) and ``message`` say why; ``converged`` unless the
+    iteration limit stopped it."""
 
     x: np.ndarray
     residuals: np.ndarray
     jacobian: np.ndarray
     evaluations: int
     iterations: int
-    converged: bool
+    status: int
     message: str
+
+    @property
+    def converged(self) -> bool:
+        """Whether a tolerance (not the iteration limit) stopped it."""
+        return self.status != MAX_ITER
 
 
 def levenberg_marquardt(fun: Residuals, x0: np.ndarray, *, max_iter: int = 100, xtol: float = 1e-10,
@@ -37,7 +50,7 @@ def levenberg_marquardt(fun: Residuals, x0: np.ndarray, *, max_iter: int = 100, 
     are logarithms), when an accepted step lowers the cost, or the linear model predicts it
     to lower the cost, by less than ``ftol`` of it, or when the scaled gradient is below
     ``gtol``; after ``max_iter`` iterations it stops with
-    ``converged`` false.
+    ``converged`` false (``status`` :data:`MAX_ITER`).
     """
     x = np.asarray(x0, dtype=float).copy()
     r, jac = fun(x)
@@ -49,7 +62,7 @@ def levenberg_marquardt(fun: Residuals, x0: np.ndarray, *, max_iter: int = 100, 
         g = jac.T @ r
         scale = np.maximum(np.diag(a), 1e-30 * max(float(np.max(np.diag(a), initial=0.0)), 1e-300))
         if float(np.max(np.abs(g) / np.sqrt(scale), initial=0.0)) <= gtol * max(np.sqrt(2 * cost), 1e-300):
-            return Solution(x, r, jac, evaluations, iteration - 1, True, "gradient below tolerance")
+            return Solution(x, r, jac, evaluations, iteration - 1, GTOL, "gradient below tolerance")
         if damping is None:
             damping = 1e-3
         while True:
@@ -63,10 +76,10 @@ def levenberg_marquardt(fun: Residuals, x0: np.ndarray, *, max_iter: int = 100, 
             if biggest > max_step:
                 step *= max_step / biggest
             if biggest <= xtol:
-                return Solution(x, r, jac, evaluations, iteration, True, "step below tolerance")
+                return Solution(x, r, jac, evaluations, iteration, XTOL, "step below tolerance")
             predicted = -(g @ step) - 0.5 * step @ a @ step
             if predicted <= ftol * cost:
-                return Solution(x, r, jac, evaluations, iteration, True,
+                return Solution(x, r, jac, evaluations, iteration, FTOL,
                                 "predicted cost reduction below tolerance")
             r_new, jac_new = fun(x + step)
             evaluations += 1
@@ -79,11 +92,11 @@ def levenberg_marquardt(fun: Residuals, x0: np.ndarray, *, max_iter: int = 100, 
                 damping *= max(1.0 / 3.0, 1.0 - (2.0 * ratio - 1.0) ** 3)
                 grow = 2.0
                 if reduction <= ftol * cost_new:
-                    return Solution(x, r, jac, evaluations, iteration, True, "cost reduction below tolerance")
+                    return Solution(x, r, jac, evaluations, iteration, FTOL, "cost reduction below tolerance")
                 break
             damping *= grow
             grow *= 2.0
             if damping > 1e16:
-                return Solution(x, r, jac, evaluations, iteration, True,
+                return Solution(x, r, jac, evaluations, iteration, FTOL,
                                 "no step lowers the cost (a minimum to round-off)")
-    return Solution(x, r, jac, evaluations, max_iter, False, f"stopped after {max_iter} iterations")
+    return Solution(x, r, jac, evaluations, max_iter, MAX_ITER, f"stopped after {max_iter} iterations")

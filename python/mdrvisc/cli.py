@@ -1,10 +1,12 @@
-"""Command line: ``mdrvisc paper [--out DIR] [--quick] [--no-study] [--json]`` and
+"""Command line: ``mdrvisc paper [--out DIR] [--scenes DIR] [--quick] [--no-study] [--json]`` and
 ``mdrvisc run SCENE.toml [--json]`` and ``mdrvisc sweep SWEEP.toml [--scheduler ADDRESS]
 [--store DIR] [--json]`` and ``mdrvisc fit DATA.csv --indenter sphere:radius=5e-6 --model
 standardsolid [--control depth] [--spring-constant K] [--json]`` (also ``python -m mdrvisc ...``).
 
 Results go to stdout (tables, or one JSON document with ``--json``), progress to stderr.
-Bad input exits with status 2 and an ``error: ...`` line on stderr.
+Bad input exits with status 2 and an ``error: ...`` line on stderr. ``mdrvisc paper`` draws its
+figures with matplotlib (``pip install 'mdrvisc[paper]'``); without it, it writes the tables
+and the CSV/JSON files, and says on stderr that it skipped the figures and what to install.
 """
 
 import argparse
@@ -51,11 +53,14 @@ def _parser():
     commands = parser.add_subparsers(dest="command", required=True)
     paper = commands.add_parser(
         "paper", help="the paper's comparisons and viscoelastic unloading against Ting: tables "
-                      "on stdout, CSV/JSON/PNG files in --out")
+                      "on stdout, CSV/JSON/PNG files in --out (PNG with mdrvisc[paper])")
     paper.add_argument("--out", default="mdrvisc-paper",
                        help="output folder (default: ./mdrvisc-paper)")
+    paper.add_argument("--scenes", metavar="DIR", default=None,
+                       help="folder of the paper's scene files (default: those installed with "
+                            "mdrvisc, the same as examples/paper)")
     paper.add_argument("--quick", action="store_true",
-                       help="coarse resolutions (BEM rod 50, paraboloids 65, MDR 4097; "
+                       help="the scene files' [quick] resolutions (BEM rod 50, paraboloids 65, MDR 4097; "
                             "viscoelastic BEM 33, MDR 2001) and the quick error-vs-run-time "
                             "study: seconds")
     paper.add_argument("--no-study", action="store_true",
@@ -155,24 +160,27 @@ def _fit(args):
             "medium": type(result.medium).__name__, "parameters": result.parameters, "stderr": result.stderr,
             "nu": result.nu, "young_moduli": result.young_moduli, "young_stderr": result.young_stderr,
             "free": result.free, "correlation": result.correlation.tolist(), "rms": result.rms,
-            "control": result.control, "solves": result.solves, "iterations": result.iterations,
-            "forward": result.forward,
-            "wall_time": result.wall_time, "converged": result.converged, "message": result.message,
-            "warnings": result.warnings,
+            "cost": result.cost, "control": result.control, "nfev": result.nfev, "nit": result.nit,
+            "forward": result.forward, "wall_time": result.wall_time, "success": result.success,
+            "status": result.status, "message": result.message, "warnings": result.warnings,
             **({"contact_point": result.contact_point, "baseline": result.baseline} if raw else {})})))
     else:
         print(repr(result))
 
 
 def _paper(args):
+    figures = report.can_draw()
+    if not figures:
+        print(f"warning: matplotlib is not installed: writing tables and CSV/JSON files, no figures "
+              f"({report.PAPER_EXTRA} draws them)", file=sys.stderr)
     progress = _Progress()
-    results = studies.paper(quick=args.quick, progress=progress)
-    study = None if args.no_study else studies.error_vs_runtime(quick=args.quick,
-                                                                 progress=progress)
+    results = studies.paper(quick=args.quick, progress=progress, directory=args.scenes)
+    study = None if args.no_study else studies.error_vs_runtime(quick=args.quick, progress=progress,
+                                                                directory=args.scenes)
     progress("writing files")
-    paths = report.write_paper(results, args.out, study)
+    paths = report.write_paper(results, args.out, study, figures=figures)
     if study is not None:
-        paths += report.write_error_vs_runtime(study, args.out)
+        paths += report.write_error_vs_runtime(study, args.out, figures=figures)
     if args.json:
         print(json.dumps(report.paper_document(results, study)))
     else:

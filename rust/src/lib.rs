@@ -15,7 +15,6 @@ pub mod bem;
 pub mod halfspace;
 pub mod mdr;
 pub mod model;
-pub mod paper;
 #[cfg(feature = "python")]
 mod python;
 pub mod run;

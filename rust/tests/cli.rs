@@ -92,6 +92,50 @@ fn viscoelastic_scene_with_a_depth_history_loads_unloads_and_separates() {
     assert!(err.contains("only one"), "{err}");
 }
 
+/// `paper --scenes DIR` runs every `*.toml` of the folder in the order of the file names,
+/// labelled by their `name`, with their `[quick]` values under `--quick`; a folder without
+/// scene files and a file without `name` exit with status 2 naming the problem.
+#[test]
+fn paper_runs_the_scene_files_of_a_folder() {
+    let dir = std::env::temp_dir().join(format!("mdrvisc-cli-{}-paper", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp folder");
+    let first = format!("name = \"first\"\n{GOOD}");
+    let second = format!(
+        "name = \"second\"\n{}[quick]\nn = 1025\n",
+        GOOD.replace("c = 1.0", "c = 5.0")
+    );
+    std::fs::write(dir.join("b.toml"), second).expect("temp file");
+    std::fs::write(dir.join("a.toml"), first).expect("temp file");
+    std::fs::write(dir.join("notes.txt"), "not a scene").expect("temp file");
+    let folder = dir.to_string_lossy().into_owned();
+    for (quick, n_second) in [(false, 4097), (true, 1025)] {
+        let mut args = vec!["paper", "--scenes", &folder, "--json"];
+        if quick {
+            args.push("--quick");
+        }
+        let (code, out, err) = mdrvisc(&args);
+        assert_eq!(code, 0, "{err}");
+        let v: serde_json::Value = serde_json::from_str(&out).expect("JSON");
+        let runs = v.as_array().expect("an array of runs");
+        assert_eq!(runs.len(), 2);
+        assert_eq!(runs[0]["scene"], "first");
+        assert_eq!(runs[1]["scene"], "second");
+        assert_eq!(runs[0]["result"]["n"], 4097);
+        assert_eq!(runs[1]["result"]["n"], n_second);
+        assert_eq!(runs[1]["input"]["indenter"]["c"], 5.0);
+    }
+    std::fs::write(dir.join("c.toml"), GOOD).expect("temp file");
+    let (code, _, err) = mdrvisc(&["paper", "--scenes", &folder]);
+    assert_eq!(code, 2);
+    assert!(err.contains("c.toml") && err.contains("'name'"), "{err}");
+    let empty = dir.join("empty");
+    std::fs::create_dir_all(&empty).expect("temp folder");
+    let (code, _, err) = mdrvisc(&["paper", "--scenes", &empty.to_string_lossy()]);
+    assert_eq!(code, 2);
+    assert!(err.contains("no scene files"), "{err}");
+    std::fs::remove_dir_all(&dir).expect("temp folder removed");
+}
+
 fn series(path: &str, key: &str) -> Vec<f64> {
     let (code, out, err) = mdrvisc(&["run", path, "--json"]);
     assert_eq!(code, 0, "{err}");

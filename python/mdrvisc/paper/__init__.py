@@ -1,17 +1,20 @@
 """Reproduction of Kürschner & Filippov (2012) and the studies around it, apart from the
 library proper.
 
-:mod:`mdrvisc.paper.studies` runs the paper's comparisons (the flat rod of Section 5, the
-paraboloids of Section 6), the viscoelastic unloading against Ting's closed form and the
-error-against-run-time study, and returns plain data; :mod:`mdrvisc.paper.report` turns that
-data into text tables, CSV/JSON files and figures. ``mdrvisc paper`` (:mod:`mdrvisc.cli`)
-runs both.
+The paper's scenes are scene files (``examples/paper/*.toml``, shipped as
+``mdrvisc/paper/scenes/``), which :mod:`mdrvisc.paper.runs` reads when a study runs, and which
+the Rust binary's ``paper`` command runs too. :mod:`mdrvisc.paper.studies` runs the paper's
+comparisons (the flat rod of Section 5, the paraboloids of Section 6), the viscoelastic
+unloading against Ting's closed form and the error-against-run-time study, and returns plain
+data; :mod:`mdrvisc.paper.report` turns that data into text tables, CSV/JSON files and
+figures. ``mdrvisc paper`` (:mod:`mdrvisc.cli`) runs both.
 
-This subpackage is the only part of mdrvisc that uses matplotlib, and only inside the
-plotting functions: importing it does not import matplotlib.
+This subpackage is the only part of mdrvisc that uses matplotlib, an optional dependency
+(``pip install 'mdrvisc[paper]'``), and only inside the plotting functions: importing it
+does not import matplotlib, and the tables and files need none.
 """
 
-from . import report, studies
+from . import report, runs, studies
 from .report import (
     error_table,
     orders_table,
@@ -28,7 +31,7 @@ from .report import (
 )
 from .studies import error_vs_runtime, paper, paper_paraboloids, paper_rod, viscoelastic
 
-__all__ = ["studies", "report", "paper", "paper_rod", "paper_paraboloids", "viscoelastic",
+__all__ = ["studies", "report", "runs", "paper", "paper_rod", "paper_paraboloids", "viscoelastic",
            "error_vs_runtime", "write_paper", "write_error_vs_runtime", "paper_document",
            "rod_table", "paraboloid_tables", "viscoelastic_table", "error_table", "orders_table",
            "plot_rod", "plot_paraboloids", "plot_viscoelastic", "plot_error_vs_runtime"]

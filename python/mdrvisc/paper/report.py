@@ -4,12 +4,19 @@ beyond it (:mod:`mdrvisc.paper.studies`).
 Units as in :mod:`mdrvisc.paper.studies`: SI throughout; relative differences are
 (a - b) / b.
 
+The figures need matplotlib, an optional dependency (``pip install 'mdrvisc[paper]'``): the
+plotting functions raise ImportError naming it when it is missing; the tables and the
+CSV/JSON files need nothing beyond numpy, and :func:`write_paper` and
+:func:`write_error_vs_runtime` write them without figures when asked (``figures=False``;
+:func:`can_draw` says whether matplotlib is there).
+
 One module of about 530 lines, for a reason: it mirrors :mod:`mdrvisc.paper.studies` section
 by section (table, files, figure of each), so a change to one section's data and to its
 output stay side by side.
 """
 
 import csv
+import importlib.util
 import json
 import math
 import os
@@ -27,7 +34,7 @@ from .studies import (
     VISCOELASTIC_UNITS,
 )
 
-__all__ = ["rod_table", "paraboloid_tables", "viscoelastic_table", "write_csv", "paper_document",
+__all__ = ["can_draw", "rod_table", "paraboloid_tables", "viscoelastic_table", "write_csv", "paper_document",
            "write_paper", "plot_rod", "plot_paraboloids", "plot_viscoelastic", "error_table",
            "orders_table", "study_document", "write_error_vs_runtime", "plot_error_vs_runtime"]
 
@@ -132,31 +139,51 @@ def paper_document(results: dict, study: dict | None = None) -> dict:
     return to_jsonable(doc)
 
 
-def write_paper(results: dict, out: str | os.PathLike, study: dict | None = None) -> list[Path]:
-    """Writes rod.csv, paraboloids.csv, viscoelastic.csv, paper.json, fig3_rod.png,
-    fig4_paraboloids.png and fig_viscoelastic.png into the folder ``out`` (created if
-    missing); returns their paths. paper.json holds :func:`paper_document` (with ``study``
-    when given; its own files come from :func:`write_error_vs_runtime`)."""
+def write_paper(results: dict, out: str | os.PathLike, study: dict | None = None,
+                figures: bool = True) -> list[Path]:
+    """Writes rod.csv, paraboloids.csv, viscoelastic.csv, paper.json and, with ``figures``
+    (needs matplotlib), fig3_rod.png, fig4_paraboloids.png and fig_viscoelastic.png into the
+    folder ``out`` (created if missing); returns their paths. paper.json holds
+    :func:`paper_document` (with ``study`` when given; its own files come from
+    :func:`write_error_vs_runtime`)."""
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
-    paths = {name: out / name for name in ("rod.csv", "paraboloids.csv", "viscoelastic.csv",
-                                           "paper.json", "fig3_rod.png", "fig4_paraboloids.png",
-                                           "fig_viscoelastic.png")}
+    names = ("rod.csv", "paraboloids.csv", "viscoelastic.csv", "paper.json")
+    if figures:
+        names += ("fig3_rod.png", "fig4_paraboloids.png", "fig_viscoelastic.png")
+    paths = {name: out / name for name in names}
     write_csv(paths["rod.csv"], results["rod"]["rows"], ROD_UNITS)
     write_csv(paths["paraboloids.csv"], results["paraboloids"]["rows"], PARABOLOID_UNITS)
     write_csv(paths["viscoelastic.csv"], results["viscoelastic"]["rows"], VISCOELASTIC_UNITS)
     paths["paper.json"].write_text(json.dumps(paper_document(results, study), indent=1) + "\n",
                                    encoding="utf-8")
-    plot_rod(results["rod"], paths["fig3_rod.png"])
-    plot_paraboloids(results["paraboloids"], paths["fig4_paraboloids.png"])
-    plot_viscoelastic(results["viscoelastic"], paths["fig_viscoelastic.png"])
+    if figures:
+        plot_rod(results["rod"], paths["fig3_rod.png"])
+        plot_paraboloids(results["paraboloids"], paths["fig4_paraboloids.png"])
+        plot_viscoelastic(results["viscoelastic"], paths["fig_viscoelastic.png"])
     return list(paths.values())
 
 
 # ----------------------------------------------------------------------------- figures
+#: What to install for the figures.
+PAPER_EXTRA = "pip install 'mdrvisc[paper]'"
+
+
+def can_draw() -> bool:
+    """Whether matplotlib, which the figures need, is installed."""
+    try:
+        return importlib.util.find_spec("matplotlib") is not None
+    except ValueError:  # a module without a spec in sys.modules
+        return False
+
+
 def _pyplot():
-    """matplotlib.pyplot on the Agg backend (files only, no display)."""
-    import matplotlib
+    """matplotlib.pyplot on the Agg backend (files only, no display); ImportError naming the
+    ``paper`` extra when matplotlib is not installed."""
+    try:
+        import matplotlib
+    except ImportError:
+        raise ImportError(f"the paper's figures need matplotlib: {PAPER_EXTRA}") from None
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -354,19 +381,22 @@ def study_document(study: dict) -> dict:
                         "order_units": ORDER_UNITS, "orders": study["orders"]})
 
 
-def write_error_vs_runtime(study: dict, out: str | os.PathLike) -> list[Path]:
+def write_error_vs_runtime(study: dict, out: str | os.PathLike, figures: bool = True) -> list[Path]:
     """Writes error_vs_runtime.csv (rows), error_vs_runtime_orders.csv, error_vs_runtime.json
-    and error_vs_runtime.png into the folder ``out`` (created if missing); returns the paths."""
+    and, with ``figures`` (needs matplotlib), error_vs_runtime.png into the folder ``out``
+    (created if missing); returns the paths."""
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
-    names = ("error_vs_runtime.csv", "error_vs_runtime_orders.csv", "error_vs_runtime.json",
-             "error_vs_runtime.png")
+    names = ("error_vs_runtime.csv", "error_vs_runtime_orders.csv", "error_vs_runtime.json")
+    if figures:
+        names += ("error_vs_runtime.png",)
     paths = {name: out / name for name in names}
     write_csv(paths[names[0]], study["rows"], ERROR_UNITS)
     write_csv(paths[names[1]], study["orders"], ORDER_UNITS)
     paths[names[2]].write_text(json.dumps(study_document(study), indent=1) + "\n",
                                encoding="utf-8")
-    plot_error_vs_runtime(study, paths[names[3]])
+    if figures:
+        plot_error_vs_runtime(study, paths[names[3]])
     return list(paths.values())
 
 

@@ -10,53 +10,36 @@ NaN marks a closed form that does not apply.
 ``progress``, where accepted, is a callable ``progress(label)`` called before each solve with a
 short label naming it (e.g. ``"paraboloid c=1 BEM n=257"``).
 
+The paper's scenes are its scene files (:mod:`mdrvisc.paper.runs`), read when a function
+runs: ``scenes`` (a :class:`~mdrvisc.paper.runs.PaperScenes`), where accepted, gives them
+instead, and the force, viscosity, sizes and durations of every section come from them.
+
 One module of about 650 lines, for a reason: the three sections and the error study share the
-paper's constants, its scenes (from the crate) and the timing helpers, and each section is a
-few functions that read top to bottom as the paper does.
+paper's scenes and the timing helpers, and each section is a few functions that read top to
+bottom as the paper does.
 """
 
 import dataclasses
 import math
+import os
 import time
 import warnings
 from collections.abc import Callable, Sequence
 
 import numpy as np
 
-from .. import _core, analytic
+from .. import analytic
 from ..errors import ResolutionWarning
 from ..geometry import Paraboloid
 from ..media import KelvinVoigt, StandardSolid, Viscous
 from ..scene import Scene
 from ..solve import solve
+from .runs import PaperScenes, load_scenes
 
-__all__ = ["paper", "paper_rod", "paper_paraboloids", "PAPER", "QUICK", "PAPER_ROD",
+__all__ = ["paper", "paper_rod", "paper_paraboloids", "PAPER_ROD",
            "ROD_UNITS", "PARABOLOID_UNITS", "viscoelastic", "VISCOELASTIC", "VISCOELASTIC_QUICK",
            "VISCOELASTIC_MEDIA", "VISCOELASTIC_UNITS", "error_vs_runtime", "ERROR_STUDY",
-           "ERROR_STUDY_QUICK", "ERROR_UNITS", "ORDER_UNITS"]
-
-
-
-def _resolutions(quick):
-    """{"rod": {"n_bem", "n_mdr"}, "paraboloids": {...}} of the crate's paper runs."""
-    runs = _core.paper_scenes(quick)
-    return {"rod": {"n_bem": runs[0][3], "n_mdr": runs[1][3]},
-            "paraboloids": {"n_bem": runs[2][3], "n_mdr": runs[3][3]}}
-
-
-#: The paper's scenes, defined once in the crate (``mdrvisc paper`` of the Rust binary runs
-#: them too): the rod of Section 5 and the paraboloid of Section 6 (c = 0.05 1/m; the others
-#: differ in c only), and the curvatures c (1/m) of Section 6.
-_RUNS = _core.paper_scenes(False)
-ROD_SCENE = Scene._from_core(_RUNS[0][1])
-PARABOLOID_SCENE = Scene._from_core(_RUNS[2][1])
-CURVATURES = tuple(Scene._from_core(core).indenter.c
-                   for _, core, method, _ in _RUNS[2:] if method == "bem")
-#: Resolutions of the paper: rod BEM n = 200 (31417 elements in the disc), paraboloid BEM
-#: 257 x 257, MDR 66049 elements.
-PAPER = _resolutions(False)
-#: Coarse resolutions that run the whole comparison in seconds.
-QUICK = _resolutions(True)
+           "ERROR_STUDY_QUICK", "ERROR_UNITS", "ORDER_UNITS", "PAPER_LOOPS", "paper_settings"]
 
 #: The paper's own rod results (Eqs. 24-26): BEM on 31417 elements, and MDR.
 PAPER_ROD = {"bem": {"elements": 31417, "central_pressure": 0.1608, "velocity": 0.1252},
@@ -95,12 +78,6 @@ VISCOELASTIC_QUICK = {"n_mdr": 2001, "n_bem": 33, "dt": 0.01}
 #: The media of :func:`viscoelastic` (moduli in Pa, times in s, viscosities in Pa s).
 VISCOELASTIC_MEDIA = (StandardSolid(G_inf=1.0, G1=3.0, tau1=0.5), KelvinVoigt(G=1.5, eta=0.4))
 
-ROD_RADIUS = ROD_SCENE.indenter.radius  # m
-FORCE = ROD_SCENE.force  # N
-ETA = ROD_SCENE.medium.eta  # Pa s
-EDGE = PARABOLOID_SCENE.indenter.edge  # m, side of the square paraboloid indenters
-DURATION = PARABOLOID_SCENE.duration  # s
-
 
 def _announced(progress):
     """``solve`` that first calls ``progress(label)`` (when given) with its first argument."""
@@ -121,16 +98,20 @@ def _rel(a, b):
     return (np.asarray(a, dtype=float) - b) / b
 
 
-def paper_rod(n_bem: int = 200, n_mdr: int = 66049, progress: Callable[[str], object] | None = None) -> dict:
+def paper_rod(n_bem: int | None = None, n_mdr: int | None = None,
+              progress: Callable[[str], object] | None = None, scenes: PaperScenes | None = None) -> dict:
     """Section 5: a flat rod (a = 1 m) pressed by F = 1 N into a viscous half-space (1 Pa s).
 
     Parameters
     ----------
-    n_bem : int
-        BEM grid: elements across the diameter (200 gives the paper's 31417 in the disc).
-    n_mdr : int
-        MDR elements over the 1D rod (length 2a).
+    n_bem : int, optional
+        BEM grid: elements across the diameter (the paper's scene file: 200, the paper's 31417
+        in the disc).
+    n_mdr : int, optional
+        MDR elements over the 1D rod (length 2a; the paper's scene file: 66049).
     progress : callable(label), optional
+    scenes : PaperScenes, optional
+        The paper's scenes (default: its scene files, :func:`~mdrvisc.paper.runs.load_scenes`).
 
     Returns
     -------
@@ -145,14 +126,17 @@ def paper_rod(n_bem: int = 200, n_mdr: int = 66049, progress: Callable[[str], ob
         transforms, mirrored to negative x). ``parameters``: radius (m), force (N), eta (Pa s),
         n_bem, n_mdr.
     """
-    a = ROD_RADIUS
-    scene = ROD_SCENE
+    scenes = load_scenes() if scenes is None else scenes
+    n_bem = scenes.rod_resolutions.n_bem if n_bem is None else n_bem
+    n_mdr = scenes.rod_resolutions.n_mdr if n_mdr is None else n_mdr
+    scene = scenes.rod
+    a, force, eta = scene.indenter.radius, scene.force, scene.medium.eta
     run = _announced(progress)
     bem = run(f"rod BEM n={n_bem}", scene, "bem", n_bem)
     mdr = run(f"rod MDR n={n_mdr}", scene, "mdr", n_mdr)
 
-    p0 = analytic.rod_central_pressure(FORCE, a)
-    v0 = analytic.rod_velocity(FORCE, a, ETA)
+    p0 = analytic.rod_central_pressure(force, a)
+    v0 = analytic.rod_velocity(force, a, eta)
 
     def row(source, elements, pressure, velocity, wall_time=None):
         return {"source": source, "elements": elements, "central_pressure": pressure,
@@ -171,12 +155,12 @@ def paper_rod(n_bem: int = 200, n_mdr: int = 66049, progress: Callable[[str], ob
         row(f"MDR n={n_mdr}", n_mdr, float(mdr.central_pressure[0]), float(mdr.velocity[0]),
             mdr.wall_time),
     ]
-    return {"parameters": {"radius": a, "force": FORCE, "eta": ETA, "n_bem": n_bem,
+    return {"parameters": {"radius": a, "force": force, "eta": eta, "n_bem": n_bem,
                            "n_mdr": n_mdr},
-            "rows": rows, "profile": _rod_profile(bem, mdr, a)}
+            "rows": rows, "profile": _rod_profile(bem, mdr, a, force, eta)}
 
 
-def _rod_profile(bem, mdr, a):
+def _rod_profile(bem, mdr, a, force, eta):
     """Fig. 3 data (x in units of a) from the BEM grid row through the centre, the closed
     forms and the MDR radial fields mirrored to negative x."""
     fb = next(iter(bem.fields.values()))
@@ -191,8 +175,8 @@ def _rod_profile(bem, mdr, a):
                 "velocity": fb.surface_velocity[centre_ext, :],
                 "x_pressure": fb.x / a, "pressure": fb.pressure[centre, :]},
         "closed": {"x": x,
-                   "velocity": analytic.rod_surface_velocity(np.abs(x) * a, FORCE, a, ETA),
-                   "pressure": analytic.rod_pressure(np.abs(x) * a, FORCE, a)},
+                   "velocity": analytic.rod_surface_velocity(np.abs(x) * a, force, a, eta),
+                   "pressure": analytic.rod_pressure(np.abs(x) * a, force, a)},
         "mdr": {"x": np.concatenate([-r[::-1], r]) / a,
                 "velocity": np.concatenate([fm.surface_velocity[::-1], fm.surface_velocity]),
                 "pressure": np.concatenate([fm.pressure[inside][::-1], fm.pressure[inside]]),
@@ -200,24 +184,28 @@ def _rod_profile(bem, mdr, a):
     }
 
 
-def paper_paraboloids(cs: Sequence[float] = CURVATURES, n_bem: int = 257,
-                      n_mdr: int = 66049, times: Sequence[float] = (1.0, 2.0, 3.0, 4.0, 5.0),
-                      progress: Callable[[str], object] | None = None, fine: int = 200) -> dict:
+def paper_paraboloids(cs: Sequence[float] | None = None, n_bem: int | None = None,
+                      n_mdr: int | None = None, times: Sequence[float] = (1.0, 2.0, 3.0, 4.0, 5.0),
+                      progress: Callable[[str], object] | None = None, fine: int = 200,
+                      scenes: PaperScenes | None = None) -> dict:
     """Section 6: paraboloids h = c r^2 on a 2.56 m square, F = 1 N, eta = 1 Pa s, 5 s.
 
     Parameters
     ----------
-    cs : sequence of float
-        Curvature parameters c (1/m).
-    n_bem : int
-        BEM grid n x n over the square.
-    n_mdr : int
-        MDR elements over the 1D indenter (length 2 x 2.56 m / sqrt(pi), equal area).
+    cs : sequence of float, optional
+        Curvature parameters c (1/m) (the paper's scene files: 0.05, 0.2, 1, 5, 20).
+    n_bem : int, optional
+        BEM grid n x n over the square (the paper's scene files: 257).
+    n_mdr : int, optional
+        MDR elements over the 1D indenter (length 2 x 2.56 m / sqrt(pi), equal area; the
+        paper's scene files: 66049).
     times : sequence of float
         Compared output times (s), in (0, 5].
     progress : callable(label), optional
     fine : int
         MDR output times for the Fig. 4 lines: ``fine`` equal steps up to 5 s.
+    scenes : PaperScenes, optional
+        The paper's scenes (default: its scene files, :func:`~mdrvisc.paper.runs.load_scenes`).
 
     Returns
     -------
@@ -231,14 +219,20 @@ def paper_paraboloids(cs: Sequence[float] = CURVATURES, n_bem: int = 257,
         wall time (s), steps, solves, iterations, largest residual. ``parameters``: edge (m),
         force (N), eta (Pa s), duration (s), n_bem, n_mdr.
     """
+    scenes = load_scenes() if scenes is None else scenes
+    cs = scenes.curvatures if cs is None else cs
+    n_bem = scenes.paraboloid_resolutions.n_bem if n_bem is None else n_bem
+    n_mdr = scenes.paraboloid_resolutions.n_mdr if n_mdr is None else n_mdr
+    base = scenes.paraboloid
+    edge = base.indenter.edge
     times = np.asarray(times, dtype=float)
-    fine_times = DURATION * np.arange(1, fine + 1) / fine
+    fine_times = base.duration * np.arange(1, fine + 1) / fine
     all_times = np.union1d(times, fine_times)
     at = np.searchsorted(all_times, times)
     run = _announced(progress)
     rows, curves, runs = [], [], []
     for c in cs:
-        scene = dataclasses.replace(PARABOLOID_SCENE, indenter=Paraboloid(c=c, edge=EDGE), times=times)
+        scene = dataclasses.replace(base, indenter=Paraboloid(c=c, edge=edge), times=times)
         bem = run(f"paraboloid c={c:g} BEM n={n_bem}", scene, "bem", n_bem)
         mdr = run(f"paraboloid c={c:g} MDR n={n_mdr}", dataclasses.replace(
             scene, times=all_times, outputs=("depth", "contact_length")), "mdr", n_mdr)
@@ -248,18 +242,20 @@ def paper_paraboloids(cs: Sequence[float] = CURVATURES, n_bem: int = 257,
         curves.append({"c": c, "t": np.concatenate([[0.0], mdr.t]),
                        "depth": np.concatenate([[0.0], mdr.depth]),
                        "contact_length": np.concatenate([[0.0], mdr.contact_length])})
-        rows += _paraboloid_rows(c, times, bem, mdr, at)
-    return {"parameters": {"edge": EDGE, "force": FORCE, "eta": ETA, "duration": DURATION,
-                           "n_bem": n_bem, "n_mdr": n_mdr},
+        rows += _paraboloid_rows(scene, times, bem, mdr, at)
+    return {"parameters": {"edge": edge, "force": base.force, "eta": base.medium.eta,
+                           "duration": base.duration, "n_bem": n_bem, "n_mdr": n_mdr},
             "rows": rows, "curves": curves, "runs": runs}
 
 
-def _paraboloid_rows(c, times, bem, mdr, at):
-    """Table rows of one paraboloid: BEM at ``times``, MDR at indices ``at`` of its times."""
-    length_lr = analytic.paraboloid_contact_length(times, FORCE, c, ETA)
-    valid = length_lr <= EDGE
+def _paraboloid_rows(scene, times, bem, mdr, at):
+    """Table rows of one paraboloid's ``scene``: BEM at ``times``, MDR at indices ``at`` of its
+    times."""
+    c, force, eta = scene.indenter.c, scene.force, scene.medium.eta
+    length_lr = analytic.paraboloid_contact_length(times, force, c, eta)
+    valid = length_lr <= scene.indenter.edge
     length_lr = np.where(valid, length_lr, np.nan)
-    depth_lr = np.where(valid, analytic.paraboloid_depth(times, FORCE, c, ETA), np.nan)
+    depth_lr = np.where(valid, analytic.paraboloid_depth(times, force, c, eta), np.nan)
     d_b, d_m = bem.depth, mdr.depth[at]
     l_b, l_a, l_m = bem.stiffness_length, bem.contact_length, mdr.contact_length[at]
     columns = {
@@ -367,17 +363,20 @@ def viscoelastic(quick: bool = False, progress: Callable[[str], object] | None =
             "rows": rows, "curves": curves}
 
 
-def paper(quick: bool = False, progress: Callable[[str], object] | None = None) -> dict:
-    """Both comparisons of the paper, at its resolutions (:data:`PAPER`) or :data:`QUICK`, and
-    the viscoelastic section beyond it (:data:`VISCOELASTIC` or :data:`VISCOELASTIC_QUICK`).
+def paper(quick: bool = False, progress: Callable[[str], object] | None = None,
+          directory: str | os.PathLike | None = None) -> dict:
+    """Both comparisons of the paper, from its scene files in ``directory`` (default: those
+    shipped with the package, :data:`mdrvisc.paper.runs.SCENES`) at their resolutions or, with
+    ``quick``, their ``[quick]`` ones; and the viscoelastic section beyond it
+    (:data:`VISCOELASTIC` or :data:`VISCOELASTIC_QUICK`).
 
     Returns ``{"quick": bool, "rod": paper_rod(...), "paraboloids": paper_paraboloids(...),
     "viscoelastic": viscoelastic(...)}``; ``progress(label)`` is announced before each solve.
     """
-    sizes = QUICK if quick else PAPER
+    scenes = load_scenes(quick, directory)
     return {"quick": bool(quick),
-            "rod": paper_rod(progress=progress, **sizes["rod"]),
-            "paraboloids": paper_paraboloids(progress=progress, **sizes["paraboloids"]),
+            "rod": paper_rod(progress=progress, scenes=scenes),
+            "paraboloids": paper_paraboloids(progress=progress, scenes=scenes),
             "viscoelastic": viscoelastic(quick=quick, progress=progress)}
 
 
@@ -421,14 +420,22 @@ ERROR_STUDY_QUICK = {
     "rod_mdr_n": (257, 4097, 66049),
 }
 
-#: The paper's own settings, marked in the study (``paper`` = True). BEM: 257 x 257, the
-#: explicit loop re-solving at 1 % area growth; the paper gives no time step, dt = 0.01 t is
-#: assumed. MDR: 66049 elements, implicit, and the explicit loop without the area rule (the
-#: paper's MDR used "no speed-up techniques") at the assumed step. Rod: BEM n = 200 (31417
-#: elements), MDR 66049.
-PAPER_SETTINGS = {"bem": {"n": 257, "step": 0.01, "area_change": 0.01},
-                  "mdr": {"n": 66049, "step": 0.01, "area_change": 0.0},
-                  "rod": {"n_bem": 200, "n_mdr": 66049}}
+#: The paper's explicit loops, marked in the study (``paper`` = True) at the resolutions of its
+#: scene files (:func:`paper_settings`). BEM re-solves at 1 % area growth; the paper gives no
+#: time step, dt = 0.01 t is assumed. MDR: the explicit loop without the area rule (the
+#: paper's MDR used "no speed-up techniques") at the assumed step.
+PAPER_LOOPS = {"bem": {"step": 0.01, "area_change": 0.01}, "mdr": {"step": 0.01, "area_change": 0.0}}
+
+
+def paper_settings(scenes: PaperScenes) -> dict:
+    """The paper's own settings, marked in the study: :data:`PAPER_LOOPS` at the resolutions
+    of ``scenes`` (the paper's: BEM 257 x 257 and MDR 66049 elements for the paraboloids, BEM
+    n = 200 (31417 elements) and MDR 66049 for the rod). ``{"bem": {"n", "step",
+    "area_change"}, "mdr": {...}, "rod": {"n_bem", "n_mdr"}}``."""
+    par, rod = scenes.paraboloid_resolutions, scenes.rod_resolutions
+    return {"bem": {"n": par.n_bem, **PAPER_LOOPS["bem"]},
+            "mdr": {"n": par.n_mdr, **PAPER_LOOPS["mdr"]},
+            "rod": {"n_bem": rod.n_bem, "n_mdr": rod.n_mdr}}
 
 #: Runs shorter than this (s) are timed as the best of :data:`BEST_OF` runs.
 REPEAT_BELOW = 0.1
@@ -474,7 +481,7 @@ def _timed(run, label, *args, **kwargs):
 
 
 def error_vs_runtime(quick: bool = False, progress: Callable[[str], object] | None = None,
-                     settings: dict | None = None) -> dict:
+                     settings: dict | None = None, directory: str | os.PathLike | None = None) -> dict:
     """Error against run time of BEM and MDR, implicit and explicit.
 
     Paraboloids c = 1 and 5 (1/m) on the 2.56 m square, F = 1 N, eta = 1 Pa s: relative errors
@@ -490,6 +497,10 @@ def error_vs_runtime(quick: bool = False, progress: Callable[[str], object] | No
     progress : callable(label), optional
     settings : dict, optional
         Overrides keys of the chosen sweep.
+    directory : path, optional
+        The paper's scene files (default: those shipped with the package): the rod, the
+        paraboloids' square, force, viscosity and duration, and the paper's resolutions
+        marked in the study.
 
     Returns
     -------
@@ -500,20 +511,23 @@ def error_vs_runtime(quick: bool = False, progress: Callable[[str], object] | No
         sweep (against the closed form and against the implicit answer at the same n), fitted
         by least squares in log-log (``order``) and from the two finest points
         (``order_last``). ``settings``: the sweep; ``paper_settings``:
-        :data:`PAPER_SETTINGS`; ``parameters``: edge (m), force (N), eta (Pa s), duration (s),
+        :func:`paper_settings`; ``parameters``: edge (m), force (N), eta (Pa s), duration (s),
         rod radius (m); ``quick``; ``total_wall_time`` (s).
     """
     sweep = dict(ERROR_STUDY_QUICK if quick else ERROR_STUDY)
     sweep.update(settings or {})
+    scenes = load_scenes(False, directory)
+    marks = paper_settings(scenes)
     run = _announced(progress)
     start = time.perf_counter()
     rows = []
     for c in sweep["cs"]:
-        rows += _paraboloid_sweep(float(c), sweep, run)
-    rows += _rod_sweep(sweep, run)
-    return {"quick": bool(quick), "settings": sweep, "paper_settings": PAPER_SETTINGS,
-            "parameters": {"edge": EDGE, "force": FORCE, "eta": ETA, "duration": DURATION,
-                           "rod_radius": ROD_RADIUS},
+        rows += _paraboloid_sweep(scenes.paraboloid, float(c), sweep, run, marks)
+    rows += _rod_sweep(scenes.rod, sweep, run, marks)
+    base, rod = scenes.paraboloid, scenes.rod
+    return {"quick": bool(quick), "settings": sweep, "paper_settings": marks,
+            "parameters": {"edge": base.indenter.edge, "force": base.force, "eta": base.medium.eta,
+                           "duration": base.duration, "rod_radius": rod.indenter.radius},
             "rows": rows, "orders": convergence_orders(rows, sweep["cross_step"]),
             "total_wall_time": time.perf_counter() - start}
 
@@ -531,18 +545,20 @@ def _row(case, quantity, result, wall_time, value, exact, series, step=None, are
             "iterations": int(result.iterations), "paper": bool(paper)}
 
 
-def _paraboloid_sweep(c, sweep, run):
-    """Rows of one paraboloid: BEM and MDR, implicit and explicit."""
-    exact = {"depth": float(analytic.paraboloid_depth(DURATION, FORCE, c, ETA)),
-             "contact_length": float(analytic.paraboloid_contact_length(DURATION, FORCE, c, ETA))}
+def _paraboloid_sweep(base, c, sweep, run, marks):
+    """Rows of one paraboloid, the scene ``base`` with curvature ``c``: BEM and MDR, implicit
+    and explicit; the paper's settings ``marks``."""
+    edge, force, eta, duration = base.indenter.edge, base.force, base.medium.eta, base.duration
+    exact = {"depth": float(analytic.paraboloid_depth(duration, force, c, eta)),
+             "contact_length": float(analytic.paraboloid_contact_length(duration, force, c, eta))}
     exact["stiffness_length"] = exact["contact_length"]
-    if exact["contact_length"] > EDGE:
-        raise ValueError(f"error_vs_runtime: c = {c} leaves the {EDGE} m square before "
-                         f"{DURATION} s; Lee-Radok does not apply")
+    if exact["contact_length"] > edge:
+        raise ValueError(f"error_vs_runtime: c = {c} leaves the {edge} m square before "
+                         f"{duration} s; Lee-Radok does not apply")
     case = f"paraboloid c={c:g}"
-    indenter, medium = Paraboloid(c=c, edge=EDGE), Viscous(eta=ETA)
-    scene = {m: Scene(indenter=indenter, medium=medium, force=FORCE, duration=DURATION,
-                      times=[DURATION], outputs=outputs)
+    indenter, medium = Paraboloid(c=c, edge=edge), Viscous(eta=eta)
+    scene = {m: Scene(indenter=indenter, medium=medium, force=force, duration=duration,
+                      times=[duration], outputs=outputs)
              for m, outputs in (("bem", ("depth", "contact_length", "stiffness_length")),
                                 ("mdr", ("depth", "contact_length")))}
     quantities = {"bem": ("depth", "contact_length", "stiffness_length"),
@@ -562,7 +578,7 @@ def _paraboloid_sweep(c, sweep, run):
             rows.append(_row(case, q, result, wall, value, exact[q], series, step, area_change,
                              implicit.get((method, n, q)) if step is not None else None, paper))
 
-    pb, pm = PAPER_SETTINGS["bem"], PAPER_SETTINGS["mdr"]
+    pb, pm = marks["bem"], marks["mdr"]
     for n in sweep["bem_n"]:
         add("bem", n, "BEM implicit")
     for n, steps in sweep["bem_explicit"].items():
@@ -582,12 +598,14 @@ def _paraboloid_sweep(c, sweep, run):
     return rows
 
 
-def _rod_sweep(sweep, run):
-    """Rows of the rod: one solve per resolution (its contact never changes)."""
-    scene = dataclasses.replace(ROD_SCENE, outputs=("depth", "contact_length"))
-    exact = {"velocity": analytic.rod_velocity(FORCE, ROD_RADIUS, ETA),
-             "central_pressure": analytic.rod_central_pressure(FORCE, ROD_RADIUS)}
-    paper = PAPER_SETTINGS["rod"]
+def _rod_sweep(rod, sweep, run, marks):
+    """Rows of the rod's scene ``rod``: one solve per resolution (its contact never changes);
+    the paper's settings ``marks``."""
+    scene = dataclasses.replace(rod, outputs=("depth", "contact_length"))
+    a, force, eta = rod.indenter.radius, rod.force, rod.medium.eta
+    exact = {"velocity": analytic.rod_velocity(force, a, eta),
+             "central_pressure": analytic.rod_central_pressure(force, a)}
+    paper = marks["rod"]
     rows = []
     for method, ns, n_paper in (("bem", sweep["rod_bem_n"], paper["n_bem"]),
                                 ("mdr", sweep["rod_mdr_n"], paper["n_mdr"])):

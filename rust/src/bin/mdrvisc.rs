@@ -1,13 +1,14 @@
-//! The Rust-only command line: `mdrvisc paper [--json] [--quick]` runs the paper's scenes,
-//! `mdrvisc run SCENE.toml [--json]` runs a scene file. Tables (or one JSON document) go to
+//! The Rust-only command line: `mdrvisc paper [--scenes DIR] [--json] [--quick]` runs the
+//! paper's scenes (the scene files in `examples/paper`), `mdrvisc run SCENE.toml [--json]`
+//! runs a scene file. Tables (or one JSON document) go to
 //! stdout, progress (a bar with the time left, in a terminal) and errors to stderr; bad input
 //! and failed solves exit with status 2. `--help` and `--version` as usual.
 
 use clap::{Parser, Subcommand};
 use mdrvisc::model::{RunSettings, Scene, SceneFile};
-use mdrvisc::paper;
 use mdrvisc::support::monitor::Monitor;
 use std::io::{IsTerminal, Write};
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Instant;
 
@@ -23,10 +24,14 @@ struct Cli {
 enum Command {
     /// Run the paper's scenes (rod and paraboloids, BEM and MDR) and print their results.
     Paper {
+        /// Folder of the paper's scene files, run in the order of their names.
+        #[arg(long, default_value = "examples/paper")]
+        scenes: PathBuf,
         /// Print one JSON document instead of tables.
         #[arg(long)]
         json: bool,
-        /// Coarse resolutions (BEM rod 50, paraboloids 65, MDR 4097): seconds.
+        /// The scene files' `[quick]` values (coarse resolutions: BEM rod 50, paraboloids
+        /// 65, MDR 4097): seconds.
         #[arg(long)]
         quick: bool,
         /// No progress bar (by default a bar with the time left on stderr, in a terminal).
@@ -179,6 +184,60 @@ impl Progress {
     }
 }
 
+/// Keys of the paper's scene files beyond a scene file's: the run's label and the values
+/// that `--quick` puts over the file's.
+const NAME: &str = "name";
+const QUICK: &str = "quick";
+
+/// The runs of the paper's scene files in `dir` (every `*.toml`, in the order of their
+/// names): each file is a scene file plus `name = "..."`, the run's label, and an optional
+/// `[quick]` table of keys that replace the file's when `quick`.
+fn paper_runs(dir: &Path, quick: bool) -> Result<Vec<(String, Scene, RunSettings)>, String> {
+    let cannot =
+        |e: std::io::Error| format!("cannot read the paper's scenes in {}: {e}", dir.display());
+    let mut paths = vec![];
+    for entry in std::fs::read_dir(dir).map_err(cannot)? {
+        let path = entry.map_err(cannot)?.path();
+        if path.extension().is_some_and(|e| e == "toml") {
+            paths.push(path);
+        }
+    }
+    if paths.is_empty() {
+        return Err(format!("no scene files (*.toml) in {}", dir.display()));
+    }
+    paths.sort();
+    paths.iter().map(|path| paper_run(path, quick)).collect()
+}
+
+/// One run of `paper_runs`: (name, scene, settings) of the file at `path`.
+fn paper_run(path: &Path, quick: bool) -> Result<(String, Scene, RunSettings), String> {
+    let source = path.display().to_string();
+    let text = std::fs::read_to_string(path).map_err(|e| format!("cannot read {source}: {e}"))?;
+    let mut table: toml::Table = toml::from_str(text.strip_prefix('\u{feff}').unwrap_or(&text))
+        .map_err(|e| format!("{source}: {e}"))?;
+    let name = match table.remove(NAME) {
+        Some(toml::Value::String(name)) => name,
+        Some(other) => {
+            return Err(format!(
+                "{source}: key '{NAME}' must be a string, got {other}"
+            ))
+        }
+        None => return Err(format!("{source}: missing key '{NAME}' (the run's label)")),
+    };
+    match table.remove(QUICK) {
+        Some(toml::Value::Table(values)) if quick => table.extend(values),
+        Some(toml::Value::Table(_)) | None => {}
+        Some(other) => {
+            return Err(format!(
+                "{source}: key '{QUICK}' must be a table, got {other}"
+            ))
+        }
+    }
+    let base = path.parent().unwrap_or(Path::new(""));
+    let file = SceneFile::from_table(table, &source, base).map_err(|e| e.to_string())?;
+    Ok((name, file.scene, file.settings))
+}
+
 fn run(
     runs: Vec<(String, Scene, RunSettings)>,
     json: bool,
@@ -206,10 +265,11 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let work = || match cli.command {
         Command::Paper {
+            scenes,
             json,
             quick,
             no_progress,
-        } => run(paper::scenes(quick), json, !no_progress),
+        } => run(paper_runs(&scenes, quick)?, json, !no_progress),
         Command::Run {
             scene,
             json,

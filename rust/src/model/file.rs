@@ -71,7 +71,9 @@ impl SceneFile {
         Self::from_table(table, source, Path::new(""))
     }
 
-    fn from_table(mut table: toml::Table, source: &str, base: &Path) -> Result<Self> {
+    /// Validates a scene file's table (as `toml` reads it); `source` names it in errors, and
+    /// files it names are read relative to `base`.
+    pub fn from_table(mut table: toml::Table, source: &str, base: &Path) -> Result<Self> {
         let bad = |e: String| Error::InvalidInput(format!("{source}: {e}"));
         let method = table
             .remove("method")

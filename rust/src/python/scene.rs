@@ -1,6 +1,6 @@
 //! Scenes across the boundary: the scene model built from its parts (what the Python
-//! `Scene` sends: the model's numbers as JSON, its arrays as numpy arrays), scene files, the
-//! paper's scenes, and `run_scene`, which solves one.
+//! `Scene` sends: the model's numbers as JSON, its arrays as numpy arrays), scene files, and
+//! `run_scene`, which solves one.
 
 use super::convert::{self, samples_array};
 use super::monitor::{to_pyerr, PyMonitor};
@@ -10,7 +10,6 @@ use crate::model::settings::SolverOptions;
 use crate::model::{
     file, History, Indenter, Integrator, Method, RunSettings, Scene, SceneArrays, SceneFile,
 };
-use crate::paper;
 use crate::support::error::Error;
 use numpy::{IntoPyArray, PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2};
 use pyo3::prelude::*;
@@ -355,15 +354,6 @@ pub(crate) fn parse_scene_table(
     SceneFile::parse_json(text, source)
         .map(unpack)
         .map_err(|e| to_pyerr(py, e))
-}
-
-/// The paper's runs: (name, scene, method, n) each, at the paper's or quick resolutions.
-#[pyfunction]
-pub(crate) fn paper_scenes(quick: bool) -> Vec<(String, PyScene, &'static str, usize)> {
-    paper::scenes(quick)
-        .into_iter()
-        .map(|(name, scene, s)| (name, PyScene { inner: scene }, s.method.name(), s.n))
-        .collect()
 }
 
 /// Solves `scene` by `method` ("bem" or "mdr") at resolution `n`; see `mdrvisc.solve`.
