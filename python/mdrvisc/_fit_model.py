@@ -16,7 +16,7 @@ from . import _core
 from ._afm_raw import AfmCurve
 from .errors import DataError, DomainError, InvalidInputError
 from .geometry import Indenter
-from .media import Prony, _Medium
+from .media import _Medium
 
 #: The 1D profile reaches this factor times the largest contact radius of the data (depth
 #: control) or of the measured depths (force control, and raw AFM curves at the first guess
@@ -36,11 +36,7 @@ def parameters(medium: _Medium) -> dict[str, float]:
 def medium_of(cls: type, values: dict[str, float], nu: float) -> _Medium:
     """The medium of class ``cls`` with the parameters ``values`` (names of :func:`parameters`)
     and the Poisson ratio ``nu``."""
-    if cls is Prony:
-        k = (len(values) - 1) // 2
-        return Prony(values["G_inf"], tuple((values[f"G{j}"], values[f"tau{j}"]) for j in range(1, k + 1)),
-                     nu=nu)
-    return cls(**values, nu=nu)
+    return cls._from_parameters(values, nu)
 
 
 def moduli(values: dict[str, float]) -> list[str]:
