@@ -176,6 +176,10 @@ def test_bad_half_angles_are_refused_naming_the_parameter(value):
 def test_degrees_get_a_hint_and_the_scene_model_refuses_them_too():
     with pytest.raises(mv.InvalidInputError, match=r"35.0 degrees is math.radians\(35.0\)"):
         mv.Pyramid(half_angle=35.0)
+    # pi/2 radians is out of range but no angle in degrees: no hint ("1.5708 degrees is ...")
+    with pytest.raises(mv.InvalidInputError) as refused:
+        mv.Pyramid(half_angle=math.pi / 2)
+    assert "degrees" not in str(refused.value)
     model = {"indenter": {"type": "pyramid", "half_angle": 35.0}, "medium": {"type": "elastic", "G": 1.0},
              "force": 1.0}
     with pytest.raises(mv.InvalidInputError, match=r"pyramid half_angle must be an angle in \(0, pi/2\)"):

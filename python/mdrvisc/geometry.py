@@ -29,6 +29,10 @@ from .errors import DomainError, InvalidInputError
 
 __all__ = ["Indenter", "Rod", "Paraboloid", "Cone", "Sphere", "Pyramid"]
 
+#: Out-of-range pyramid half-angles from this value up to 90 are taken for degrees in the
+#: error message's hint.
+DEGREES_HINT = 5.0
+
 
 class Indenter(abc.ABC):
     """A rigid indenter: height map, footprint and MDR profile (axisymmetric, or the
@@ -325,8 +329,9 @@ class Pyramid(Indenter):
         try:
             return _core.Indenter.pyramid(alpha, self._edge)
         except InvalidInputError as exc:  # the core's range check, named as this class names it
+            # an angle given in degrees (real tips: 15 to 70 degrees); not pi/2 or just above
             hint = (f" ({alpha!r} degrees is math.radians({alpha!r}) = {math.radians(alpha)!r})"
-                    if alpha < 90.0 else "")
+                    if DEGREES_HINT <= alpha < 90.0 else "")
             raise InvalidInputError(f"Pyramid: {str(exc).split('pyramid ', 1)[-1]}{hint}") from None
 
     @property
