@@ -141,3 +141,14 @@ def test_a_depth_held_from_t0_on_a_dashpot_is_refused(medium, depth):
         mv.Scene(indenter=indenter, medium=medium, depth=depth, duration=1.0)
     ramp = mv.Scene(indenter=indenter, medium=medium, depth=([0.0, 1.0], [0.0, 0.2]), duration=1.0)
     assert mv.solve(ramp, "mdr", 2001).force[-1] > 0.0
+
+
+@pytest.mark.parametrize("n", [0, -1, 2**64 - 1, 10**6, 2.0, True])
+def test_to_toml_refuses_a_resolution_no_scene_file_takes(n):
+    """n = 2**64 - 1 was written as n = -1, n = 0 as n = 0 (files the reader refuses), and
+    n = -1 raised a raw OverflowError."""
+    scene = mv.Scene(indenter=mv.Paraboloid(c=1.0, edge=2.56), medium=mv.Viscous(eta=1.0), force=1.0,
+                     duration=1.0)
+    with pytest.raises(mv.InvalidInputError, match="n"):
+        scene.to_toml("bem", n)
+    assert "n = 33" in scene.to_toml("bem", 33)

@@ -13,7 +13,7 @@ import math
 import numpy as np
 
 from . import _core
-from ._validate import _array, _finite_positive, _number, _positive
+from ._validate import _array, _finite_positive, _integer, _number, _positive
 from .errors import DomainError, InvalidInputError
 from .geometry import Cone, Indenter, Paraboloid, Pyramid, Rod, Sphere
 from .heightmap import HeightMap
@@ -255,6 +255,8 @@ class Scene:
         ``path`` the file is also written there, and a height map's heights go to a ``.npy``
         file beside it (``scene.toml``: ``scene.npy``), which the file names; without, they
         are inline."""
+        if n is not None:
+            n = _integer("Scene.to_toml", "n", n, 1)
         return self._model.to_toml(method, n, None if path is None else str(path))
 
     @classmethod

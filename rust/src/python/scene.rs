@@ -242,8 +242,14 @@ impl PyScene {
                 ))
             }
         };
-        if let (Some(map), Some((method, n))) = (map, run) {
-            map.check_run(method, n).map_err(|e| to_pyerr(py, e))?;
+        if let Some((method, n)) = run {
+            // a file the scene files' reader refuses is never written (n = 0, n past the limit)
+            RunSettings::new(method, n)
+                .validate()
+                .map_err(|e| to_pyerr(py, e))?;
+            if let Some(map) = map {
+                map.check_run(method, n).map_err(|e| to_pyerr(py, e))?;
+            }
         }
         match path {
             Some(path) => file::write(&self.inner, run, &path).map_err(|e| to_pyerr(py, e)),
