@@ -71,3 +71,28 @@ def test_fields_are_typed_and_shaped():
     n = punch.x_extended.size
     assert punch.surface_velocity.shape == (n, n) and n > punch.x.size
     assert rod.central_pressure.shape == rod.velocity.shape == rod.t.shape
+
+
+def test_files_that_are_not_saved_results_are_named_data_errors(tmp_path):
+    """Garbage, a truncated or empty file, another program's .npz, a .npy and a pickle raised
+    numpy's and zipfile's own errors (one suggesting allow_pickle); each is now a DataError
+    naming the file. A missing file stays FileNotFoundError; no pickle is ever executed."""
+    import pickle
+
+    good = next(iter(_results())).save(tmp_path / "good.npz")
+    cases = {
+        "garbage.npz": b"\x00not a zip at all" * 10,
+        "empty.npz": b"",
+        "truncated.npz": good.read_bytes()[: good.stat().st_size // 2],
+        "pickle.npz": pickle.dumps({"depth": [1.0]}),
+    }
+    for name, content in cases.items():
+        (tmp_path / name).write_bytes(content)
+    np.savez(tmp_path / "foreign.npz", something=np.arange(3))
+    np.save(tmp_path / "array.npy", np.arange(3))
+    for name in [*cases, "foreign.npz", "array.npy"]:
+        with pytest.raises(mv.DataError, match=name):
+            mv.Result.load(tmp_path / name)
+    with pytest.raises(FileNotFoundError):
+        mv.Result.load(tmp_path / "missing.npz")
+    assert mv.Result.load(good).method == next(iter(_results())).method

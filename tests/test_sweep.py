@@ -295,3 +295,22 @@ def test_dask_retries_the_scenes_of_a_killed_worker(client, tmp_path):
     client.wait_for_workers(2, timeout=60)
     assert victim not in client.run(os.getpid).values()
     client.run(mv.set_num_threads, 1)
+
+
+def test_a_damaged_store_entry_is_solved_again_with_a_warning(tmp_path):
+    """A garbage, truncated or empty file in the store aborted every later rerun of the
+    sweep before anything was solved; now the damaged entry is solved again, with a warning
+    naming its file, and the other entries are loaded."""
+    base = mv.Scene(indenter=mv.Paraboloid(c=1.0), medium=mv.StandardSolid(G_inf=1.0, G1=3.0, tau1=1.0),
+                    force=0.5, duration=1.0)
+    scenes = mv.sweep_scenes(base, medium__tau1=[0.5, 1.0, 2.0])
+    store = tmp_path / "store"
+    first = mv.solve_many(scenes, "mdr", 2001, store=store, progress=False)
+    files = sorted(store.glob("*.npz"))
+    assert len(files) == 3
+    files[0].write_bytes(files[0].read_bytes()[:100])
+    with pytest.warns(UserWarning, match=files[0].name):
+        again = mv.solve_many(scenes, "mdr", 2001, store=store, progress=False)
+    assert again.loaded == 2 and again.computed == 1
+    for a, b in zip(first.results, again.results):
+        np.testing.assert_array_equal(a.depth, b.depth)

@@ -21,11 +21,12 @@ import os
 import pickle
 import sys
 import time
+import warnings
 from collections.abc import Iterable
 from typing import TYPE_CHECKING
 
 from . import _core
-from .errors import InvalidInputError, MdrviscError
+from .errors import DataError, InvalidInputError, MdrviscError
 from .progress import ProgressBar
 from .result import SERIES, Result
 from .scene import Scene
@@ -306,10 +307,13 @@ def solve_many(scenes: Iterable[Scene], method: str = "bem", n: int | None = Non
     tasks = []
     for index, (scene, key) in enumerate(zip(scenes, keys)):
         if shelf is not None and key in shelf:
-            sweep.results[index] = shelf.load(key)
-            sweep.loaded += 1
-        else:
-            tasks.append((index, scene._model, method, ns[index], solve_options))
+            try:
+                sweep.results[index] = shelf.load(key)
+                sweep.loaded += 1
+                continue
+            except DataError as exc:
+                warnings.warn(f"solve_many: {exc}; solving scene {index} again", stacklevel=2)
+        tasks.append((index, scene._model, method, ns[index], solve_options))
 
     def collect(index: int, result: Result | None, error: BaseException | None) -> None:
         if error is not None:

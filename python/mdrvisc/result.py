@@ -7,13 +7,14 @@ from __future__ import annotations
 
 import dataclasses
 import warnings
+import zipfile
 from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
 
 from . import _core
-from .errors import ResolutionWarning
+from .errors import DataError, ResolutionWarning
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -159,7 +160,32 @@ class Result:
 
     @classmethod
     def load(cls, path) -> Result:
-        """Reads a result written by :meth:`save`."""
+        """Reads a result written by :meth:`save`.
+
+        Raises
+        ------
+        FileNotFoundError
+            No file at ``path``.
+        DataError
+            The file is not a result saved by :meth:`save` (damaged, truncated, empty,
+            another program's ``.npz``, a pickle: pickles are never loaded); the message names
+            the file and what is wrong.
+        """
+        try:
+            return cls._read(path)
+        except FileNotFoundError:
+            raise
+        except (OSError, ValueError, EOFError, KeyError, TypeError, AttributeError,
+                zipfile.BadZipFile) as exc:
+            what = ("a pickle, which is never loaded" if "pickle" in str(exc)
+                    else f"{type(exc).__name__}: {exc}")
+            raise DataError(f"Result.load: {str(path)!r} is not a result saved by Result.save "
+                            f"({what})") from None
+
+    @classmethod
+    def _read(cls, path) -> Result:
+        """The result in the ``.npz`` file at ``path``; numpy's and the dataclass's errors
+        on anything else."""
         with np.load(path, allow_pickle=False) as data:
             items = {k: data[k] for k in data.files}
         fields: dict[int, dict] = {}
