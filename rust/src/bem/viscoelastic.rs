@@ -15,13 +15,15 @@ use crate::model::loading::Loading;
 use crate::model::medium::rheology::Rheology;
 use crate::model::settings::SolverOptions;
 use crate::stepping::{jumps_at_start, step_times, Request, Series, Trail};
-use crate::support::error::{Error, Result};
+use crate::support::error::Result;
 use crate::support::monitor::Monitor;
 
-/// BEM: a viscoelastic half-space under an indenter on `grid`, output as `request` says;
-/// also the fields at its field indices: pressure (Pa), deflection u = K[x] (m) and its
-/// rate (m/s, zero unless field rates are asked for), on the operator of the grid's body
-/// (`run_bem_on`).
+/// BEM: a viscoelastic body under an indenter on `grid`, output as `request` says; also
+/// the fields at its field indices: pressure (Pa), deflection u = K[x] (m) and its rate
+/// (m/s, zero unless field rates are asked for). The steps solve on the operator of the
+/// grid's body; on a periodic cell the depth is the approach from the deflected surface's
+/// mean plane (mean separation mean(h) - depth, `periodic::mean_separation`) and a force is
+/// the total on the cell.
 pub fn run_bem(
     grid: &Grid,
     medium: &Rheology,
@@ -30,34 +32,6 @@ pub fn run_bem(
     opts: &SolverOptions,
     monitor: &mut dyn Monitor,
 ) -> Result<Series<Fields>> {
-    let op = grid.body.operator(grid.nx, grid.ny, grid.dx)?;
-    run_bem_on(op, grid, medium, loading, request, opts, monitor)
-}
-
-/// `run_bem` with the surface operator `op` of `grid` (same size and element side): the
-/// non-periodic `FftOperator`, or a `PeriodicOperator` for a periodic cell, where the depth
-/// is the approach from the deflected surface's mean plane (mean separation
-/// mean(h) - depth, `periodic::mean_separation`) and a force is the total on the cell.
-pub fn run_bem_on<O: SurfaceOperator>(
-    op: O,
-    grid: &Grid,
-    medium: &Rheology,
-    loading: &Loading,
-    request: &Request,
-    opts: &SolverOptions,
-    monitor: &mut dyn Monitor,
-) -> Result<Series<Fields>> {
-    if (op.nx(), op.ny()) != (grid.nx, grid.ny) || op.dx() != grid.dx {
-        return Err(Error::InvalidInput(format!(
-            "the operator's {} x {} grid of side {} m differs from the {} x {} grid of side {} m",
-            op.nx(),
-            op.ny(),
-            op.dx(),
-            grid.nx,
-            grid.ny,
-            grid.dx
-        )));
-    }
     request.check()?;
     let steps = step_times(request.times, request.dt, jumps_at_start(loading, medium))?;
     let n = grid.nx * grid.ny;
@@ -73,7 +47,7 @@ pub fn run_bem_on<O: SurfaceOperator>(
     let field_rates = request.field_rates && !request.fields_at.is_empty();
     let mut strains = field_rates.then(|| Trail::new(vec![0.0; n]));
     let m = medium.internal();
-    let mut solver = ContactSolver::new(op);
+    let mut solver = ContactSolver::new(grid.body.operator(grid.nx, grid.ny, grid.dx)?);
     let (mut x, mut q) = (vec![0.0; n], vec![0.0; n * m]);
     let (mut hist, mut k_hist, mut sep) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
     let mut out = Series::default();

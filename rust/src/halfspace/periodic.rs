@@ -307,7 +307,7 @@ mod tests {
     /// to 0.5). Measured relative errors 1.7e-5 .. 4.8e-5 (dt = 0.005 s, n = 256).
     #[test]
     fn viscoelastic_creep_of_a_wavy_surface_follows_westergaard() {
-        use crate::bem::viscoelastic::run_bem_on;
+        use crate::bem::viscoelastic::run_bem;
         use crate::model::loading::{ForceHistory, Loading};
         use crate::model::medium::rheology::Rheology;
         use crate::stepping::Request;
@@ -329,9 +329,8 @@ mod tests {
             fields_at: &[],
             field_rates: false,
         };
-        let op = PeriodicOperator::new(grid.nx, grid.ny, grid.dx).unwrap();
         let opts = crate::model::settings::SolverOptions::default();
-        let s = run_bem_on(op, &grid, &medium, &loading, &request, &opts, &mut Silent).unwrap();
+        let s = run_bem(&grid, &medium, &loading, &request, &opts, &mut Silent).unwrap();
         for (k, &t) in s.t.iter().enumerate() {
             let sep = mean_separation(&grid.height, s.depth[k]);
             let exact = westergaard_separation(pbar, j(t));

@@ -223,12 +223,12 @@ fn depth_for(relaxed: &[f64], target: f64, kappa: f64, guess: f64) -> f64 {
         last = (count, sum);
         d = (target + sum) / (count as f64 + kappa);
     }
-    let mut sorted = relaxed.to_vec();
-    sorted.sort_unstable_by(f64::total_cmp);
     if kappa == 0.0 {
-        let surface = SortedSurface::new(&sorted);
+        let surface = SortedSurface::new(relaxed);
         return ContactLaw::Hard.depth_for_compression(&surface, target).0;
     }
+    let mut sorted = relaxed.to_vec();
+    sorted.sort_unstable_by(f64::total_cmp);
     // the first count whose root lies below the next relaxed height
     let mut sum = 0.0;
     for (count, s) in sorted.iter().enumerate() {
