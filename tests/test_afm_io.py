@@ -176,3 +176,46 @@ def test_curve_checks_its_arrays_and_segments():
     with pytest.raises(DataError, match="no times"):
         curve.times(mv.StandardSolid)
     assert np.array_equal(curve.times(mv.Elastic), np.arange(4.0))
+
+
+def test_command_line_fits_an_afm_file(tmp_path, capsys):
+    """``mdrvisc fit FILE.h5``: the curve of a file read through afmformats, the contact point
+    held or guessed, the fitted curve written with its residuals, the arrays in the JSON."""
+    import json
+
+    from mdrvisc.cli import main
+
+    t, z, segment = mv.afm.piezo_ramp(2e-6, speed=1e-5, rate=2000.0, start=-1e-6)
+    segment = np.where(segment == 2, 1, segment)
+    sims = [mv.afm.simulate(mv.Sphere(radius=R), mv.Elastic(G=g), t, z, K, contact_point=1e-7, baseline=2e-9,
+                            n=1000) for g in (600.0, 900.0)]
+    path = _write_hdf5(tmp_path / "two.h5", [(t, z, s.curve.deflection, segment, {}) for s in sims])
+    out = tmp_path / "fit.csv"
+    args = ["fit", str(path), "--indenter", f"sphere:radius={R}", "--model", "elastic", "--curve", "1"]
+    assert main([*args, "--out", str(out), "--json"]) == 0
+    document = json.loads(capsys.readouterr().out)
+    assert document["parameters"]["G"] == pytest.approx(900.0, rel=1e-4)
+    assert document["contact_point"] == pytest.approx(1e-7, abs=1e-11)
+    approach = segment == 0
+    arrays = document["arrays"]
+    assert np.allclose(arrays["t"], t[approach] - t[0], rtol=0, atol=1e-12)
+    assert np.allclose(np.subtract(arrays["model"], arrays["data"]), arrays["residuals"], rtol=0, atol=1e-24)
+    written = np.genfromtxt(out, delimiter=",", names=True)
+    assert written.dtype.names == ("t", "data", "model", "residual", "weight", "piezo", "deflection", "depth")
+    assert np.allclose(written["piezo"], z[approach])
+    assert np.allclose(written["residual"], arrays["residuals"])
+    # the contact point held at a wrong value: the fit moves the modulus instead, and says it held it
+    assert main([*args, "--contact-point", "0.5e-7", "--fix", "contact_point", "--json"]) == 0
+    held = json.loads(capsys.readouterr().out)
+    assert held["contact_point"] == 0.5e-7 and held["stderr"]["contact_point"] == 0.0
+    assert "contact_point" not in held["free"]
+    assert held["parameters"]["G"] != pytest.approx(900.0, rel=1e-3)
+    # a medium parameter held needs its value
+    assert main([*args, "--fix", "G"]) == 2
+    assert "instance" in capsys.readouterr().err
+    assert main([*args, "--guess", "G=800", "--fix", "G", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["parameters"]["G"] == 800.0
+    assert main([*args, "--guess", "E=800"]) == 2
+    assert "Elastic takes ['G']" in capsys.readouterr().err
+    assert main([*args[:-1], "7"]) == 2
+    assert "has 2 curves" in capsys.readouterr().err
