@@ -19,15 +19,29 @@ spread of (fitted - true) / stderr (1 where the standard errors are right).
 loaded with ``mv.afm.load`` and its approach fitted with a Hertz sphere (``--radius``):
 E, contact point, rms, success and time per curve.
 
+``--pyfmrheo-python PYTHON --pyfmrheo-map FILE.jpk-force-map``: PyFMRheo's power-law Ting fit
+of the map's curves (``pyfmrheo_map_worker.py``, run by that interpreter, with the
+parameters of PyFMRheo's viscoelastic example notebook: paraboloid R = 5 µm, t0 = 1 s, a
+window from 1 µm before contact downsampled to 300 points, viscous drag 2.5e-6 N s/m), and
+mdrvisc's power-law fits of the same window (PyFMRheo's indentation, force and time from
+its contact time) and of variants that take PyFMRheo's modelling choices one at a time:
+(A) the measured indentation, as mdrvisc fits it; (B) the indentation replaced by
+PyFMRheo's idealised one, the piezo speeds v0t and v0r times the time from contact (its
+"analytical" model assumes it); (C) that and its viscous-drag force subtracted from the
+data. Printed per curve: E0 (Young's modulus at t0, Pa) and beta of each fit, and both
+fitted moduli at 20 ms (within the contact's duration) instead of t0 = 1 s.
+
 Run: ``python benchmarks/bench_force_map.py [--side 64] [--models elastic,standardsolid]
-[--workers 2] [--profile] [--data DIR]``.
+[--workers 2] [--profile] [--data DIR] [--pyfmrheo-python PYTHON --pyfmrheo-map FILE]``.
 """
 
 from __future__ import annotations
 
 import argparse
 import cProfile
+import json
 import pstats
+import subprocess
 import time
 import warnings
 from pathlib import Path
@@ -157,6 +171,53 @@ def real_data(directory: Path, radius: float) -> None:
     table(["file", "curve", "approach samples", "E (Pa)", "z_c (µm)", "fit s", "note"], rows)
 
 
+def _power_law(t, depth, force, guess):
+    """(E0 at t0 = 1 s, beta, success) of mdrvisc's depth-controlled power-law fit."""
+    sphere = mv.Paraboloid(c=1 / (2 * R))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        result = mv.fit(sphere, mv.PowerLaw(G0=guess[0] / 3, beta=guess[1], t0=1.0), t,
+                        depth=np.maximum(depth, 0.0), force=force)
+    return 3 * result.parameters["G0"], result.parameters["beta"], result.success
+
+
+def _smooth(a, width):
+    """PyFMRheo's smoothing: a moving average over ``width`` samples (same length)."""
+    return np.convolve(a, np.ones(width) / width, mode="same")
+
+
+def pyfmrheo_comparison(python: str, path: Path, curves: list[int]) -> None:
+    """PyFMRheo's Ting fit of ``curves`` of the map against mdrvisc's fits of the same window."""
+    worker = Path(__file__).with_name("pyfmrheo_map_worker.py")
+    done = subprocess.run([python, str(worker), "--map", str(path), "--curves", *map(str, curves)],
+                          capture_output=True, text=True, timeout=1800)
+    if done.returncode != 0:
+        print(f"   PyFMRheo worker failed: {done.stderr[-400:]}")
+        return
+    document = json.loads(done.stdout.strip().splitlines()[-1])
+    print(f"   PyFMRheo {document['pyfmrheo']}, k = {document['spring_constant']:.4g} N/m, "
+          f"vdrag 2.5e-6 N s/m, window from 1 µm before contact, 300 points")
+    rows = []
+    for c in document["curves"]:
+        t, ind, force = (np.array(c[k]) for k in ("t", "indentation", "force"))
+        E0, beta, tc, F0 = c["E0"], c["betaE"], c["tc"], c["F0"]
+        inside = t - tc > 0
+        tt, ff = t[inside] - tc, force[inside] - F0
+        dd = ind[inside] - np.interp(tc, t, ind)
+        tm = t[c["idx_tm"]] - tc
+        ideal = np.where(tt <= tm, c["v0t"] * tt, c["v0t"] * tm - c["v0r"] * (tt - tm))
+        drag = _smooth(np.gradient(ind, t) * 2.5e-6, 21)[inside]
+        fits = {"A measured": _power_law(tt, dd, ff, (E0, beta)),
+                "B ideal ramp": _power_law(tt, ideal, ff, (E0, beta)),
+                "C ideal ramp, drag": _power_law(tt, ideal, ff - drag, (E0, beta))}
+        rows.append((c["index"], "PyFMRheo", f"{E0:.4g}", f"{beta:.3f}", f"{E0 * 0.02 ** -beta:.4g}",
+                     f"{c['wall']:.3f}"))
+        for name, (e0, b, ok) in fits.items():
+            rows.append(("", f"mdrvisc {name}" + ("" if ok else " (not converged)"), f"{e0:.4g}", f"{b:.3f}",
+                         f"{e0 * 0.02 ** -b:.4g}", ""))
+    table(["curve", "fit", "E0 (Pa, t0 = 1 s)", "beta", "E(20 ms) (Pa)", "PyFMRheo s"], rows)
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--side", type=int, default=64, help="curves per side of the map (default 64)")
@@ -167,11 +228,14 @@ def main() -> None:
     parser.add_argument("--profile", action="store_true", help="profile one curve's fit")
     parser.add_argument("--data", type=Path, default=None, help="a folder of AFM files to load and fit")
     parser.add_argument("--radius", type=float, default=5e-6, help="tip radius (m) for --data (default 5 µm)")
+    parser.add_argument("--pyfmrheo-python", default=None, help="the interpreter of a venv with PyFMRheo")
+    parser.add_argument("--pyfmrheo-map", type=Path, default=None, help="PyFMRheo's example force map")
+    parser.add_argument("--pyfmrheo-curves", type=int, nargs="+", default=list(range(8)))
     args = parser.parse_args()
     header(f"bench_force_map: mv.afm.fit_map on {args.side}x{args.side} synthetic maps")
     targets = {"elastic": 60.0, "standardsolid": 300.0}
     rows, details = [], []
-    for model in args.models.split(","):
+    for model in filter(None, args.models.split(",")):
         curves, fitted, simulated, wall, acc = run_map(args.side, model, args.samples, args.noise,
                                                        args.workers)
         target = targets[model] * len(curves) / 4096
@@ -184,14 +248,18 @@ def main() -> None:
         details.append((model, acc))
         if args.profile:
             profile_one(model, args.samples, args.noise)
-    table(["model", "curves", "samples fitted", "simulate s", "fit_map s", "curves/s", "failed",
-           "not converged", "target s", ""], rows)
+    if rows:
+        table(["model", "curves", "samples fitted", "simulate s", "fit_map s", "curves/s", "failed",
+               "not converged", "target s", ""], rows)
     for model, acc in details:
         print(f"\n   {model}: accuracy over the map (converged curves)")
         table(["parameter", "median |rel. error|", "p95 |rel. error|", "std((fit - true) / stderr)"], acc)
     if args.data is not None:
         print()
         real_data(args.data, args.radius)
+    if args.pyfmrheo_python is not None and args.pyfmrheo_map is not None:
+        print()
+        pyfmrheo_comparison(args.pyfmrheo_python, args.pyfmrheo_map, args.pyfmrheo_curves)
 
 
 if __name__ == "__main__":
