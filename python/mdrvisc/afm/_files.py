@@ -11,6 +11,7 @@ spring constant: ``piezo = -height``, ``deflection = force / k``.
 from __future__ import annotations
 
 import dataclasses
+import logging
 import math
 import pathlib
 from collections.abc import Sequence
@@ -300,6 +301,11 @@ def load(path, *, spring_constant: float | None = None, sensitivity: float | Non
     if height not in (None, "height (piezo)", "height (measured)"):
         raise InvalidInputError(f"load: height must be 'height (piezo)' or 'height (measured)', got "
                                 f"{height!r}")
+    # afmformats logs a loader's failure with its traceback before raising it; the DataError
+    # below says what failed, so its logger is quiet while it reads
+    quiet = logging.getLogger("afmformats")
+    level = quiet.level
+    quiet.setLevel(logging.CRITICAL)
     try:
         datasets = afmformats.load_data(path, meta_override=override or None, modality=modality)
     except afmformats.errors.FileFormatNotSupportedError as exc:
@@ -310,4 +316,6 @@ def load(path, *, spring_constant: float | None = None, sensitivity: float | Non
         raise DataError(f"{path}: {exc} (give load(..., spring_constant=, sensitivity=))") from None
     except (NotImplementedError, ValueError, KeyError) as exc:
         raise DataError(f"{path}: afmformats cannot read it: {type(exc).__name__}: {exc}") from None
+    finally:
+        quiet.setLevel(level)
     return [_curve(data, i, path, height) for i, data in enumerate(datasets)]
