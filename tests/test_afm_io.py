@@ -13,10 +13,10 @@ R = 5e-6          # tip radius (m)
 K = 0.05          # spring constant (N/m)
 
 
-def _write_hdf5(path, curves, *, restart_retract=False, spring_constant=True):
+def _write_hdf5(path, curves, *, restart_retract=False, spring_constant=True, times=True):
     """Writes ``curves`` [(t, piezo, deflection, segment, metadata)] as afmformats' HDF5: force
     = k deflection, height = -piezo; with ``restart_retract`` the retract's times start at 0
-    as some instruments write them."""
+    as some instruments write them; without ``times`` no time column."""
     afmformats = pytest.importorskip("afmformats")
     h5py = pytest.importorskip("h5py")
     with h5py.File(path, "w") as h5:
@@ -30,8 +30,9 @@ def _write_hdf5(path, curves, *, restart_retract=False, spring_constant=True):
                         "segment count": int(segment.max()) + 1, **extra}
             if spring_constant:
                 metadata["spring constant"] = K
-            data = {"force": K * deflection, "height (piezo)": -z, "segment": segment.astype(np.uint8),
-                    "time": time}
+            data = {"force": K * deflection, "height (piezo)": -z, "segment": segment.astype(np.uint8)}
+            if times:
+                data["time"] = time
             afmformats.AFMForceDistance(data, metadata).export_data(h5, fmt="hdf5")
     return path
 
@@ -219,3 +220,20 @@ def test_command_line_fits_an_afm_file(tmp_path, capsys):
     assert "Elastic takes ['G']" in capsys.readouterr().err
     assert main([*args[:-1], "7"]) == 2
     assert "has 2 curves" in capsys.readouterr().err
+
+
+def test_load_takes_times_from_the_sampling_rates_and_splits_a_joined_curve(tmp_path):
+    """A file without times but with its sampling rates gets times from them; a curve whose
+    approach and retract share one segment number (as Igor files write them) is split at the
+    deepest piezo position."""
+    t, z, segment = mv.afm.piezo_ramp(1e-6, speed=1e-5, rate=1000.0, start=-0.5e-6)
+    deflection = np.zeros_like(t)
+    rates = {"rate approach": 1000.0, "rate retract": 1000.0, "segment count": 2}
+    path = _write_hdf5(tmp_path / "joined.h5", [(t, z, deflection, np.zeros_like(segment), rates)],
+                       times=False)
+    (curve,) = mv.afm.load(path)
+    assert curve.segments == ("approach", "retract")
+    top = int(np.argmax(z))
+    assert np.array_equal(curve.segment, (np.arange(t.size) > top).astype(int))
+    assert np.allclose(curve.time, np.arange(t.size) / 1000.0, rtol=0, atol=1e-12)
+    assert np.allclose(curve.time, t, rtol=0, atol=1e-12)
