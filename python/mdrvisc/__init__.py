@@ -14,7 +14,7 @@ until logging is configured, e.g. ``logging.basicConfig(level=logging.INFO)``.
 
 import logging
 
-from . import analytic, arrays, scenefile, store, surfaces
+from . import afm, analytic, arrays, scenefile, store, surfaces
 from ._core import num_threads, set_num_threads
 from .errors import (
     ConvergenceError,
@@ -44,7 +44,7 @@ __all__ = ["Scene", "Result", "Fields", "OUTPUTS", "solve", "set_num_threads", "
            "Rod", "Paraboloid", "Cone", "Sphere", "Pyramid", "Axisymmetric", "Profile", "Indenter",
            "HeightMap",
            "Viscous", "Elastic", "KelvinVoigt", "Maxwell", "StandardSolid", "Prony", "PowerLaw", "fit",
-           "FitResult", "analytic", "arrays", "scenefile", "store", "surfaces", "solve_many", "Sweep",
+           "FitResult", "afm", "analytic", "arrays", "scenefile", "store", "surfaces", "solve_many", "Sweep",
            "SceneFailure", "sweep_scenes", "zip_scenes", "load_sweep", "MdrviscError", "InvalidInputError",
            "ConvergenceError", "DomainError", "ResolutionWarning", "DataError", "IdentifiabilityWarning",
            "__version__"]

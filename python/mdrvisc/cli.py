@@ -1,7 +1,9 @@
 """Command line: ``mdrvisc paper [--out DIR] [--scenes DIR] [--quick] [--no-study] [--json]`` and
 ``mdrvisc run SCENE.toml [--json]`` and ``mdrvisc sweep SWEEP.toml [--scheduler ADDRESS]
-[--store DIR] [--json]`` and ``mdrvisc fit DATA.csv --indenter sphere:radius=5e-6 --model
-standardsolid [--control depth] [--spring-constant K] [--json]`` (also ``python -m mdrvisc ...``).
+[--store DIR] [--json]`` and ``mdrvisc fit DATA.csv|FILE.jpk-force --indenter sphere:radius=5e-6
+--model standardsolid [--control depth] [--spring-constant K] [--curve N] [--segments approach,...]
+[--contact-point Z] [--baseline B] [--guess KEY=VALUE,...] [--fix NAME,...] [--out FIT.csv]
+[--json]`` (also ``python -m mdrvisc ...``).
 
 Results go to stdout (tables, or one JSON document with ``--json``), progress to stderr.
 Bad input exits with status 2 and an ``error: ...`` line on stderr. ``mdrvisc paper`` draws its
@@ -10,6 +12,7 @@ and the CSV/JSON files, and says on stderr that it skipped the figures and what 
 """
 
 import argparse
+import dataclasses
 import json
 import logging
 import sys
@@ -87,9 +90,11 @@ def _parser():
                        help="no progress bar (by default a bar with the time left on stderr)")
     fitting = commands.add_parser(
         "fit", help="fit a medium to an indentation curve: a CSV file with columns t (s), depth (m), "
-                    "force (N) and optionally weight; or a raw AFM curve: t, piezo (m, towards the "
-                    "sample), deflection (m) with --spring-constant, the contact point fitted")
-    fitting.add_argument("data", help="CSV file with a header row naming its columns")
+                    "force (N) and optionally weight; a raw AFM curve as CSV: t, piezo (m, towards the "
+                    "sample), deflection (m) with --spring-constant; or an instrument file read by "
+                    "afmformats (.jpk-force, .jpk-force-map, .jpk-qi-data, .ibw, .h5, ...; needs "
+                    "mdrvisc[afm]), the contact point fitted")
+    fitting.add_argument("data", help="CSV file with a header row naming its columns, or an AFM file")
     fitting.add_argument("--indenter", required=True,
                          help="tip as NAME:KEY=VALUE,..., e.g. sphere:radius=5e-6, paraboloid:c=1e5, "
                               "cone:slope=0.36, pyramid:half_angle=0.61, rod:radius=1e-6 (SI units, "
@@ -102,11 +107,32 @@ def _parser():
     fitting.add_argument("--nu", type=float, default=0.5,
                          help="Poisson ratio of the medium, held in the fit (default 0.5, incompressible)")
     fitting.add_argument("--spring-constant", type=float, default=None,
-                         help="cantilever spring constant (N/m) of a raw AFM curve (columns piezo, "
-                              "deflection)")
+                         help="cantilever spring constant (N/m) of a raw AFM curve (CSV columns piezo, "
+                              "deflection); for an AFM file it replaces the file's")
+    fitting.add_argument("--curve", type=int, default=0,
+                         help="AFM files: which curve of the file (0, 1, ...; a map's curves in the "
+                              "file's order; default 0)")
+    fitting.add_argument("--segments", default="approach",
+                         help="AFM files: the segments fitted, comma-separated, of approach, dwell, "
+                              "retract (default approach)")
+    fitting.add_argument("--contact-point", type=float, default=None, metavar="Z",
+                         help="raw AFM curves: first guess of the contact point (m, piezo position)")
+    fitting.add_argument("--baseline", type=float, default=None, metavar="B",
+                         help="raw AFM curves: first guess of the deflection baseline (m)")
+    fitting.add_argument("--guess", default=None, metavar="KEY=VALUE,...",
+                         help="first guess of the medium's parameters, e.g. G_inf=1e3,G1=2e3,tau1=0.1 "
+                              "(SI units; every parameter of the model; default: estimated from the data)")
+    fitting.add_argument("--fix", default="", metavar="NAME,...",
+                         help="parameters held at their guess, e.g. contact_point, baseline, or a "
+                              "medium's (those need --guess)")
     fitting.add_argument("--terms", type=int, default=2, help="Prony terms (--model prony)")
     fitting.add_argument("--substeps", type=int, default=1, help="time steps per sample interval")
-    fitting.add_argument("--json", action="store_true", help="print the result as JSON")
+    fitting.add_argument("--out", metavar="FILE.csv", default=None,
+                         help="write the fitted curve: t, the data, the model, the residuals and the "
+                              "weights (raw AFM curves also piezo, deflection and depth), one row per sample")
+    fitting.add_argument("--json", action="store_true",
+                         help="print the result as JSON, with the arrays t, data, model, residuals "
+                              "(and depth of a raw AFM curve)")
     return parser
 
 
@@ -130,12 +156,52 @@ def _indenter(spec):
         raise InvalidInputError(f"--indenter: {exc}") from None
 
 
-def _fit(args):
-    """Fits the model to the CSV curve; prints the result's table or JSON."""
+def _keys(option: str, text: str | None) -> dict[str, float]:
+    """The numbers of a KEY=VALUE,... option."""
+    values = {}
+    for item in filter(None, (text or "").split(",")):
+        key, _, value = item.partition("=")
+        try:
+            values[key.strip()] = float(value)
+        except ValueError:
+            raise InvalidInputError(f"{option}: {item!r} is not KEY=NUMBER") from None
+    return values
+
+
+def _model(args):
+    """The medium class of ``--model``, or its instance at ``--guess``'s values."""
     classes = {cls.__name__.lower(): cls for cls in (media.Elastic, media.Viscous) + media.VISCOELASTIC}
-    model = classes.get(args.model.lower())
-    if model is None:
+    cls = classes.get(args.model.lower())
+    if cls is None:
         raise InvalidInputError(f"--model: unknown medium {args.model!r}; one of {sorted(classes)}")
+    guess = _keys("--guess", args.guess)
+    if not guess:
+        return cls
+    if cls is media.Prony:
+        raise InvalidInputError("--guess: a Prony series' guess is not taken from the command line; "
+                                "fit it without --guess")
+    try:
+        return cls(**guess, nu=args.nu)
+    except TypeError as exc:
+        names = [f.name for f in dataclasses.fields(cls) if f.name != "nu"]
+        raise InvalidInputError(f"--guess: {exc}; {cls.__name__} takes {names}") from None
+
+
+def _curve(args):
+    """(t, the fit's data keywords, weights or None, whether it is a raw AFM curve) of
+    ``args.data``: a CSV file, or an AFM file read by :func:`mdrvisc.afm.load`."""
+    if not args.data.lower().endswith((".csv", ".txt")):
+        from . import afm
+
+        curves = afm.load(args.data, spring_constant=args.spring_constant)
+        if not 0 <= args.curve < len(curves):
+            raise InvalidInputError(f"--curve: {args.data} has {len(curves)} curves (0..{len(curves) - 1}), "
+                                    f"got {args.curve}")
+        curve = curves[args.curve].select(*[s.strip() for s in args.segments.split(",") if s.strip()])
+        model = media.Elastic if args.model.lower() == "elastic" else None
+        t = curve.times(model)
+        return t, {"piezo": curve.piezo, "deflection": curve.deflection,
+                   "spring_constant": curve.spring_constant}, None, True
     data = np.genfromtxt(args.data, delimiter=",", names=True)
     names = data.dtype.names or ()
     raw = args.spring_constant is not None
@@ -147,15 +213,41 @@ def _fit(args):
     curve = ({"piezo": np.atleast_1d(data["piezo"]), "deflection": np.atleast_1d(data["deflection"]),
               "spring_constant": args.spring_constant} if raw else
              {"depth": np.atleast_1d(data["depth"]), "force": np.atleast_1d(data["force"])})
+    weights = np.atleast_1d(data["weight"]) if "weight" in names else None
+    return np.atleast_1d(data["t"]), curve, weights, raw
+
+
+def _fit(args):
+    """Fits the model to the curve of a CSV or AFM file; prints the result's table or JSON and
+    writes the fitted curve with --out."""
+    model = _model(args)
+    t, curve, weights, raw = _curve(args)
+    fixed = tuple(name.strip() for name in args.fix.split(",") if name.strip())
+    extra = {}
+    if args.contact_point is not None or args.baseline is not None:
+        if not raw:
+            raise InvalidInputError("--contact-point and --baseline are for raw AFM curves")
+        extra = {"contact_point": args.contact_point, "baseline": args.baseline}
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", IdentifiabilityWarning)
-        weights = np.atleast_1d(data["weight"]) if "weight" in names else None
-        result = fit(_indenter(args.indenter), model, np.atleast_1d(data["t"]), **curve,
-                     control=args.control, nu=args.nu, terms=args.terms, substeps=args.substeps,
-                     weights=weights)
+        result = fit(_indenter(args.indenter), model, t, **curve, **extra, control=args.control,
+                     nu=None if isinstance(model, media._Medium) else args.nu, terms=args.terms,
+                     substeps=args.substeps, weights=weights, fixed=fixed)
     for w in caught:
         print(f"warning: {w.message}", file=sys.stderr)
+    w = np.ones_like(result.t) if weights is None else np.asarray(weights, dtype=float)
+    columns = {"t": result.t, "data": result.data, "model": result.model, "residual": result.residuals,
+               "weight": w}
+    if raw:
+        columns.update(piezo=curve["piezo"], deflection=curve["deflection"], depth=result.depth)
+    if args.out is not None:
+        np.savetxt(args.out, np.column_stack(list(columns.values())), delimiter=",",
+                   header=",".join(columns), comments="")
+        print(f"wrote {args.out}", file=sys.stderr)
     if args.json:
+        arrays = {"t": result.t, "data": result.data, "model": result.model, "residuals": result.residuals}
+        if raw:
+            arrays["depth"] = result.depth
         print(json.dumps(to_jsonable({
             "medium": type(result.medium).__name__, "parameters": result.parameters, "stderr": result.stderr,
             "nu": result.nu, "young_moduli": result.young_moduli, "young_stderr": result.young_stderr,
@@ -163,7 +255,9 @@ def _fit(args):
             "cost": result.cost, "control": result.control, "nfev": result.nfev, "nit": result.nit,
             "forward": result.forward, "wall_time": result.wall_time, "success": result.success,
             "status": result.status, "message": result.message, "warnings": result.warnings,
-            **({"contact_point": result.contact_point, "baseline": result.baseline} if raw else {})})))
+            **({"contact_point": result.contact_point, "baseline": result.baseline,
+                "spring_constant": result.spring_constant} if raw else {}),
+            "arrays": {name: a.tolist() for name, a in arrays.items()}})))
     else:
         print(repr(result))
 

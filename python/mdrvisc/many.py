@@ -165,13 +165,14 @@ def _cores() -> int:
 POOL_RESTARTS = 2
 
 
-def _run_local(tasks, workers: int, advance, collect) -> None:
+def _run_local(tasks, workers: int, advance, collect, work=_solve_chunk) -> None:
     """Solves ``tasks`` [(index, core scene, method, n, options)] in ``workers`` processes; when a
     worker dies (killed, out of memory), the chunks not finished go to a new pool, at most
-    :data:`POOL_RESTARTS` times."""
+    :data:`POOL_RESTARTS` times. ``work`` maps a chunk of tasks (each starting with its index)
+    to [(index, result or None, exception or None)] (default: solves of scenes)."""
     if workers <= 1 or len(tasks) <= 1:
         for task in tasks:
-            for item in _solve_chunk([task]):
+            for item in work([task]):
                 collect(*item)
                 advance(1)
         return
@@ -181,7 +182,7 @@ def _run_local(tasks, workers: int, advance, collect) -> None:
         unfinished = []
         with concurrent.futures.ProcessPoolExecutor(workers, initializer=_start_worker,
                                                     initargs=(threads,)) as pool:
-            futures = {pool.submit(_solve_chunk, chunk): chunk for chunk in chunks}
+            futures = {pool.submit(work, chunk): chunk for chunk in chunks}
             try:
                 for future in concurrent.futures.as_completed(futures):
                     try:
@@ -213,14 +214,15 @@ def _chunks(tasks: list, slots: int) -> list:
     return [tasks[i:i + size] for i in range(0, len(tasks), size)]
 
 
-def _run_dask(tasks, client, advance, collect) -> None:
-    """Solves ``tasks`` on ``client``'s cluster, one task per chunk of scenes."""
+def _run_dask(tasks, client, advance, collect, work=_solve_chunk) -> None:
+    """Solves ``tasks`` on ``client``'s cluster, one task per chunk of scenes (``work``: as
+    in :func:`_run_local`)."""
     from distributed import as_completed
 
     slots = max(1, sum(w.get("nthreads", 1) for w in client.scheduler_info()["workers"].values()))
     futures = {}
     for chunk in _chunks(tasks, slots):
-        futures[client.submit(_solve_chunk, chunk, pure=False)] = chunk
+        futures[client.submit(work, chunk, pure=False)] = chunk
     try:
         for future in as_completed(list(futures)):
             try:
