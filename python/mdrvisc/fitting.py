@@ -280,6 +280,17 @@ def fit(indenter: Indenter, model: _Medium | type, t: ArrayLike, *, depth: Array
     -------
     FitResult
 
+    Examples
+    --------
+    A raw AFM curve on a drifting baseline, the contact point and the drift fitted with a
+    standard solid (lengths in m, k in N/m)::
+
+        fit = mv.fit(mv.Sphere(radius=5e-6), mv.StandardSolid, t, piezo=z, deflection=d,
+                     spring_constant=0.5, baseline_model="tilt")
+        fit.success, fit.message                   # stopped at a minimum, and why
+        fit.young_moduli["E_inf"], fit.young_stderr["E_inf"]   # Pa
+        fit.contact_point, fit.baseline_slope      # m, m/m
+
     Raises
     ------
     DataError
