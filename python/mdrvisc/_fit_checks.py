@@ -69,10 +69,10 @@ def covariance(jac: np.ndarray, variance: float) -> tuple[np.ndarray, np.ndarray
     undetermined = (norms == 0) | (np.linalg.norm(null, axis=1) > np.sqrt(RANK_TOLERANCE))
     scaled = (v[:, keep] / s[keep]) @ (v[:, keep] / s[keep]).T  # (J^T J)^+ of the scaled columns
     diagonal = np.sqrt(np.maximum(np.diag(scaled), 0.0))
-    with np.errstate(invalid="ignore", divide="ignore"):
+    with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
         correlation = np.clip(scaled / np.outer(diagonal, diagonal), -1.0, 1.0)
+        stderr = np.sqrt(variance) * diagonal / safe
     correlation = 0.5 * (correlation + correlation.T)
-    stderr = np.sqrt(variance) * diagonal / safe
     stderr[undetermined] = np.inf
     correlation[undetermined, :] = np.nan
     correlation[:, undetermined] = np.nan
