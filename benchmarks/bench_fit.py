@@ -25,7 +25,18 @@ fitted G0 (PyFMRheo's E0 / 3) and beta with their standard errors, their differe
 mdrvisc's in PyFMRheo's standard errors, and PyFMRheo's closed form at the true values
 against the noise-free curve (largest deviation over the largest force, approach / retract).
 
-Run: ``python benchmarks/bench_fit.py [--repeats 3] [--pyfmrheo-python PATH]``.
+A third table fits raw AFM curves (piezo, deflection, spring constant k = 0.5 N/m; the
+contact point and the baseline fitted with the medium): an 8,000-sample approach and retract
+(0.5 s before contact, then the triangle above, 1 % deflection noise, seed 0; data from
+``mv.solve`` as above, z = z_c + indentation + F / k), a standard solid and a power law,
+each from its class alone; targets <= 50 ms a fit. Beside them the same curve's contact part
+fitted by depth control (the indentation and force at the true contact point and baseline:
+Ting's solution, the millisecond path) and PyFMRheo's Ting fit of that part (power law
+only; it fits force against time at a given indentation, neither the contact point nor
+the cantilever).
+
+Run: ``python benchmarks/bench_fit.py [--repeats 3] [--pyfmrheo-python PATH] [--skip-targets]
+[--skip-raw]``.
 """
 
 from __future__ import annotations
@@ -135,11 +146,75 @@ def main(argv=None) -> None:
     parser.add_argument("--pyfmrheo-python", default=os.environ.get(PYFMRHEO_PYTHON_ENV) or None,
                         help=f"interpreter of a venv with PyFMRheo (default: ${PYFMRHEO_PYTHON_ENV}; without "
                              "it PyFMRheo's rows say 'not run')")
-    parser.add_argument("--skip-targets", action="store_true", help="only the power-law table")
+    parser.add_argument("--skip-targets", action="store_true", help="without the first table")
+    parser.add_argument("--skip-raw", action="store_true", help="without the raw-curve table")
     args = parser.parse_args(argv)
     if not args.skip_targets:
         target_table(args.repeats)
     power_law_table(args.pyfmrheo_python, args.repeats)
+    if not args.skip_raw:
+        raw_table(args.pyfmrheo_python, args.repeats)
+
+
+RAW_SAMPLES, RAW_K, RAW_Z_C, RAW_BASELINE, RAW_BEFORE = 8000, 0.5, 2e-6, 3e-8, 0.5
+
+
+def raw_curve(true):
+    """(t, piezo, deflection) of the raw approach and retract, and the contact part (times
+    from contact, indentation, force, noise-free force)."""
+    total = RAW_BEFORE + 2.0 * T_PEAK
+    t = np.linspace(0.0, total, RAW_SAMPLES)
+    s = t - RAW_BEFORE
+    inside = s > 0
+    depth = np.where(s <= T_PEAK, RATE * s, RATE * (2.0 * T_PEAK - s))
+    scene = mv.Scene(indenter=mv.Paraboloid(c=1 / (2 * RADIUS)), medium=true,
+                     depth=([0.0, T_PEAK, 2.0 * T_PEAK], [0.0, RATE * T_PEAK, 0.0]), duration=2.0 * T_PEAK,
+                     times=s[inside], dt=1e-4)
+    force = np.zeros_like(t)
+    force[inside] = mv.solve(scene, "mdr", 4000).force
+    bend = force / RAW_K
+    rng = np.random.default_rng(0)
+    deflection = bend + RAW_BASELINE + 0.01 * np.max(bend) * rng.standard_normal(t.size)
+    z = RAW_Z_C + depth + bend
+    measured = RAW_K * (deflection - RAW_BASELINE)
+    return (t, z, deflection), (s[inside], depth[inside], measured[inside], force[inside])
+
+
+def raw_table(python, repeats) -> None:
+    cases = [("standard solid", mv.StandardSolid(G_inf=1e3, G1=2e3, tau1=0.2)),
+             ("power law", mv.PowerLaw(G0=1e3, beta=0.2, t0=1.0))]
+    header(f"Raw AFM curves: {RAW_SAMPLES} samples (approach + retract), k = {RAW_K} N/m, 1 % noise, "
+           f"MDR n = {N}, best of {repeats}; target <= 0.050 s a fit")
+    tip = mv.Paraboloid(c=1 / (2 * RADIUS))
+    rows = []
+    for label, true in cases:
+        (t, z, deflection), (s, depth, force, clean) = raw_curve(true)
+        cls = type(true)
+        seconds, raw = best_of(lambda t=t, z=z, d=deflection, cls=cls: mv.fit(
+            tip, cls, t, piezo=z, deflection=d, spring_constant=RAW_K, n=N), repeats)
+        truth = max(abs(raw.parameters[k] / v - 1) for k, v in parameters(true).items() if k != "t0")
+        rows.append([label, f"mv.fit raw ({raw.forward})", raw.nfev, seconds, 0.05, truth,
+                     (raw.contact_point - RAW_Z_C) * 1e9, raw.success])
+        seconds, ting = best_of(lambda s=s, d=depth, f=force, cls=cls: mv.fit(
+            tip, cls, s, depth=d, force=f, n=N), repeats)
+        truth = max(abs(ting.parameters[k] / v - 1) for k, v in parameters(true).items() if k != "t0")
+        rows.append([label, f"mv.fit contact part, depth control ({ting.forward})", ting.nfev, seconds, None,
+                     truth, None, ting.success])
+        if not isinstance(true, mv.PowerLaw):
+            continue
+        if python is None:
+            rows.append([label, "PyFMRheo (not run: no --pyfmrheo-python)"] + [None] * 6)
+            continue
+        guess = mv.PowerLaw(G0=1.6e3, beta=0.12, t0=1.0)
+        theirs = pyfmrheo_fit(python, "paraboloid", RADIUS, s, depth, force, clean, true, guess, repeats)
+        if "failed" in theirs:
+            rows.append([label, f"PyFMRheo (failed: {theirs['failed']})"] + [None] * 6)
+            continue
+        truth = max(abs(theirs["E0"] / 3.0 / true.G0 - 1), abs(theirs["betaE"] / true.beta - 1))
+        rows.append([label, f"PyFMRheo {theirs['version']} Ting, contact part", theirs["evaluations"],
+                     theirs["seconds"], None, truth, None, theirs["success"]])
+    table(["medium", "method", "evaluations", "wall s", "target s", "max rel. err vs true", "z_c - true nm",
+           "success"], rows, ["{}", "{}", "{}", "{:.4f}", "{:.3f}", "{:.2e}", "{:+.2f}", "{}"])
 
 
 def target_table(repeats) -> None:

@@ -115,8 +115,9 @@ class Problem:
         values.update({name: float(v) for name, v in zip(self.free, np.exp(x[:len(self.free)]))})
         return medium_of(self.cls, values, self.nu)
 
-    def raw_at(self, x: np.ndarray) -> tuple[float, float]:
-        """The raw AFM curve's contact point z_c and baseline b (m) at coordinates ``x``."""
+    def raw_at(self, x: np.ndarray) -> tuple[float, float, float]:
+        """The raw AFM curve's contact point z_c, baseline b (m) and baseline slope m (m/m, 0
+        without a tilt) at coordinates ``x``."""
         assert self.raw is not None
         return self.raw.at(x[len(self.free):], self.free_raw)
 
@@ -137,16 +138,16 @@ class Problem:
             values, jac, contact, _ = self.curve.evaluate(media, self.asked)[0]
             r = values - self.measured
         else:
-            z_c, b = self.raw_at(x)
+            z_c, b, m = self.raw_at(x)
             if raw.z[0] > z_c:
                 return self._failed(x)  # in contact before the first sample
             values, jac, contact, _ = self.curve.evaluate(media, self.asked, raw.shift(z_c))[0]
-            r = values - raw.force(b)
+            r = values - raw.force(z_c, b, m)
         jac = with_derived(values, jac, self.free, self.asked)
         if raw is not None:
-            jac = raw.jacobian(jac, self.free_raw)
+            jac = raw.jacobian(jac, self.free_raw, z_c, m)
         self.solves += 1
-        if np.any(contact == self.n):
+        if np.any(contact == self.n) or not np.all(np.isfinite(jac)):
             return self._failed(x)
         return self.root_w * r, self.root_w[:, None] * jac
 

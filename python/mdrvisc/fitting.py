@@ -24,8 +24,8 @@ import warnings
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ._afm_raw import BASELINE_SAMPLES, RAW_NAMES, AfmCurve, raw_input
-from ._fit_checks import array, check_times, identifiability
+from ._afm_raw import BASELINE_SAMPLES, BASELINES, RAW_NAMES, AfmCurve, raw_input
+from ._fit_checks import array, check_times, covariance, identifiability
 from ._fit_model import Problem, curves, moduli, parameters
 from ._guesses import estimate
 from ._least_squares import Solution, levenberg_marquardt
@@ -33,6 +33,10 @@ from ._validate import _integer, _poisson_ratio
 from .errors import DataError, DomainError, IdentifiabilityWarning, InvalidInputError
 from .geometry import Indenter
 from .media import PowerLaw, Prony, _Medium, _young
+
+#: Residuals (weighted, in the data's unit) below this fraction of the weighted data's norm
+#: are the forward model's round-off: a fit that reaches them is at its minimum.
+ROUND_OFF_RESIDUALS = 1e-11
 
 __all__ = ["fit", "FitResult"]
 
@@ -54,8 +58,11 @@ class FitResult:
         Its parameters by name (Pa, s, Pa s): shear moduli, viscosities and times.
     stderr : dict
         Standard errors of the parameters (same names and units; 0 for held ones), from the
-        Jacobian at the solution and the residual variance (first order in the logarithms);
-        a raw AFM curve's also of ``contact_point`` and ``baseline`` (m).
+        Jacobian at the solution (in the parameters themselves, its singular value
+        decomposition with unit-norm columns) and the residual variance; inf for parameters
+        the data do not determine (a rank-deficient Jacobian, with an
+        :class:`IdentifiabilityWarning`); a raw AFM curve's also of ``contact_point``,
+        ``baseline`` (m) and ``baseline_slope``.
     nu : float
         The Poisson ratio the fit held (the model's).
     young_moduli, young_stderr : dict
@@ -64,7 +71,8 @@ class FitResult:
     free : list of str
         The fitted parameters, in the order of ``correlation``'s rows and ``jac``'s columns.
     correlation : ndarray
-        Correlation matrix of the fitted parameters.
+        Correlation matrix of the fitted parameters: symmetric, entries in [-1, 1], ones on
+        the diagonal, NaN in the rows and columns of undetermined parameters.
     t, data, model, residuals : ndarray
         Sample times (s), the measured values, the fitted model's values and model - data
         (N under depth control, m under force control).
@@ -78,11 +86,12 @@ class FitResult:
         to the ``free`` parameters (one row per sample, one column per parameter: N or m per
         Pa, s, Pa s, or m).
     success : bool
-        Whether Levenberg-Marquardt met a tolerance (``status`` > 0).
+        Whether the fit stopped at a minimum (``status`` > 0; see :func:`fit`'s notes).
     status : int
-        Why it stopped, as :func:`scipy.optimize.least_squares` numbers it: 0 the iteration
-        limit (``max_iter``), 1 the gradient test, 2 the cost test (the cost falls by a
-        negligible fraction, or no step lowers it: a minimum to round-off), 3 the step test.
+        Why it stopped, successes > 0 and failures <= 0 as in
+        :func:`scipy.optimize.least_squares`: 1 stationary (the relative offset test), 2 a
+        minimum to round-off, 3 a minimum at a kink of the discrete model; 0 the iteration
+        limit (``max_iter``), -2 no step lowers the cost at a point that is not stationary.
     message : str
         The same in words.
     nfev : int
@@ -101,14 +110,17 @@ class FitResult:
         Parameters the data do not identify (also raised as :class:`IdentifiabilityWarning`).
     contact_point, baseline : float or None
         Raw AFM curves only: the fitted contact point z_c (piezo position, m) and deflection
-        baseline b (m); their standard errors are ``stderr["contact_point"]`` and
-        ``stderr["baseline"]`` (0 when held), their correlations with the medium's parameters
-        in ``correlation``.
+        baseline b (m; with a tilt, the baseline's value at z_c); their standard errors are
+        ``stderr["contact_point"]`` and ``stderr["baseline"]`` (0 when held), their
+        correlations with the medium's parameters in ``correlation``.
     depth : ndarray or None
-        Raw AFM curves only: the indentation (z - z_c) - (deflection - b) at the fitted z_c
-        and b (m); ``data`` is then the force k (deflection - b) (N).
+        Raw AFM curves only: the indentation (z - z_c) - (deflection - baseline) at the
+        fitted z_c and baseline (m); ``data`` is then the force k (deflection - baseline) (N).
     spring_constant : float or None
         Raw AFM curves only: k (N/m), as given.
+    baseline_slope : float or None
+        Raw AFM curves with ``baseline_model="tilt"`` only: the baseline's slope m along the
+        piezo (m/m): the baseline is b + m (z - z_c).
     """
 
     medium: _Medium
@@ -139,6 +151,7 @@ class FitResult:
     baseline: float | None = None
     depth: np.ndarray | None = None
     spring_constant: float | None = None
+    baseline_slope: float | None = None
 
     def __repr__(self) -> str:
         unit = "N" if self.control == "depth" else "m"
@@ -154,10 +167,11 @@ class FitResult:
             rel = "held" if of not in self.free else f"{err / value:.2e}"
             lines.append(f"  {name:<14}{value:>14.6g}{err:>14.3g}{rel:>11}")
         lines.append(f"  {'nu':<14}{self.nu:>14.6g}{'':>14}{'held':>11}")
-        for name, value in (("contact_point", self.contact_point), ("baseline", self.baseline)):
+        for name, value in (("contact_point", self.contact_point), ("baseline", self.baseline),
+                            ("baseline_slope", self.baseline_slope)):
             if value is not None:
                 err = self.stderr[name]
-                rel = "held" if name not in self.free else "m"
+                rel = "held" if name not in self.free else ("m/m" if name == "baseline_slope" else "m")
                 lines.append(f"  {name:<14}{value:>14.6g}{err:>14.3g}{rel:>11}")
         if not self.success:
             lines.append(f"  not converged: {self.message}")
@@ -185,7 +199,7 @@ def fit(indenter: Indenter, model: _Medium | type, t: ArrayLike, *, depth: Array
         spring_constant: float | None = None, contact_point: float | None = None,
         baseline: float | None = None, control: str = "depth", weights: ArrayLike | None = None,
         fixed: tuple[str, ...] = (), nu: float | None = None, terms: int = 2, n: int = 500,
-        substeps: int = 1, max_iter: int = 100) -> FitResult:
+        substeps: int = 1, max_iter: int = 100, baseline_model: str = "offset") -> FitResult:
     """Fit a medium to an indentation curve: depth and force, or a raw AFM curve, at times ``t``.
 
     Parameters
@@ -212,16 +226,22 @@ def fit(indenter: Indenter, model: _Medium | type, t: ArrayLike, *, depth: Array
         deflection's noise stays in the data and does not enter the indentation. The
         contact point z_c and the deflection baseline b are fitted together with the medium
         (before contact the model's force is zero, so the baseline is fitted to the
-        pre-contact deflection; it is a constant: remove a tilt or virtual deflection
-        first). Depth control only; no adhesion is modelled (give adhesive parts of a
-        retract zero weight). The first tenth of the approach (the samples up to the
-        highest z, at least 5) must be before contact.
+        pre-contact deflection; see ``baseline_model`` for a tilted one). Depth control
+        only; no adhesion is modelled (give adhesive parts of a retract zero weight). The
+        first tenth of the approach (the samples up to the highest z, at least 5) must be
+        before contact. Lengths in m: a piezo or deflection spanning more than 1 cm (um,
+        nm or volts), a piezo that falls towards the sample, or a deflection that falls
+        below its baseline as the tip presses are refused with a message saying so.
     contact_point, baseline : float, optional
         Raw AFM curves: initial guesses of z_c and b (m). Without them, b is the median of
-        the deflection over the first tenth of the approach and z_c the piezo position
-        where the deflection last rises above b by 3 robust standard deviations of that
-        part (the median absolute deviation times 1.4826) before the deepest point.
-        ``fixed=("contact_point",)`` or ``("baseline",)`` holds them.
+        the deflection over the first tenth of the approach (with a tilt: the line fitted
+        to the deflection there, in z, at z_c) and z_c the piezo position where the
+        deflection last rises above that baseline by 3 robust standard deviations of that
+        part (the median absolute deviation times 1.4826) before the deepest point (with a
+        tilt, the line is then fitted again to the first three quarters of the samples
+        before that guess, and the guess repeated: a drift over the whole approach does not
+        move it). ``fixed=("contact_point",)``, ``("baseline",)`` or ``("baseline_slope",)``
+        holds them.
     control : {"depth", "force"}
         What was prescribed: "depth" (relaxation, AFM force curves: the forces are the
         measurements) or "force" (creep: the depths are). Between samples the prescribed
@@ -250,10 +270,26 @@ def fit(indenter: Indenter, model: _Medium | type, t: ArrayLike, *, depth: Array
         contact grows).
     max_iter : int
         Most Levenberg-Marquardt iterations.
+    baseline_model : {"offset", "tilt"}
+        Raw AFM curves: the deflection's baseline, a constant b ("offset") or a line
+        b + m (z - z_c) in the piezo position ("tilt": tilt, drift or virtual deflection,
+        continued through the contact), its slope m (m/m) fitted with the rest
+        (``result.baseline_slope``).
 
     Returns
     -------
     FitResult
+
+    Examples
+    --------
+    A raw AFM curve on a drifting baseline, the contact point and the drift fitted with a
+    standard solid (lengths in m, k in N/m)::
+
+        fit = mv.fit(mv.Sphere(radius=5e-6), mv.StandardSolid, t, piezo=z, deflection=d,
+                     spring_constant=0.5, baseline_model="tilt")
+        fit.success, fit.message                   # stopped at a minimum, and why
+        fit.young_moduli["E_inf"], fit.young_stderr["E_inf"]   # Pa
+        fit.contact_point, fit.baseline_slope      # m, m/m
 
     Raises
     ------
@@ -264,6 +300,29 @@ def fit(indenter: Indenter, model: _Medium | type, t: ArrayLike, *, depth: Array
 
     Notes
     -----
+    Levenberg-Marquardt works in coordinates without units: the logarithms of the medium's
+    parameters, and a raw curve's contact point, baseline and slope in units of the data's
+    largest indentation, deflection range and that range over the piezo's; each iteration
+    scales the Jacobian's columns to unit norm. It stops, with ``success``, only at a
+    minimum:
+
+    * stationary: the relative offset of Bates and Watts, rho = (|P r| / sqrt(p)) /
+      (|r| / sqrt(m - p)) with P r the residuals' projection on the Jacobian's range (m
+      residuals, p parameters), is at most 1e-6: the undamped Gauss-Newton step to the
+      linearised minimum is shorter than 1e-6 sqrt(p) standard errors, and the cost exceeds
+      the minimum's by about rho^2 p / (m - p) of itself;
+    * a minimum to round-off: residuals below 1e-11 of the data, or no step lowers a cost
+      that the Gauss-Newton step would lower by less than 1e-13 of itself;
+    * a minimum at a kink: no step lowers the cost, and the linearised minimum lies within
+      0.05 standard errors. The discrete forward model is piecewise smooth (an element
+      enters the contact, the root of Ting's retract crosses a step), so its cost has
+      kinks; its local minima lie about 1e-2 standard errors apart.
+
+    Neither a step's length nor the cost's decrease is a criterion: a heavily damped step
+    makes both small far from the minimum. After ``max_iter`` iterations, or when no step
+    lowers the cost farther from the linearised minimum, ``success`` is false and
+    ``message`` gives rho.
+
     The forward model is MDR. Under depth control, with a depth that rises and then falls
     (approach, hold, retract: a single maximum) and a tip whose MDR profile rises away from
     its axis, it is Ting's solution: the elements' forces integrated over the contact in
@@ -276,15 +335,35 @@ def fit(indenter: Indenter, model: _Medium | type, t: ArrayLike, *, depth: Array
     falls.
     """
     start = time.perf_counter()
+    max_iter = _integer("fit", "max_iter", max_iter, 1)
+    problem, data, scale = _problem(indenter, model, t, depth, force, piezo, deflection, spring_constant,
+                                    contact_point, baseline, control, weights, fixed, nu, terms, n, substeps,
+                                    baseline_model)
+    # residuals below this are round-off of the forward model's sums (noise-free data that
+    # the model reproduces)
+    floor = ROUND_OFF_RESIDUALS * float(np.linalg.norm(problem.root_w * data.measured))
+    solution = levenberg_marquardt(problem, problem.x0(), max_iter=max_iter, residual_floor=floor)
+    result = _result(problem, solution, data, control, scale, start)
+    for message in result.warnings:
+        warnings.warn(message, IdentifiabilityWarning, stacklevel=2)
+    return result
+
+
+def _problem(indenter, model, t, depth, force, piezo, deflection, spring_constant, contact_point, baseline,
+             control, weights, fixed, nu, terms, n, substeps,
+             baseline_model="offset") -> tuple[Problem, _Data, float]:
+    """The least-squares problem of :func:`fit`'s arguments (checked), its data and the
+    scale its residuals were divided by (the largest measurement)."""
     if control not in ("depth", "force"):
         raise InvalidInputError(f'fit: control must be "depth" or "force", got {control!r}')
     if not isinstance(indenter, Indenter):
         raise InvalidInputError(f"fit: indenter must be an mdrvisc indenter, got {indenter!r}")
+    if baseline_model not in BASELINES:
+        raise InvalidInputError(f"fit: baseline_model must be one of {BASELINES}, got {baseline_model!r}")
     n = _integer("fit", "n", n, 8)
     substeps = _integer("fit", "substeps", substeps, 1)
-    max_iter = _integer("fit", "max_iter", max_iter, 1)
     data = _read_data(t, depth, force, piezo, deflection, spring_constant, contact_point, baseline, control,
-                      weights)
+                      weights, baseline_model)
     cls, guess, nu = _model_class(model, fixed, nu)
     if cls is Prony and guess is None:
         terms = _integer("fit", "terms", terms, 1)
@@ -303,22 +382,19 @@ def fit(indenter: Indenter, model: _Medium | type, t: ArrayLike, *, depth: Array
     # under depth control the force is proportional to the moduli together (Pa, Pa s; the
     # contact set depends on their ratios only): the derivatives in their logarithms add up
     # to the force, so one of them follows from the others and the forward model is asked
-    # for one tangent fewer
+    # for one tangent fewer. Not through a cantilever: there the depth, and with it the
+    # force, depends on the moduli otherwise
     asked = free
-    if control == "depth" and set(moduli(values0)) <= set(free):
+    if control == "depth" and raw is None and set(moduli(values0)) <= set(free):
         asked = [name for name in free if name != moduli(values0)[0]]
     scale = float(np.max(np.abs(data.measured)))
     problem = Problem(curve, cls, values0, nu, free, asked, raw, free_raw, data.measured,
                       np.sqrt(w) / scale, n)
-    solution = levenberg_marquardt(problem, problem.x0(), max_iter=max_iter)
-    result = _result(problem, solution, data, control, scale, start)
-    for message in result.warnings:
-        warnings.warn(message, IdentifiabilityWarning, stacklevel=2)
-    return result
+    return problem, data, scale
 
 
 def _read_data(t, depth, force, piezo, deflection, spring_constant, contact_point, baseline, control,
-               weights) -> _Data:
+               weights, baseline_model="offset") -> _Data:
     """The fit's curve checked (DataError naming what is wrong), a raw AFM curve with the first
     guesses of its contact point and baseline."""
     raw = raw_input(depth, force, piezo, deflection, spring_constant, control)
@@ -340,8 +416,9 @@ def _read_data(t, depth, force, piezo, deflection, spring_constant, contact_poin
         if t.size:
             t = t - t[0]
         check_times(t)
-        curve = AfmCurve.estimate(*raw, contact_point, baseline)
-        d, f = curve.depth(curve.contact_point, curve.baseline), curve.force(curve.baseline)
+        curve = AfmCurve.estimate(*raw, contact_point, baseline, baseline_model)
+        guess = (curve.contact_point, curve.baseline, curve.slope)
+        d, f = curve.depth(*guess), curve.force(*guess)
     w = np.ones_like(t) if weights is None else array("weights", weights)
     if w.size != t.size:
         raise DataError(f"fit: weights has {w.size} samples, t has {t.size}")
@@ -373,7 +450,7 @@ def _free_parameters(cls: type, guess: _Medium, fixed: tuple[str, ...], raw: Afm
     error naming unknown or non-positive ones, or too few samples of positive weight ``w``."""
     names = list(parameters(guess))
     held = set(fixed) | ({"t0"} if cls is PowerLaw else set())
-    unknown = sorted(set(fixed) - set(names) - (set(RAW_NAMES) if raw is not None else set()))
+    unknown = sorted(set(fixed) - set(names) - (set(raw.names) if raw is not None else set()))
     if unknown:
         raise InvalidInputError(f"fit: fixed names {unknown} are not parameters of {cls.__name__} {names}")
     free = [name for name in names if name not in held]
@@ -381,7 +458,7 @@ def _free_parameters(cls: type, guess: _Medium, fixed: tuple[str, ...], raw: Afm
     bad = [name for name in free if not values0[name] > 0]
     if bad:
         raise InvalidInputError(f"fit: parameters {bad} must be > 0 to be fitted in log space (or hold them)")
-    free_raw = [name for name in RAW_NAMES if raw is not None and name not in held]
+    free_raw = [name for name in (raw.names if raw is not None else ()) if name not in held]
     usable = int(np.count_nonzero(w > 0))
     if usable < len(free) + len(free_raw) + 1:
         raise DataError(f"fit: {usable} samples with positive weight for {len(free) + len(free_raw)} free "
@@ -398,35 +475,35 @@ def _result(problem: Problem, solution: Solution, data: _Data, control: str, sca
     measured, raw, free, free_raw = data.measured, data.raw, problem.free, problem.free_raw
     afm = {}
     if raw is not None:
-        z_c, b = problem.raw_at(solution.x)
-        d, measured = raw.depth(z_c, b), raw.force(b)
+        z_c, b, m = problem.raw_at(solution.x)
+        d, measured = raw.depth(z_c, b, m), raw.force(z_c, b, m)
         before = int(np.count_nonzero(d[:int(np.argmax(raw.z)) + 1] <= 0))
         if before < BASELINE_SAMPLES:
             raise DataError(f"fit: a raw AFM curve needs a contact-free start (the baseline): at the "
                             f"fitted contact point ({z_c:.6g} m) {before} samples of the approach are before "
                             f"contact, fewer than {BASELINE_SAMPLES}")
-        afm = {"contact_point": z_c, "baseline": b, "spring_constant": raw.k, "depth": d}
+        afm = {"contact_point": z_c, "baseline": b, "spring_constant": raw.k, "depth": d,
+               "baseline_slope": m if raw.tilt else None}
     if np.any(contact == problem.n):
         raise DomainError("fit: the fitted contact reaches the end of the 1D profile; the data's depths "
                           "are beyond the indenter's footprint")
     r, jac = solution.residuals, solution.jacobian
     w = data.weights
     dof = int(np.count_nonzero(w > 0)) - len(free) - len(free_raw)
-    variance = float(r @ r) / dof
-    covariance = variance * np.linalg.pinv(jac.T @ jac)
-    log_err = np.sqrt(np.maximum(np.diag(covariance), 0.0))
-    with np.errstate(invalid="ignore", divide="ignore"):
-        correlation = covariance / np.outer(log_err, log_err)
-    values_by_name = parameters(medium)
-    stderr = {name: 0.0 for name in values_by_name}
-    for name, e in zip(free, log_err):
-        stderr[name] = values_by_name[name] * float(e)
     # the Jacobian in the parameters themselves: the coordinates are their logarithms (the
     # medium's) or scaled (the raw curve's), and the residuals were divided by scale
+    values_by_name = parameters(medium)
     units = [values_by_name[name] for name in free]
     if raw is not None:
-        units += [dict(zip(RAW_NAMES, raw.scales()))[name] for name in free_raw]
+        units += [dict(zip(raw.names, raw.scales()))[name] for name in free_raw]
     jac_parameters = jac * (scale / np.asarray(units))
+    err, correlation, undetermined = covariance(jac_parameters, float(r @ r) * scale**2 / dof)
+    stderr = {name: 0.0 for name in values_by_name}
+    stderr.update({name: float(e) for name, e in zip(free, err)})
+    # judged relative to their values (the medium's) or to their scales (the largest depth,
+    # the deflection's range: the raw curve's)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        relative = err / np.abs(np.asarray(units))
     if problem.cls is Prony:
         # terms in increasing relaxation time: a fit finds them in any order
         order = sorted(range(len(medium.terms)), key=lambda k: medium.terms[k][1])
@@ -439,11 +516,9 @@ def _result(problem: Problem, solution: Solution, data: _Data, control: str, sca
         stderr = {name: stderr[name] for name in values_by_name}
     young_stderr = _young(stderr, problem.nu)
     if raw is not None:
-        for name, e in zip(RAW_NAMES, raw.scales()):
-            stderr[name] = float(log_err[len(free) + free_raw.index(name)]) * e if name in free_raw else 0.0
-    # the raw curve's parameters are judged in their scales (the largest depth, the
-    # deflection's range), the medium's relative to their values
-    messages = identifiability(free + free_raw, log_err, correlation)
+        for name in raw.names:
+            stderr[name] = float(err[len(free) + free_raw.index(name)]) if name in free_raw else 0.0
+    messages = identifiability(free + free_raw, relative, correlation, undetermined)
     residual = values - measured
     return FitResult(
         medium=medium, parameters=values_by_name, stderr=stderr, nu=problem.nu,
