@@ -133,7 +133,7 @@ os.environ.setdefault("MPLBACKEND", "Agg")
 #: The top-level names of the API reference, by topic; a name of ``mdrvisc.__all__`` in no
 #: topic is listed under "More", so that new public API appears without editing the site.
 TOPICS = {
-    "Scenes, solving and results": ["Scene", "OUTPUTS", "solve", "Result", "Fields",
+    "Scenes, solving and results": ["Scene", "OUTPUTS", "solve", "load_curve", "Result", "Fields",
                                     "set_num_threads", "num_threads"],
     "Indenters": ["Rod", "Paraboloid", "Cone", "Sphere", "Pyramid", "Axisymmetric", "Profile",
                   "HeightMap", "Indenter"],

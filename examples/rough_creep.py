@@ -19,6 +19,7 @@ Run: python examples/rough_creep.py [OUT.png]   (default OUT: rough_creep.png)
 """
 
 import argparse
+from pathlib import Path
 
 import matplotlib
 
@@ -81,7 +82,7 @@ def main():
     fig.tight_layout()
     fig.savefig(args.out, dpi=110)
     plt.close(fig)
-    print(f"wrote {args.out}")
+    print(f"wrote {Path(args.out).name}")
 
 
 if __name__ == "__main__":

@@ -282,6 +282,19 @@ def run_scene(
     active_limit: int | None = ...,
 ) -> Report:
     """Solves ``scene``; the defaults (``...``) are ``SOLVER_DEFAULTS``'s."""
+def run_loads(
+    scene: Scene,
+    method: str,
+    n: int,
+    forces: list[float],
+    tol: float = ...,
+    max_iter: int = ...,
+    progress: _Progress = None,
+    precondition: bool = ...,
+    dense_limit: int = ...,
+    active_limit: int | None = ...,
+) -> list[Report]:
+    """Solves the static ``scene`` under each force in turn, each solve warm-started."""
 def contact_solve(
     height: _F64,
     allowed: NDArray[np.bool_],

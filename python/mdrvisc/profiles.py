@@ -70,6 +70,8 @@ class Axisymmetric(Indenter):
     radius : float, optional
         Radius of a disc footprint (m); not together with ``edge``. Neither: unbounded.
 
+    Notes
+    -----
     The MDR profile is computed numerically: with r = ``|x|`` sin(theta) the weak singularity
     of the map goes away, g(x) = ``|x|`` * integral_0^{pi/2} f'(``|x|`` sin theta) d theta, which a
     tanh-sinh rule (109 nodes) evaluates for all x at once; f' may have integrable endpoint

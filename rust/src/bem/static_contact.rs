@@ -51,6 +51,36 @@ pub fn solve(
     opts: &SolverOptions,
     monitor: &mut dyn Monitor,
 ) -> Result<StaticContact> {
+    solve_from(
+        grid,
+        compliance,
+        target,
+        depth_bound,
+        deflection,
+        None,
+        opts,
+        monitor,
+    )
+}
+
+/// [`solve`] started from the pressure `start` (Pa, row-major on the whole grid, e.g. the
+/// solution at a neighbouring load; rescaled to the target force) instead of a cold start:
+/// a load curve's warm start. The solution is the same as a cold start's, to the solver's
+/// tolerance; a periodic cell so started skips its nested coarse levels.
+#[allow(clippy::too_many_arguments)]
+pub fn solve_from(
+    grid: &Grid,
+    compliance: f64,
+    target: Target,
+    depth_bound: Option<f64>,
+    deflection: bool,
+    start: Option<&[f64]>,
+    opts: &SolverOptions,
+    monitor: &mut dyn Monitor,
+) -> Result<StaticContact> {
+    if let Some(p) = start {
+        check_len("starting pressure", p.len(), grid.nx * grid.ny)?;
+    }
     if !grid.body.windows() {
         if depth_bound.is_some() {
             return Err(Error::InvalidInput(format!(
@@ -58,7 +88,7 @@ pub fn solve(
                 grid.body.name()
             )));
         }
-        return solve_whole(grid, compliance, target, deflection, opts, monitor);
+        return solve_whole_from(grid, compliance, target, deflection, start, opts, monitor);
     }
     let (nx, ny, n) = (grid.nx, grid.ny, grid.nx * grid.ny);
     check_len("height", grid.height.len(), n)?;
@@ -106,8 +136,20 @@ pub fn solve(
             .body
             .window_operator(&table, window.wx, window.wy, &mut plans)?;
         let mut solver = ContactSolver::new(op);
+        let warm = match start {
+            Some(p) => {
+                let mut p_w = vec![];
+                window.gather(p, &mut p_w);
+                let loaded = p_w.iter().zip(&allowed_w).any(|(&p, &a)| a && p > 0.0);
+                if loaded {
+                    solver.set_pressure(&p_w)?;
+                }
+                loaded
+            }
+            None => false,
+        };
         let mut summary = solver.solve(
-            &h_w, &allowed_w, compliance, target, false, 0.0, opts, monitor,
+            &h_w, &allowed_w, compliance, target, warm, 0.0, opts, monitor,
         )?;
         solves += 1;
         iterations += summary.iterations;
@@ -170,6 +212,20 @@ pub fn solve_whole(
     opts: &SolverOptions,
     monitor: &mut dyn Monitor,
 ) -> Result<StaticContact> {
+    solve_whole_from(grid, compliance, target, deflection, None, opts, monitor)
+}
+
+/// [`solve_whole`] started from the pressure `start` (Pa, on the whole cell) when given,
+/// instead of the nested coarse levels or the loading to a separation.
+fn solve_whole_from(
+    grid: &Grid,
+    compliance: f64,
+    target: Target,
+    deflection: bool,
+    start: Option<&[f64]>,
+    opts: &SolverOptions,
+    monitor: &mut dyn Monitor,
+) -> Result<StaticContact> {
     let (nx, ny) = (grid.nx, grid.ny);
     check_len("height", grid.height.len(), nx * ny)?;
     if let Target::Depth(d) = target {
@@ -177,8 +233,15 @@ pub fn solve_whole(
             .check_depth(periodic::mean_separation(&grid.height, 0.0), d)?;
     }
     let mut solver = ContactSolver::new(grid.body.operator(nx, ny, grid.dx)?);
+    let started = match start {
+        Some(p) if grid.allowed.iter().zip(p).any(|(&a, &p)| a && p > 0.0) => {
+            solver.set_pressure(p)?;
+            true
+        }
+        _ => false,
+    };
     let coarse = match coarsened(grid) {
-        Some(coarse) if opts.precondition => {
+        Some(coarse) if opts.precondition && !started => {
             let loose = SolverOptions {
                 tol: opts.tol.max(NESTED_TOL),
                 ..*opts
@@ -190,7 +253,7 @@ pub fn solve_whole(
         _ => None,
     };
     let loading = match (&coarse, target) {
-        (None, Target::Depth(d)) => {
+        (None, Target::Depth(d)) if !started => {
             let separation = periodic::mean_separation(&grid.height, d);
             load_to_separation(
                 &mut solver,
@@ -210,7 +273,7 @@ pub fn solve_whole(
         &grid.allowed,
         compliance,
         target,
-        coarse.is_some() || loading > 0,
+        started || coarse.is_some() || loading > 0,
         0.0,
         opts,
         monitor,
