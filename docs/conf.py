@@ -28,7 +28,6 @@ extensions = [
     "numpydoc",
     "sphinx.ext.mathjax",
     "sphinx.ext.viewcode",
-    "sphinx.ext.intersphinx",
     "myst_parser",
     "sphinx_gallery.gen_gallery",
 ]
@@ -43,8 +42,9 @@ myst_heading_anchors = 3
 # The API reference: one page per object, written by autosummary into generated/.
 autosummary_generate = True
 autosummary_imported_members = False
-autodoc_default_options = {"members": True, "show-inheritance": True,
-                           "inherited-members": "Exception,BaseException,object"}
+# Members are listed on the pages of their classes only (the class template), so that a
+# module's section of the index does not document them a second time.
+autodoc_default_options = {"show-inheritance": True}
 autodoc_member_order = "bysource"
 # Hints in the signatures, shortened (numpy.ndarray -> ndarray; numpy's ArrayLike, which
 # Python expands into a union of private protocols, back to its name: _short_hints).
@@ -58,17 +58,9 @@ numpydoc_show_class_members = False
 numpydoc_class_members_toctree = False
 numpydoc_attributes_as_param_list = False
 
-intersphinx_mapping = {
-    "python": ("https://docs.python.org/3", None),
-    "numpy": ("https://numpy.org/doc/stable", None),
-}
-# The build needs no network: intersphinx only links when its inventories are at hand.
-intersphinx_disabled_reftypes = ["*"]
-intersphinx_timeout = 2
-
 # sphinx-gallery's options hold a function (the examples' arguments), which Sphinx cannot
 # pickle into its cache: the site is then rebuilt in full, which is all this warning says.
-suppress_warnings = ["config.cache", "intersphinx.external"]
+suppress_warnings = ["config.cache"]
 # A class exported at the top level (mdrvisc.Viscous) keeps its defining module's name
 # (mdrvisc.media.Viscous) as a canonical alias; a type named in a docstring then finds both,
 # which are the same object.
@@ -190,7 +182,12 @@ def _write_api_reference(path: Path) -> None:
         names = [n for n in names if not (n in listed and getattr(mdrvisc, n) is getattr(module, n))
                  and not inspect.ismodule(getattr(module, n))]
         lines += [info.name, "~" * len(info.name), "", f".. automodule:: {info.name}",
-                  "   :no-members:", ""]
+                  "   :no-members:"]
+        if info.name.rsplit(".", 1)[1] in objects:
+            # a module named as the function it holds (mdrvisc.solve): the function keeps
+            # the name's index entry
+            lines.append("   :no-index:")
+        lines.append("")
         if names:
             lines += [f".. currentmodule:: {info.name}"] + _autosummary(names)
     text = "\n".join(lines) + "\n"

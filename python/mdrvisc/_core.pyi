@@ -31,6 +31,7 @@ __all__ = [
     "parse_scene_file",
     "parse_scene_table",
     "run_scene",
+    "run_loads",
     "self_affine",
     "set_num_threads",
     "surface_deflection",
