@@ -52,6 +52,9 @@ autodoc_typehints = "signature"
 autodoc_typehints_format = "short"
 python_use_unqualified_type_names = True
 autodoc_class_signature = "mixed"
+# Annotations written as text (modules with "from __future__ import annotations") keep
+# numpy's ArrayLike by its name.
+autodoc_type_aliases = {"ArrayLike": "ArrayLike"}
 # numpydoc renders "a, b : float" once, for both names; the class pages list their members
 # through autodoc, so numpydoc's own member tables would repeat them.
 numpydoc_show_class_members = False
@@ -197,11 +200,11 @@ def _write_api_reference(path: Path) -> None:
 
 _write_api_reference(HERE / "api.rst")
 
-#: Python's own spelling of numpy's ``ArrayLike`` (a union of private protocols) and of
-#: ``numpy.ndarray``'s generic form, put back to their names in the signatures.
-_ARRAY_LIKE = re.compile(r"_Buffer \| _SupportsArray\[[^|]*\] \| _NestedSequence\[.*?\]"
-                         r"( \| bool \| int \| float \| complex \| str \| bytes"
-                         r" \| _NestedSequence\[.*?\]\]\])?")
+#: Python's own spelling of numpy's ``ArrayLike`` (a union of private protocols), as the
+#: signatures receive it, put back to its name.
+_ARRAY_LIKE = re.compile(r"(~?numpy\._typing\._array_like\.)?_Buffer \| .*?"
+                         r"(~?numpy\._typing\._nested_sequence\.)?_NestedSequence\["
+                         r"(bool \| int \| float \| )?complex \| (bytes \| str|str \| bytes)\]")
 
 
 def _short_hints(app, what, name, obj, options, signature, return_annotation):
@@ -209,6 +212,11 @@ def _short_hints(app, what, name, obj, options, signature, return_annotation):
     def short(text):
         return None if text is None else _ARRAY_LIKE.sub("ArrayLike", text)
     return short(signature), short(return_annotation)
+
+
+def _public_bases(app, name, obj, options, bases):
+    """Leaves private base classes (``_Medium``) out of a class's "Bases" line."""
+    bases[:] = [b for b in bases if not getattr(b, "__name__", "").startswith("_")]
 
 
 #: Pages other parts of the project add (file name, audience); each appears in the landing
@@ -240,3 +248,4 @@ def _optional_pages(app, docname, source):
 def setup(app):
     app.connect("source-read", _optional_pages)
     app.connect("autodoc-process-signature", _short_hints)
+    app.connect("autodoc-process-bases", _public_bases)

@@ -73,11 +73,11 @@ def load_curve(scene: Scene, forces: ArrayLike, method: str = "bem", n: int | No
 
     Examples
     --------
-    >>> heights = mv.surfaces.self_affine((256, 256), 1e-6, hurst=0.8, rms_height=1e-6,
-    ...                                   rolloff=32e-6, seed=1)           # doctest: +SKIP
+    >>> heights = mv.surfaces.self_affine((256, 256), 1e-6, hurst=0.8, rms_slope=0.1,
+    ...                                   rolloff=64e-6, short_cutoff=16e-6)   # doctest: +SKIP
     >>> scene = mv.Scene(indenter=mv.HeightMap(heights, 1e-6, periodic=True),
     ...                  medium=mv.Elastic(G=1e6), force=1e-3)            # doctest: +SKIP
-    >>> curve = mv.load_curve(scene, np.geomspace(1e-4, 1e-2, 10))       # doctest: +SKIP
+    >>> curve = mv.load_curve(scene, np.geomspace(3e-4, 3e-2, 10))       # doctest: +SKIP
     >>> curve.to_dataframe()[["force", "contact_fraction"]]              # doctest: +SKIP
     """
     if not isinstance(scene, Scene):

@@ -4,6 +4,8 @@ a table for the scene model and integrated by tanh-sinh quadrature for its own M
 the one thing only Python can evaluate; its contact radii and Lee-Radok depths are the
 compiled core's bisection and quadrature of that profile). Lengths in m."""
 
+from __future__ import annotations
+
 import math
 from collections.abc import Callable
 
