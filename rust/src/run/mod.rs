@@ -691,4 +691,65 @@ mod tests {
         assert!((r.depth[0] / d - 1.0).abs() < 1e-3, "{} {d}", r.depth[0]);
         assert_eq!(r.integrator, "static");
     }
+
+    /// A load curve gives, at each force, the static solve of the scene under that force:
+    /// the same depth to the solver's tolerance (BEM, warm-started after the first load) or
+    /// bit for bit (MDR); the warm starts take fewer iterations than cold solves; a
+    /// time-dependent medium and an empty curve are refused.
+    #[test]
+    fn load_curve_matches_static_solves() {
+        let mut s = scene(
+            Indenter::Paraboloid {
+                c: 0.5,
+                edge: Some(2.56),
+            },
+            Medium::Elastic {
+                g: 1.0,
+                nu: INCOMPRESSIBLE,
+            },
+            History::Constant(0.1),
+        );
+        s.duration = None;
+        s.times = None;
+        let forces = [0.1, 0.15, 0.2, 0.3];
+        for (method, n) in [(Method::Bem, 65), (Method::Mdr, 4001)] {
+            let settings = RunSettings::new(method, n);
+            let curve = run_loads(&s, &forces, &settings, &mut Silent).unwrap();
+            let (mut warm, mut cold) = (0, 0);
+            for (k, (&force, r)) in forces.iter().zip(&curve).enumerate() {
+                let mut at = s.clone();
+                at.force = Some(History::Constant(force));
+                let one = solve(&at, method, n);
+                assert_eq!(r.force, one.force);
+                if method == Method::Mdr {
+                    assert_eq!(r.depth, one.depth);
+                } else {
+                    assert!((r.depth[0] / one.depth[0] - 1.0).abs() < 1e-8);
+                }
+                if k > 0 {
+                    warm += r.iterations;
+                    cold += one.iterations;
+                }
+            }
+            if method == Method::Bem {
+                assert!(warm < cold, "{warm} warm iterations, {cold} cold");
+            }
+        }
+        assert!(run_loads(&s, &[], &RunSettings::new(Method::Bem, 65), &mut Silent).is_err());
+        let viscous = scene(
+            Indenter::Paraboloid { c: 0.5, edge: None },
+            Medium::Viscous {
+                eta: 1.0,
+                nu: INCOMPRESSIBLE,
+            },
+            History::Constant(0.1),
+        );
+        assert!(run_loads(
+            &viscous,
+            &[0.1],
+            &RunSettings::new(Method::Mdr, 401),
+            &mut Silent
+        )
+        .is_err());
+    }
 }
