@@ -32,9 +32,10 @@ def load_curve(scene: Scene, forces: ArrayLike, method: str = "bem", n: int | No
     ``forces`` in turn: the real contact area, depth and gap against the load, in one call.
 
     Each BEM solve starts from the pressure of the solve before it, rescaled to its force,
-    instead of from scratch; for a rough surface, whose contact at one load is much like
-    that at the next, this saves iterations (and, on a periodic cell, the nested coarse
-    solves). The results are those of :func:`~mdrvisc.solve` of the scene under each force,
+    instead of from scratch (on a periodic cell with nested coarse levels, the coarsest level
+    starts from it). On a non-periodic rough map this saves iterations (14 % on a 512 x 512
+    self-affine map); on a periodic cell with nested coarse levels, which already start each
+    solve well, little. The results are those of :func:`~mdrvisc.solve` of the scene under each force,
     to the solver's tolerance ``tol``. MDR solves are direct, and are not warm-started.
 
     Parameters

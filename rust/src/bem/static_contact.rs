@@ -66,7 +66,8 @@ pub fn solve(
 /// [`solve`] started from the pressure `start` (Pa, row-major on the whole grid, e.g. the
 /// solution at a neighbouring load; rescaled to the target force) instead of a cold start:
 /// a load curve's warm start. The solution is the same as a cold start's, to the solver's
-/// tolerance; a periodic cell so started skips its nested coarse levels.
+/// tolerance. A periodic cell with nested coarse levels starts its coarsest level from it
+/// (averaged over 2 x 2 elements per level).
 #[allow(clippy::too_many_arguments)]
 pub fn solve_from(
     grid: &Grid,
@@ -215,8 +216,9 @@ pub fn solve_whole(
     solve_whole_from(grid, compliance, target, deflection, None, opts, monitor)
 }
 
-/// [`solve_whole`] started from the pressure `start` (Pa, on the whole cell) when given,
-/// instead of the nested coarse levels or the loading to a separation.
+/// [`solve_whole`] started from the pressure `start` (Pa, on the whole cell) when given:
+/// the coarsest nested level from it averaged, or without coarse levels the cell itself
+/// (no loading to a separation then).
 fn solve_whole_from(
     grid: &Grid,
     compliance: f64,
@@ -233,24 +235,35 @@ fn solve_whole_from(
             .check_depth(periodic::mean_separation(&grid.height, 0.0), d)?;
     }
     let mut solver = ContactSolver::new(grid.body.operator(nx, ny, grid.dx)?);
-    let started = match start {
-        Some(p) if grid.allowed.iter().zip(p).any(|(&a, &p)| a && p > 0.0) => {
-            solver.set_pressure(p)?;
-            true
-        }
-        _ => false,
-    };
+    let start = start.filter(|p| grid.allowed.iter().zip(*p).any(|(&a, &p)| a && p > 0.0));
+    // a warm start goes to the coarsest level, whose solution starts the finer ones
     let coarse = match coarsened(grid) {
-        Some(coarse) if opts.precondition && !started => {
+        Some(coarse) if opts.precondition => {
             let loose = SolverOptions {
                 tol: opts.tol.max(NESTED_TOL),
                 ..*opts
             };
-            let start = solve_whole(&coarse, compliance, target, false, &loose, monitor)?;
-            solver.set_pressure(&refined(&start.pressure, nx, ny))?;
-            Some(start)
+            let below = start.map(|p| averaged(p, nx, ny));
+            let solved = solve_whole_from(
+                &coarse,
+                compliance,
+                target,
+                false,
+                below.as_deref(),
+                &loose,
+                monitor,
+            )?;
+            solver.set_pressure(&refined(&solved.pressure, nx, ny))?;
+            Some(solved)
         }
         _ => None,
+    };
+    let started = match (&coarse, start) {
+        (None, Some(p)) => {
+            solver.set_pressure(p)?;
+            true
+        }
+        _ => false,
     };
     let loading = match (&coarse, target) {
         (None, Target::Depth(d)) if !started => {
@@ -413,6 +426,21 @@ fn coarsened(grid: &Grid) -> Option<Grid> {
 
 /// The pressure (Pa) of a cell coarsened by two repeated over each element's four children
 /// on the `nx` x `ny` cell.
+/// The pressure `fine` (Pa) of an nx x ny cell averaged over 2 x 2 elements: the pressure
+/// on the cell coarsened by two (`coarsened`), with the same force.
+fn averaged(fine: &[f64], nx: usize, ny: usize) -> Vec<f64> {
+    let (cx, cy) = (nx / 2, ny / 2);
+    (0..cx * cy)
+        .map(|j| {
+            let (r, c) = (2 * (j / cx), 2 * (j % cx));
+            0.25 * (fine[r * nx + c]
+                + fine[r * nx + c + 1]
+                + fine[(r + 1) * nx + c]
+                + fine[(r + 1) * nx + c + 1])
+        })
+        .collect()
+}
+
 fn refined(coarse: &[f64], nx: usize, ny: usize) -> Vec<f64> {
     let cx = nx / 2;
     (0..nx * ny)
