@@ -54,7 +54,7 @@ python_use_unqualified_type_names = True
 autodoc_class_signature = "mixed"
 # Annotations written as text (modules with "from __future__ import annotations") keep
 # numpy's ArrayLike by its name.
-autodoc_type_aliases = {"ArrayLike": "ArrayLike"}
+autodoc_type_aliases = {"ArrayLike": "ArrayLike", "ProfileFunction": "ProfileFunction"}
 # numpydoc renders "a, b : float" once, for both names; the class pages list their members
 # through autodoc, so numpydoc's own member tables would repeat them.
 numpydoc_show_class_members = False
@@ -207,10 +207,16 @@ _ARRAY_LIKE = re.compile(r"(~?numpy\._typing\._array_like\.)?_Buffer \| .*?"
                          r"(bool \| int \| float \| )?complex \| (bytes \| str|str \| bytes)\]")
 
 
+#: An alias of ``autodoc_type_aliases`` inside another type, as Sphinx spells it.
+_FORWARD_REF = re.compile(r"TypeAliasForwardRef\('(\w+)'\)")
+
+
 def _short_hints(app, what, name, obj, options, signature, return_annotation):
     """Signatures with numpy's ArrayLike written as its name."""
     def short(text):
-        return None if text is None else _ARRAY_LIKE.sub("ArrayLike", text)
+        if text is None:
+            return None
+        return _FORWARD_REF.sub(r"\1", _ARRAY_LIKE.sub("ArrayLike", text))
     return short(signature), short(return_annotation)
 
 

@@ -51,6 +51,11 @@ def _tanh_sinh_sin_nodes():
 _CBRT_EPS = float(np.finfo(np.float64).eps) ** (1.0 / 3.0)
 
 
+#: A vectorised function of radii r (m, an array) to heights or slopes: an Axisymmetric
+#: profile f(r) (m) or its derivative f'(r).
+ProfileFunction = Callable[[np.ndarray], ArrayLike]
+
+
 class Axisymmetric(Indenter):
     """Any axisymmetric indenter h = f(r).
 
@@ -83,8 +88,7 @@ class Axisymmetric(Indenter):
     error ~1e-10 at ``|x|`` = 10 l, ~1e-7 at 100 l for a bump of width l).
     """
 
-    def __init__(self, f: Callable[[np.ndarray], ArrayLike],
-                 df: Callable[[np.ndarray], ArrayLike] | None = None,
+    def __init__(self, f: ProfileFunction, df: ProfileFunction | None = None,
                  edge: float | None = None, radius: float | None = None) -> None:
         if not callable(f):
             raise InvalidInputError(f"Axisymmetric: f must be callable, got {f!r}")
@@ -112,12 +116,12 @@ class Axisymmetric(Indenter):
                                              edge=self._edge, radius=self._radius, fills=fills)
 
     @property
-    def f(self) -> Callable[[np.ndarray], ArrayLike]:
+    def f(self) -> ProfileFunction:
         """The profile f(r) (m)."""
         return self._function.f
 
     @property
-    def df(self) -> Callable[[np.ndarray], ArrayLike] | None:
+    def df(self) -> ProfileFunction | None:
         """The derivative f'(r) given by the caller, or None (central differences)."""
         return self._function.df
 
