@@ -8,6 +8,7 @@ Run: python examples/fig3_rod.py [OUT.png] [--quick]   (default OUT: fig3_rod.pn
 """
 
 import sys
+from pathlib import Path
 
 import mdrvisc as mv
 from mdrvisc import analytic
@@ -34,4 +35,4 @@ print(f"BEM fields: pressure {field.pressure.shape}, surface velocity "
 
 # The figure: the same comparison as data (studies) and as a PNG (report).
 report.plot_rod(studies.paper_rod(n_bem=n_bem, n_mdr=n_mdr), out)
-print(f"wrote {out}")
+print(f"wrote {Path(out).name}")

@@ -9,6 +9,7 @@ Run: python examples/fig4_paraboloids.py [OUT.png] [--quick]   (default OUT: fig
 """
 
 import sys
+from pathlib import Path
 
 import mdrvisc as mv
 from mdrvisc import analytic
@@ -32,4 +33,4 @@ print(mdr.summary())
 
 # The figure: all five paraboloids as data (studies) and as a PNG (report).
 report.plot_paraboloids(studies.paper_paraboloids(n_bem=n_bem, n_mdr=n_mdr), out)
-print(f"wrote {out}")
+print(f"wrote {Path(out).name}")

@@ -9,13 +9,20 @@ exact). The fit puts relaxation times tau_k on a log grid, two per decade, and f
 G_inf, G_k >= 0 by non-negative least squares (scipy.optimize.nnls) on the relative
 residual. The fitted medium then indents a paraboloid by MDR and by BEM under a step force.
 
-    python examples/prony_fit.py
+Run: python examples/prony_fit.py [OUT.png]   (default OUT: prony_fit.png)
 """
 
-import numpy as np
-from scipy.optimize import nnls
+import argparse
+from pathlib import Path
 
-import mdrvisc as mv
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+from scipy.optimize import nnls  # noqa: E402
+
+import mdrvisc as mv  # noqa: E402
 
 
 def fit_prony(t, g, per_decade=2):
@@ -29,6 +36,9 @@ def fit_prony(t, g, per_decade=2):
 
 
 def main():
+    parser = argparse.ArgumentParser(description="A Prony series fitted to relaxation data")
+    parser.add_argument("out", nargs="?", default="prony_fit.png")
+    args = parser.parse_args()
     rng = np.random.default_rng(7)
     t = np.geomspace(1e-3, 1e3, 60)
     data = 1e6 * (0.2 + 0.8 * np.exp(-(t / 1.0) ** 0.4)) * (1 + 0.005 * rng.standard_normal(t.size))
@@ -48,6 +58,27 @@ def main():
         print(f"{row[0]:>10.3g} {row[1]:>12.5e} {row[2]:>12.5e} {row[3]:>14.5e}")
     print(mdr.summary())
     print(bem.summary())
+
+    fig, (left, right) = plt.subplots(1, 2, figsize=(10.0, 4.0))
+    left.semilogx(t, data / 1e6, "o", ms=3, color="0.5", label="data")
+    left.semilogx(t, fit / 1e6, "-", label=f"Prony series, {len(terms)} terms")
+    left.set_xlabel("t (s)")
+    left.set_ylabel("G(t) (MPa)")
+    left.set_title("relaxation modulus")
+    left.legend()
+    late = scene.times > 1e-6
+    right.semilogx(scene.times[late], lee_radok[late] * 1e3, "-", color="0.6", lw=3,
+                   label="Lee-Radok (closed form)")
+    right.semilogx(scene.times[late], mdr.depth[late] * 1e3, "o", label="MDR, n = 20001")
+    right.semilogx(scene.times[late], bem.depth[late] * 1e3, "x", label="BEM, 65 x 65")
+    right.set_xlabel("t (s)")
+    right.set_ylabel("depth (mm)")
+    right.set_title("paraboloid under a step force of 0.1 N")
+    right.legend()
+    fig.tight_layout()
+    fig.savefig(args.out, dpi=100)
+    plt.close(fig)
+    print(f"wrote {Path(args.out).name}")
 
 
 if __name__ == "__main__":

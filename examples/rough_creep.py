@@ -8,8 +8,9 @@ modulus G_inf + G1 to that of one with the rubbery modulus G_inf, and the contac
 multiply and merge on the way.
 
 The surface is one periodic cell of a Gaussian self-affine surface from
-``mv.surfaces.self_affine`` (Hurst exponent 0.8, rms height 1 um, roll-off wavelength 32 um,
-shortest wavelength 4 um, on 256 x 256 elements of 1 um). It is solved as a periodic
+``mv.surfaces.self_affine`` (Hurst exponent 0.8, rms height 1 um, roll-off wavelength 64 um,
+shortest wavelength 16 um, on 256 x 256 elements of 1 um: the contact patches span more than
+10 elements on average, so that their area is resolved). It is solved as a periodic
 ``mv.HeightMap`` by BEM on its own grid; the force is the total on the cell (the nominal
 pressure times its area).
 The two elastic limits are solved statically and drawn as dashed lines; the creep time
@@ -19,6 +20,7 @@ Run: python examples/rough_creep.py [OUT.png]   (default OUT: rough_creep.png)
 """
 
 import argparse
+from pathlib import Path
 
 import matplotlib
 
@@ -35,11 +37,11 @@ def main():
     args = parser.parse_args()
 
     n, dx = 256, 1e-6                                   # 256 x 256 elements of 1 um
-    heights = mv.surfaces.self_affine((n, n), dx, hurst=0.8, rms_height=1e-6, rolloff=32e-6,
-                                      short_cutoff=4e-6, seed=11)
+    heights = mv.surfaces.self_affine((n, n), dx, hurst=0.8, rms_height=1e-6, rolloff=64e-6,
+                                      short_cutoff=16e-6, seed=11)
     surface = mv.HeightMap(heights, dx, periodic=True)
     g_inf, g1, tau = 1e6, 9e6, 1.0                      # Pa, Pa, s: glassy modulus 10 MPa
-    nominal = 0.05e6                                    # Pa, nominal pressure on the cell
+    nominal = 0.1e6                                     # Pa, nominal pressure on the cell
     force = nominal * (n * dx) ** 2                     # N, the total on the cell
     times = np.geomspace(0.01, 100.0, 40)
     scene = mv.Scene(indenter=surface, medium=mv.StandardSolid(G_inf=g_inf, G1=g1, tau1=tau),
@@ -81,7 +83,7 @@ def main():
     fig.tight_layout()
     fig.savefig(args.out, dpi=110)
     plt.close(fig)
-    print(f"wrote {args.out}")
+    print(f"wrote {Path(args.out).name}")
 
 
 if __name__ == "__main__":

@@ -17,6 +17,7 @@ tcp://HOST:8786`` started by hand, or by dask-jobqueue / dask-kubernetes).
 """
 
 import argparse
+from pathlib import Path
 
 import matplotlib
 
@@ -64,7 +65,7 @@ def main():
     fig.tight_layout()
     fig.savefig(args.out, dpi=120)
     plt.close(fig)
-    print(f"wrote {args.out}")
+    print(f"wrote {Path(args.out).name}")
 
 
 if __name__ == "__main__":

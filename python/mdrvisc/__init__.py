@@ -29,6 +29,7 @@ from .fitting import FitResult, fit
 from .geometry import Cone, Indenter, Paraboloid, Pyramid, Rod, Sphere
 from .grids import load_sweep, sweep_scenes, zip_scenes
 from .heightmap import HeightMap
+from .loads import load_curve
 from .many import SceneFailure, Sweep, solve_many
 from .media import Elastic, KelvinVoigt, Maxwell, PowerLaw, Prony, StandardSolid, Viscous
 from .profiles import Axisymmetric, Profile
@@ -40,7 +41,7 @@ __version__ = "0.1.0"
 
 logging.getLogger("mdrvisc").addHandler(logging.NullHandler())
 
-__all__ = ["Scene", "Result", "Fields", "OUTPUTS", "solve", "set_num_threads", "num_threads",
+__all__ = ["Scene", "Result", "Fields", "OUTPUTS", "solve", "load_curve", "set_num_threads", "num_threads",
            "Rod", "Paraboloid", "Cone", "Sphere", "Pyramid", "Axisymmetric", "Profile", "Indenter",
            "HeightMap",
            "Viscous", "Elastic", "KelvinVoigt", "Maxwell", "StandardSolid", "Prony", "PowerLaw", "fit",

@@ -31,6 +31,7 @@ __all__ = [
     "parse_scene_file",
     "parse_scene_table",
     "run_scene",
+    "run_loads",
     "self_affine",
     "set_num_threads",
     "surface_deflection",
@@ -282,6 +283,19 @@ def run_scene(
     active_limit: int | None = ...,
 ) -> Report:
     """Solves ``scene``; the defaults (``...``) are ``SOLVER_DEFAULTS``'s."""
+def run_loads(
+    scene: Scene,
+    method: str,
+    n: int,
+    forces: list[float],
+    tol: float = ...,
+    max_iter: int = ...,
+    progress: _Progress = None,
+    precondition: bool = ...,
+    dense_limit: int = ...,
+    active_limit: int | None = ...,
+) -> list[Report]:
+    """Solves the static ``scene`` under each force in turn, each solve warm-started."""
 def contact_solve(
     height: _F64,
     allowed: NDArray[np.bool_],

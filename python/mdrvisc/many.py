@@ -271,8 +271,8 @@ def solve_many(scenes: Iterable[Scene], method: str = "bem", n: int | None = Non
         scene that raised is a :class:`SceneFailure` in ``failures`` and None in ``results``.
         Ctrl-C stops the sweep (KeyboardInterrupt) after the stored results are safe.
 
-    Example
-    -------
+    Examples
+    --------
     >>> base = mv.Scene(indenter=mv.Paraboloid(c=1.0), force=1.0, duration=5.0,
     ...                 medium=mv.StandardSolid(G_inf=1.0, G1=1.0, tau1=1.0))
     >>> sweep = mv.solve_many(mv.sweep_scenes(base, medium__tau1=[0.1, 1, 10]),

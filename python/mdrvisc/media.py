@@ -155,6 +155,18 @@ class Viscous(_Medium):
 
     Radok's correspondence: every elastic result for a fixed contact holds for deflection
     *rates* with G replaced by eta. Shear creep compliance J(t) = t / eta (1/Pa).
+
+    Parameters
+    ----------
+    eta : float
+        Shear viscosity (Pa s), > 0.
+    nu : float, optional
+        Poisson ratio, -1 < nu <= 0.5 (default 0.5, incompressible); constant in time.
+
+    Examples
+    --------
+    >>> mv.Viscous(eta=1.0).creep_compliance(2.0)     # 1/Pa  # doctest: +SKIP
+    2.0
     """
 
     eta: float
@@ -169,7 +181,20 @@ class Viscous(_Medium):
 class Elastic(_Medium):
     """Linear elastic half-space of shear modulus ``G`` (Pa) and Poisson ratio ``nu``
     (Young's modulus E = 2 (1 + nu) G: ``young_moduli["E"]``); a scene with it and no
-    duration is one static contact solve. Shear creep compliance J(t) = 1 / G (1/Pa)."""
+    duration is one static contact solve. Shear creep compliance J(t) = 1 / G (1/Pa).
+
+    Parameters
+    ----------
+    G : float
+        Shear modulus (Pa), > 0; E = 3 G for an incompressible body.
+    nu : float, optional
+        Poisson ratio, -1 < nu <= 0.5 (default 0.5, incompressible); constant in time.
+
+    Examples
+    --------
+    >>> mv.Elastic(G=1e6, nu=0.3).young_moduli        # doctest: +SKIP
+    {'E': 2600000.0}
+    """
 
     G: float
     nu: float = 0.5
@@ -181,8 +206,18 @@ class Elastic(_Medium):
 
 @dataclass(frozen=True)
 class KelvinVoigt(_Medium):
-    """Spring ``G`` (Pa) parallel to a dashpot ``eta`` (Pa s); Poisson ratio ``nu``. Shear
-    creep compliance J(t) = (1 - exp(-G t / eta)) / G (1/Pa)."""
+    """Kelvin–Voigt body: a spring ``G`` (Pa) parallel to a dashpot ``eta`` (Pa s); Poisson
+    ratio ``nu``. Shear creep compliance J(t) = (1 - exp(-G t / eta)) / G (1/Pa).
+
+    Parameters
+    ----------
+    G : float
+        Shear modulus of the spring (Pa), > 0.
+    eta : float
+        Shear viscosity of the dashpot (Pa s), > 0; the retardation time is eta / G (s).
+    nu : float, optional
+        Poisson ratio, -1 < nu <= 0.5 (default 0.5, incompressible); constant in time.
+    """
 
     G: float
     eta: float
@@ -196,8 +231,19 @@ class KelvinVoigt(_Medium):
 
 @dataclass(frozen=True)
 class Maxwell(_Medium):
-    """Spring ``G`` (Pa) in series with a dashpot ``eta`` (Pa s), tau = eta / G; Poisson ratio
-    ``nu``. Shear creep compliance J(t) = 1 / G + t / eta (1/Pa)."""
+    """Maxwell body: a spring ``G`` (Pa) in series with a dashpot ``eta`` (Pa s), relaxation
+    time tau = eta / G; Poisson ratio ``nu``. Shear creep compliance J(t) = 1 / G + t / eta
+    (1/Pa).
+
+    Parameters
+    ----------
+    G : float
+        Shear modulus of the spring (Pa), > 0: the instantaneous modulus.
+    eta : float
+        Shear viscosity of the dashpot (Pa s), > 0.
+    nu : float, optional
+        Poisson ratio, -1 < nu <= 0.5 (default 0.5, incompressible); constant in time.
+    """
 
     G: float
     eta: float
@@ -213,7 +259,26 @@ class Maxwell(_Medium):
 class StandardSolid(_Medium):
     """Standard linear solid: G(t) = G_inf + G1 exp(-t / tau1) (Pa, s); Poisson ratio ``nu``
     (Young's moduli ``young_moduli["E_inf"]`` and ``["E1"]``). Shear creep compliance
-    J(t) = 1/G_inf + (1/G0 - 1/G_inf) exp(-G_inf t / (G0 tau1)) (1/Pa), G0 = G_inf + G1."""
+    J(t) = 1/G_inf + (1/G0 - 1/G_inf) exp(-G_inf t / (G0 tau1)) (1/Pa), G0 = G_inf + G1.
+
+    Parameters
+    ----------
+    G_inf : float
+        Relaxed (long-time, rubbery) shear modulus (Pa), > 0.
+    G1 : float
+        Shear modulus of the relaxing Maxwell arm (Pa), > 0; the instantaneous (glassy)
+        modulus is G_inf + G1.
+    tau1 : float
+        Relaxation time of that arm (s), > 0; the creep time is tau1 (G_inf + G1) / G_inf.
+    nu : float, optional
+        Poisson ratio, -1 < nu <= 0.5 (default 0.5, incompressible); constant in time.
+
+    Examples
+    --------
+    >>> medium = mv.StandardSolid(G_inf=1e3, G1=3e3, tau1=0.5)
+    >>> medium.relaxation_modulus([0.0, 0.5, 100.0])      # Pa  # doctest: +SKIP
+    array([4000.        , 2103.63832351, 1000.        ])
+    """
 
     G_inf: float
     G1: float
@@ -228,8 +293,23 @@ class StandardSolid(_Medium):
 
 @dataclass(frozen=True)
 class Prony(_Medium):
-    """Generalised Maxwell body: G(t) = G_inf + sum_k G_k exp(-t / tau_k) (Pa, s), G_inf >= 0;
-    Poisson ratio ``nu``."""
+    """Generalised Maxwell body (Prony series): G(t) = G_inf + sum_k G_k exp(-t / tau_k)
+    (Pa, s), G_inf >= 0; Poisson ratio ``nu``.
+
+    Parameters
+    ----------
+    G_inf : float
+        Relaxed (long-time) shear modulus (Pa), >= 0 (0: a fluid-like body).
+    terms : sequence of (float, float)
+        The Maxwell arms as pairs (G_k, tau_k): shear modulus (Pa, > 0) and relaxation time
+        (s, > 0) of each.
+    nu : float, optional
+        Poisson ratio, -1 < nu <= 0.5 (default 0.5, incompressible); constant in time.
+
+    Examples
+    --------
+    >>> mv.Prony(G_inf=1e3, terms=[(2e3, 0.1), (1e3, 10.0)])      # doctest: +SKIP
+    """
 
     G_inf: float
     terms: tuple
@@ -267,6 +347,17 @@ class PowerLaw(_Medium):
     dashpot, built once per run over its time range (from its shortest step to its last
     output time) by the trapezoid rule of G(t)'s Laplace integral, 3.5 terms per decade:
     its G(t) there is within 1e-5 of the power law's, relative (measured: 4e-6).
+
+    Parameters
+    ----------
+    G0 : float
+        Shear modulus at the reference time t0 (Pa), > 0.
+    beta : float
+        Power-law exponent, 0 < beta < 1: 0 is an elastic solid, 1 a Newtonian fluid.
+    t0 : float, optional
+        Reference time (s), > 0, default 1 s.
+    nu : float, optional
+        Poisson ratio, -1 < nu <= 0.5 (default 0.5, incompressible); constant in time.
     """
 
     G0: float

@@ -4,6 +4,8 @@ a table for the scene model and integrated by tanh-sinh quadrature for its own M
 the one thing only Python can evaluate; its contact radii and Lee-Radok depths are the
 compiled core's bisection and quadrature of that profile). Lengths in m."""
 
+from __future__ import annotations
+
 import math
 from collections.abc import Callable
 
@@ -49,6 +51,11 @@ def _tanh_sinh_sin_nodes():
 _CBRT_EPS = float(np.finfo(np.float64).eps) ** (1.0 / 3.0)
 
 
+#: A vectorised function of radii r (m, an array) to heights or slopes: an Axisymmetric
+#: profile f(r) (m) or its derivative f'(r).
+ProfileFunction = Callable[[np.ndarray], ArrayLike]
+
+
 class Axisymmetric(Indenter):
     """Any axisymmetric indenter h = f(r).
 
@@ -70,6 +77,8 @@ class Axisymmetric(Indenter):
     radius : float, optional
         Radius of a disc footprint (m); not together with ``edge``. Neither: unbounded.
 
+    Notes
+    -----
     The MDR profile is computed numerically: with r = ``|x|`` sin(theta) the weak singularity
     of the map goes away, g(x) = ``|x|`` * integral_0^{pi/2} f'(``|x|`` sin theta) d theta, which a
     tanh-sinh rule (109 nodes) evaluates for all x at once; f' may have integrable endpoint
@@ -79,8 +88,7 @@ class Axisymmetric(Indenter):
     error ~1e-10 at ``|x|`` = 10 l, ~1e-7 at 100 l for a bump of width l).
     """
 
-    def __init__(self, f: Callable[[np.ndarray], ArrayLike],
-                 df: Callable[[np.ndarray], ArrayLike] | None = None,
+    def __init__(self, f: ProfileFunction, df: ProfileFunction | None = None,
                  edge: float | None = None, radius: float | None = None) -> None:
         if not callable(f):
             raise InvalidInputError(f"Axisymmetric: f must be callable, got {f!r}")
@@ -108,12 +116,12 @@ class Axisymmetric(Indenter):
                                              edge=self._edge, radius=self._radius, fills=fills)
 
     @property
-    def f(self) -> Callable[[np.ndarray], ArrayLike]:
+    def f(self) -> ProfileFunction:
         """The profile f(r) (m)."""
         return self._function.f
 
     @property
-    def df(self) -> Callable[[np.ndarray], ArrayLike] | None:
+    def df(self) -> ProfileFunction | None:
         """The derivative f'(r) given by the caller, or None (central differences)."""
         return self._function.df
 

@@ -1,10 +1,12 @@
 """Results: what a solve computed, and how. One type serves :func:`mdrvisc.solve`,
 :func:`mdrvisc.arrays.contact` and :func:`mdrvisc.arrays.viscous`; it saves to and loads
-from ``.npz`` without pickle, and gives a pandas table of its time series. The names of its
+from ``.npz`` without pickle, gives a pandas table or a CSV file of its time series, and an
+xarray Dataset of its series and fields (netCDF through xarray). The names of its
 quantities, their kinds and units are the compiled core's (``mdrvisc._core.QUANTITIES``)."""
 
 from __future__ import annotations
 
+import csv
 import dataclasses
 import warnings
 import zipfile
@@ -18,6 +20,7 @@ from .errors import DataError, ResolutionWarning
 
 if TYPE_CHECKING:
     import pandas as pd
+    import xarray as xr
 
 __all__ = ["Result", "Fields", "UNITS"]
 
@@ -63,6 +66,12 @@ class Fields:
 
 
 _FIELD_NAMES = tuple(f.name for f in dataclasses.fields(Fields))
+#: The coordinates of the fields, and the maps and profiles over them.
+_FIELD_COORDINATES = ("x", "y", "r", "x_extended")
+_FIELD_VALUES = tuple(n for n in _FIELD_NAMES if n != "t" and n not in _FIELD_COORDINATES)
+#: Units of the fields' values and coordinates.
+_FIELD_UNITS = {"x": "m", "y": "m", "r": "m", "x_extended": "m", "pressure": "Pa",
+                "surface_velocity": "m/s", "deflection": "m", "gap": "m"}
 
 
 class Result:
@@ -211,4 +220,109 @@ class Result:
             import pandas as pd
         except ImportError as exc:
             raise ImportError("Result.to_dataframe needs pandas: pip install pandas") from exc
-        return pd.DataFrame({k: getattr(self, k) for k in SERIES if getattr(self, k) is not None})
+        return pd.DataFrame(self._series())
+
+    def _series(self) -> dict[str, np.ndarray]:
+        """The computed series by name, in the core's order (``t`` first)."""
+        return {k: getattr(self, k) for k in SERIES if getattr(self, k) is not None}
+
+    def to_csv(self, path, units: bool = False) -> Path:
+        """Writes the time series to ``path`` as CSV: a header of their names, then one row
+        per output time (booleans as 0 and 1, numbers at full precision).
+
+        Parameters
+        ----------
+        path : str or path-like
+            The file to write.
+        units : bool
+            Write each name with its unit, ``depth [m]``, in the header.
+
+        Returns
+        -------
+        Path
+            ``path``.
+
+        Examples
+        --------
+        >>> result.to_csv("creep.csv")                           # doctest: +SKIP
+        >>> np.loadtxt("creep.csv", delimiter=",", skiprows=1)   # doctest: +SKIP
+        """
+        series = self._series()
+        names = [f"{k} [{UNITS[k]}]" if units and k in UNITS else k for k in series]
+        columns = [v.astype(np.int64) if v.dtype == bool else v for v in series.values()]
+        path = Path(path)
+        with open(path, "w", newline="") as handle:
+            writer = csv.writer(handle)
+            writer.writerow(names)
+            for row in zip(*columns):
+                writer.writerow([repr(v.item()) for v in row])
+        return path
+
+    def to_xarray(self) -> xr.Dataset:
+        """The result as an :class:`xarray.Dataset` (needs xarray: ``pip install
+        'mdrvisc[xarray]'``), which writes netCDF with ``to_netcdf``.
+
+        The series are variables over the output times ``t`` (s); the fields, where any,
+        variables over their times ``field_t`` (s): BEM maps over the element centres ``y``,
+        ``x`` (m; a flat punch's surface velocity and deflection over ``y_extended``,
+        ``x_extended``), MDR radial profiles over ``radial``, with their radii ``r`` (m) a
+        coordinate over (``field_t``, ``radial``) since they follow each time's contact
+        radius. Each variable's ``units`` attribute is its unit; the run's numbers and labels
+        (``method``, ``n``, ``dx``, ``steps``, ``wall_time``, ...) and its warnings are
+        attributes of the Dataset. Booleans stay booleans (netCDF stores them as bytes).
+
+        Returns
+        -------
+        xarray.Dataset
+
+        Examples
+        --------
+        >>> data = result.to_xarray()                          # doctest: +SKIP
+        >>> data.pressure.sel(field_t=100.0).plot()            # doctest: +SKIP
+        >>> data.to_netcdf("creep.nc")                         # doctest: +SKIP
+        >>> xr.open_dataset("creep.nc")                        # doctest: +SKIP
+        """
+        try:
+            import xarray as xr
+        except ImportError as exc:
+            raise ImportError("Result.to_xarray needs xarray: pip install 'mdrvisc[xarray]'") from exc
+        series = self._series()
+        t = series.pop("t")
+        variables = {k: ("t", v, {"units": UNITS[k]} if k in UNITS else {}) for k, v in series.items()}
+        coords: dict = {"t": ("t", t, {"units": "s", "long_name": "output time"})}
+        fields = list((self.fields or {}).values())
+        if fields:
+            coords["field_t"] = ("field_t", np.array([f.t for f in fields]),
+                                 {"units": "s", "long_name": "time of the fields"})
+            first = fields[0]
+            dims_of = {}
+            for name, dim in (("x", "x"), ("y", "y"), ("x_extended", "x_extended")):
+                if getattr(first, name) is not None:
+                    coords[dim] = (dim, getattr(first, name), {"units": "m"})
+            if first.x_extended is not None:
+                coords["y_extended"] = ("y_extended", first.x_extended, {"units": "m"})
+            if first.r is not None:
+                coords["r"] = (("field_t", "radial"), np.stack([f.r for f in fields]),
+                               {"units": "m", "long_name": "radius"})
+            for name in _FIELD_VALUES:
+                values = [getattr(f, name) for f in fields]
+                if any(v is None for v in values):
+                    continue
+                shape = values[0].shape
+                if len(shape) == 1:
+                    dims_of[name] = ("field_t", "radial")
+                elif first.y is not None and shape == (first.y.size, first.x.size):
+                    dims_of[name] = ("field_t", "y", "x")
+                else:
+                    dims_of[name] = ("field_t", "y_extended", "x_extended")
+                variables[name] = (dims_of[name], np.stack(values), {"units": _FIELD_UNITS[name]})
+        attrs = {}
+        for k in SCALARS + SHAPES:
+            value = getattr(self, k)
+            if value is None:
+                continue
+            attrs[k] = (np.asarray(value, dtype=np.int64) if isinstance(value, tuple)
+                        else int(value) if isinstance(value, bool) else value)
+        attrs["warnings"] = "\n".join(self.warnings)
+        attrs["source"] = "mdrvisc"
+        return xr.Dataset(variables, coords=coords, attrs=attrs)

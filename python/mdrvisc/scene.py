@@ -150,8 +150,27 @@ class Scene:
         Longest time step (s) of the viscoelastic stepping (default duration / 500);
         ``solve(..., dt=...)`` overrides it.
 
+    Notes
+    -----
     Validation, defaults and everything a solve decides (grids, steps) live in the compiled
     scene model; errors name the bad value. ``to_toml``/``from_toml`` round-trip the scene.
+
+    See Also
+    --------
+    mdrvisc.solve : solve a scene by BEM or MDR.
+    mdrvisc.load_curve : a static scene under several loads.
+    mdrvisc.solve_many : many scenes in parallel.
+
+    Examples
+    --------
+    A sphere of radius 5 um pushed 1 um into a standard solid and pulled out, by MDR:
+
+    >>> import mdrvisc as mv
+    >>> scene = mv.Scene(indenter=mv.Sphere(radius=5e-6),
+    ...                  medium=mv.StandardSolid(G_inf=1e3, G1=3e3, tau1=0.5),
+    ...                  depth=([0.0, 1.0, 2.0], [0.0, 1e-6, 0.0]), duration=2.0)
+    >>> result = mv.solve(scene, method="mdr")     # doctest: +SKIP
+    >>> result.force                                # N, one entry per output time  # doctest: +SKIP
     """
 
     indenter: Indenter | HeightMap

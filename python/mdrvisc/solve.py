@@ -78,6 +78,36 @@ def solve(scene: Scene, method: str = "bem", n: int | None = None, tol: float = 
     Returns
     -------
     Result
+        The series at the output times and the fields at the field times, with what the run
+        did (steps, solves, iterations, wall time) and its warnings.
+
+    Raises
+    ------
+    InvalidInputError
+        A bad method, resolution or option (the message names it).
+    ConvergenceError
+        The BEM contact solver reached ``max_iter``.
+    DomainError
+        The contact left what the method represents (an unbounded grid's edge, a sphere's
+        equator).
+
+    See Also
+    --------
+    mdrvisc.load_curve : a static scene under several loads, warm-started.
+    mdrvisc.solve_many : many scenes in parallel, locally or on a Dask cluster.
+    mdrvisc.Result.to_xarray : the result as a labelled Dataset (netCDF).
+
+    Examples
+    --------
+    The paper's paraboloid on a viscous half-space by both methods, against Lee and Radok:
+
+    >>> import mdrvisc as mv
+    >>> scene = mv.Scene(indenter=mv.Paraboloid(c=1.0, edge=2.56), medium=mv.Viscous(eta=1.0),
+    ...                  force=1.0, duration=5.0)
+    >>> bem = mv.solve(scene, method="bem", n=129)                   # doctest: +SKIP
+    >>> mdr = mv.solve(scene, method="mdr", n=4097)                  # doctest: +SKIP
+    >>> exact = mv.analytic.paraboloid_depth(bem.t, 1.0, 1.0, 1.0)   # doctest: +SKIP
+    >>> bem.depth / exact - 1                                        # doctest: +SKIP
     """
     if not isinstance(scene, Scene):
         raise InvalidInputError(f"solve: scene must be a Scene, got {scene!r}")

@@ -51,6 +51,37 @@ pub fn solve(
     opts: &SolverOptions,
     monitor: &mut dyn Monitor,
 ) -> Result<StaticContact> {
+    solve_from(
+        grid,
+        compliance,
+        target,
+        depth_bound,
+        deflection,
+        None,
+        opts,
+        monitor,
+    )
+}
+
+/// [`solve`] started from the pressure `start` (Pa, row-major on the whole grid, e.g. the
+/// solution at a neighbouring load; rescaled to the target force) instead of a cold start:
+/// a load curve's warm start. The solution is the same as a cold start's, to the solver's
+/// tolerance. A periodic cell with nested coarse levels starts its coarsest level from it
+/// (averaged over 2 x 2 elements per level).
+#[allow(clippy::too_many_arguments)]
+pub fn solve_from(
+    grid: &Grid,
+    compliance: f64,
+    target: Target,
+    depth_bound: Option<f64>,
+    deflection: bool,
+    start: Option<&[f64]>,
+    opts: &SolverOptions,
+    monitor: &mut dyn Monitor,
+) -> Result<StaticContact> {
+    if let Some(p) = start {
+        check_len("starting pressure", p.len(), grid.nx * grid.ny)?;
+    }
     if !grid.body.windows() {
         if depth_bound.is_some() {
             return Err(Error::InvalidInput(format!(
@@ -58,7 +89,7 @@ pub fn solve(
                 grid.body.name()
             )));
         }
-        return solve_whole(grid, compliance, target, deflection, opts, monitor);
+        return solve_whole_from(grid, compliance, target, deflection, start, opts, monitor);
     }
     let (nx, ny, n) = (grid.nx, grid.ny, grid.nx * grid.ny);
     check_len("height", grid.height.len(), n)?;
@@ -106,8 +137,20 @@ pub fn solve(
             .body
             .window_operator(&table, window.wx, window.wy, &mut plans)?;
         let mut solver = ContactSolver::new(op);
+        let warm = match start {
+            Some(p) => {
+                let mut p_w = vec![];
+                window.gather(p, &mut p_w);
+                let loaded = p_w.iter().zip(&allowed_w).any(|(&p, &a)| a && p > 0.0);
+                if loaded {
+                    solver.set_pressure(&p_w)?;
+                }
+                loaded
+            }
+            None => false,
+        };
         let mut summary = solver.solve(
-            &h_w, &allowed_w, compliance, target, false, 0.0, opts, monitor,
+            &h_w, &allowed_w, compliance, target, warm, 0.0, opts, monitor,
         )?;
         solves += 1;
         iterations += summary.iterations;
@@ -170,6 +213,21 @@ pub fn solve_whole(
     opts: &SolverOptions,
     monitor: &mut dyn Monitor,
 ) -> Result<StaticContact> {
+    solve_whole_from(grid, compliance, target, deflection, None, opts, monitor)
+}
+
+/// [`solve_whole`] started from the pressure `start` (Pa, on the whole cell) when given:
+/// the coarsest nested level from it averaged, or without coarse levels the cell itself
+/// (no loading to a separation then).
+fn solve_whole_from(
+    grid: &Grid,
+    compliance: f64,
+    target: Target,
+    deflection: bool,
+    start: Option<&[f64]>,
+    opts: &SolverOptions,
+    monitor: &mut dyn Monitor,
+) -> Result<StaticContact> {
     let (nx, ny) = (grid.nx, grid.ny);
     check_len("height", grid.height.len(), nx * ny)?;
     if let Target::Depth(d) = target {
@@ -177,20 +235,38 @@ pub fn solve_whole(
             .check_depth(periodic::mean_separation(&grid.height, 0.0), d)?;
     }
     let mut solver = ContactSolver::new(grid.body.operator(nx, ny, grid.dx)?);
+    let start = start.filter(|p| grid.allowed.iter().zip(*p).any(|(&a, &p)| a && p > 0.0));
+    // a warm start goes to the coarsest level, whose solution starts the finer ones
     let coarse = match coarsened(grid) {
         Some(coarse) if opts.precondition => {
             let loose = SolverOptions {
                 tol: opts.tol.max(NESTED_TOL),
                 ..*opts
             };
-            let start = solve_whole(&coarse, compliance, target, false, &loose, monitor)?;
-            solver.set_pressure(&refined(&start.pressure, nx, ny))?;
-            Some(start)
+            let below = start.map(|p| averaged(p, nx, ny));
+            let solved = solve_whole_from(
+                &coarse,
+                compliance,
+                target,
+                false,
+                below.as_deref(),
+                &loose,
+                monitor,
+            )?;
+            solver.set_pressure(&refined(&solved.pressure, nx, ny))?;
+            Some(solved)
         }
         _ => None,
     };
+    let started = match (&coarse, start) {
+        (None, Some(p)) => {
+            solver.set_pressure(p)?;
+            true
+        }
+        _ => false,
+    };
     let loading = match (&coarse, target) {
-        (None, Target::Depth(d)) => {
+        (None, Target::Depth(d)) if !started => {
             let separation = periodic::mean_separation(&grid.height, d);
             load_to_separation(
                 &mut solver,
@@ -210,7 +286,7 @@ pub fn solve_whole(
         &grid.allowed,
         compliance,
         target,
-        coarse.is_some() || loading > 0,
+        started || coarse.is_some() || loading > 0,
         0.0,
         opts,
         monitor,
@@ -350,6 +426,21 @@ fn coarsened(grid: &Grid) -> Option<Grid> {
 
 /// The pressure (Pa) of a cell coarsened by two repeated over each element's four children
 /// on the `nx` x `ny` cell.
+/// The pressure `fine` (Pa) of an nx x ny cell averaged over 2 x 2 elements: the pressure
+/// on the cell coarsened by two (`coarsened`), with the same force.
+fn averaged(fine: &[f64], nx: usize, ny: usize) -> Vec<f64> {
+    let (cx, cy) = (nx / 2, ny / 2);
+    (0..cx * cy)
+        .map(|j| {
+            let (r, c) = (2 * (j / cx), 2 * (j % cx));
+            0.25 * (fine[r * nx + c]
+                + fine[r * nx + c + 1]
+                + fine[(r + 1) * nx + c]
+                + fine[(r + 1) * nx + c + 1])
+        })
+        .collect()
+}
+
 fn refined(coarse: &[f64], nx: usize, ny: usize) -> Vec<f64> {
     let cx = nx / 2;
     (0..nx * ny)

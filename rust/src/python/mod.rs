@@ -40,7 +40,9 @@ mod core_module {
     #[pymodule_export]
     use super::report::{PyFieldSet, PyReport};
     #[pymodule_export]
-    use super::scene::{load_scene_file, parse_scene_file, parse_scene_table, run_scene, PyScene};
+    use super::scene::{
+        load_scene_file, parse_scene_file, parse_scene_table, run_loads, run_scene, PyScene,
+    };
 
     /// Adds the schema: `OUTPUTS`, `QUANTITIES`, `SOLVER_DEFAULTS`, `DEFAULT_N`.
     #[pymodule_init]

@@ -426,3 +426,49 @@ pub(crate) fn run_scene(
         PyMonitor::new(progress).run(py, |monitor| crate::run::run(&scene, &settings, monitor))?;
     Ok(PyReport { inner: report })
 }
+
+/// Solves the static scene `scene` under each of `forces` (N) in turn, each BEM solve
+/// started from the one before (`run::run_loads`); see `mdrvisc.load_curve`.
+#[pyfunction]
+#[pyo3(signature = (
+    scene,
+    method,
+    n,
+    forces,
+    tol = SolverOptions::default().tol,
+    max_iter = SolverOptions::default().max_iter,
+    progress = None,
+    precondition = SolverOptions::default().precondition,
+    dense_limit = SolverOptions::default().dense_limit,
+    active_limit = SolverOptions::default().active_limit,
+))]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn run_loads(
+    py: Python<'_>,
+    scene: &PyScene,
+    method: &str,
+    n: usize,
+    forces: Vec<f64>,
+    tol: f64,
+    max_iter: usize,
+    progress: Option<Py<PyAny>>,
+    precondition: bool,
+    dense_limit: usize,
+    active_limit: Option<usize>,
+) -> PyResult<Vec<PyReport>> {
+    let settings = RunSettings {
+        method: parse_method(py, method)?,
+        n,
+        solver: super::convert::options(tol, max_iter, dense_limit, active_limit, precondition),
+        integrator: Integrator::Implicit,
+        dt: None,
+    };
+    let scene = scene.inner.clone();
+    let reports = PyMonitor::new(progress).run(py, |monitor| {
+        crate::run::run_loads(&scene, &forces, &settings, monitor)
+    })?;
+    Ok(reports
+        .into_iter()
+        .map(|inner| PyReport { inner })
+        .collect())
+}

@@ -14,7 +14,7 @@ use crate::mdr::transforms;
 use crate::model::grid::Grid;
 use crate::model::loading::{ForceHistory, Loading};
 use crate::model::settings::{check_steps, Integrator, Method, RunSettings, DEFAULT_STEPS};
-use crate::model::{Indenter, Medium, Output, Scene};
+use crate::model::{History, Indenter, Medium, Output, Scene};
 use crate::stepping::Series;
 use crate::support::error::{Error, Result};
 use crate::support::monitor::Monitor;
@@ -53,6 +53,51 @@ pub fn viscous_bem(
 
 /// Solves `scene` as `settings` say, reporting progress to `monitor`.
 pub fn run(scene: &Scene, settings: &RunSettings, monitor: &mut dyn Monitor) -> Result<Report> {
+    run_from(scene, settings, None, monitor).map(|(report, _)| report)
+}
+
+/// A load curve: the static scene `scene` (an elastic medium) solved under each of `forces`
+/// (N) in turn, each BEM solve started from the pressure of the one before (rescaled to its
+/// force), which saves iterations where neighbouring loads' contacts are alike (rough
+/// surfaces above all). One report per force, each the same as `run` gives for the scene
+/// under that force, to the solver's tolerance.
+pub fn run_loads(
+    scene: &Scene,
+    forces: &[f64],
+    settings: &RunSettings,
+    monitor: &mut dyn Monitor,
+) -> Result<Vec<Report>> {
+    if !scene.medium.is_elastic() {
+        return Err(Error::InvalidInput(
+            "a load curve solves static scenes: the medium must be elastic".into(),
+        ));
+    }
+    if forces.is_empty() {
+        return Err(Error::InvalidInput(
+            "a load curve needs at least one force".into(),
+        ));
+    }
+    let mut reports = Vec::with_capacity(forces.len());
+    let mut pressure: Option<Vec<f64>> = None;
+    for &force in forces {
+        let mut at = scene.clone();
+        at.force = Some(History::Constant(force));
+        at.depth = None;
+        let (report, solved) = run_from(&at, settings, pressure.as_deref(), monitor)?;
+        pressure = solved;
+        reports.push(report);
+    }
+    Ok(reports)
+}
+
+/// [`run`], a static BEM solve started from the pressure `start` (Pa, on the scene's grid)
+/// when given; also returns that solve's pressure on the grid (None for other runs).
+fn run_from(
+    scene: &Scene,
+    settings: &RunSettings,
+    start_pressure: Option<&[f64]>,
+    monitor: &mut dyn Monitor,
+) -> Result<(Report, Option<Vec<f64>>)> {
     let start = Instant::now();
     scene.validate()?;
     settings.validate()?;
@@ -90,12 +135,12 @@ pub fn run(scene: &Scene, settings: &RunSettings, monitor: &mut dyn Monitor) -> 
             "the explicit integrator needs a viscous medium under a force".into(),
         ));
     }
-    let mut report = if scene.medium.is_elastic() {
-        run_static(scene, settings, monitor)?
+    let (mut report, pressure) = if scene.medium.is_elastic() {
+        run_static(scene, settings, start_pressure, monitor)?
     } else if viscous_force {
-        run_viscous(scene, settings, monitor)?
+        (run_viscous(scene, settings, monitor)?, None)
     } else {
-        run_viscoelastic(scene, settings, monitor)?
+        (run_viscoelastic(scene, settings, monitor)?, None)
     };
     beyond_the_equator(scene, &report)?;
     if !scene.body().has_edge() {
@@ -110,7 +155,7 @@ pub fn run(scene: &Scene, settings: &RunSettings, monitor: &mut dyn Monitor) -> 
         report.warnings.extend(c.warning());
     }
     report.wall_time = start.elapsed().as_secs_f64();
-    Ok(report)
+    Ok((report, pressure))
 }
 
 /// Bytes per BEM grid element of a run (buffers of the operator, the contact solver and the
@@ -210,7 +255,14 @@ fn refuse(scene: &Scene, outputs: &[Output], why: &str) -> Result<()> {
     }
 }
 
-fn run_static(scene: &Scene, settings: &RunSettings, monitor: &mut dyn Monitor) -> Result<Report> {
+/// A static solve (elastic medium), by BEM started from the pressure `start` (Pa, on the
+/// grid) when given; the report, and by BEM the solution's pressure on the grid.
+fn run_static(
+    scene: &Scene,
+    settings: &RunSettings,
+    start: Option<&[f64]>,
+    monitor: &mut dyn Monitor,
+) -> Result<(Report, Option<Vec<f64>>)> {
     refuse(
         scene,
         &[
@@ -239,16 +291,21 @@ fn run_static(scene: &Scene, settings: &RunSettings, monitor: &mut dyn Monitor) 
                 .map(|d| DEPTH_BOUND_FACTOR * d);
             let deflection = wanted.deflection || wanted.height_map;
             let target = Target::Force(force);
-            let r = static_contact::solve(
+            let r = static_contact::solve_from(
                 &grid,
                 1.0 / shear,
                 target,
                 bound.filter(|_| grid.body.windows()),
                 deflection,
+                start,
                 &settings.solver,
                 monitor,
             )?;
-            Ok(bem_static_report(settings, &grid, force, r, wanted))
+            let pressure = r.pressure.clone();
+            Ok((
+                bem_static_report(settings, &grid, force, r, wanted),
+                Some(pressure),
+            ))
         }
         Method::Mdr => {
             let f = mdr_foundation(scene, n)?;
@@ -269,7 +326,10 @@ fn run_static(scene: &Scene, settings: &RunSettings, monitor: &mut dyn Monitor) 
             s.steps = 0;
             s.t = vec![0.0];
             let at: Vec<(f64, usize)> = fields_at.iter().map(|&k| (0.0, k)).collect();
-            mdr_report(scene, settings, f.dx(), "static", s, wanted, &at)
+            Ok((
+                mdr_report(scene, settings, f.dx(), "static", s, wanted, &at)?,
+                None,
+            ))
         }
     }
 }
@@ -630,5 +690,66 @@ mod tests {
         let d = (3.0 * 0.05 / (16.0 * 2.0 * 10f64.sqrt())).powf(2.0 / 3.0);
         assert!((r.depth[0] / d - 1.0).abs() < 1e-3, "{} {d}", r.depth[0]);
         assert_eq!(r.integrator, "static");
+    }
+
+    /// A load curve gives, at each force, the static solve of the scene under that force:
+    /// the same depth to the solver's tolerance (BEM, warm-started after the first load) or
+    /// bit for bit (MDR); the warm starts take fewer iterations than cold solves; a
+    /// time-dependent medium and an empty curve are refused.
+    #[test]
+    fn load_curve_matches_static_solves() {
+        let mut s = scene(
+            Indenter::Paraboloid {
+                c: 0.5,
+                edge: Some(2.56),
+            },
+            Medium::Elastic {
+                g: 1.0,
+                nu: INCOMPRESSIBLE,
+            },
+            History::Constant(0.1),
+        );
+        s.duration = None;
+        s.times = None;
+        let forces = [0.1, 0.15, 0.2, 0.3];
+        for (method, n) in [(Method::Bem, 65), (Method::Mdr, 4001)] {
+            let settings = RunSettings::new(method, n);
+            let curve = run_loads(&s, &forces, &settings, &mut Silent).unwrap();
+            let (mut warm, mut cold) = (0, 0);
+            for (k, (&force, r)) in forces.iter().zip(&curve).enumerate() {
+                let mut at = s.clone();
+                at.force = Some(History::Constant(force));
+                let one = solve(&at, method, n);
+                assert_eq!(r.force, one.force);
+                if method == Method::Mdr {
+                    assert_eq!(r.depth, one.depth);
+                } else {
+                    assert!((r.depth[0] / one.depth[0] - 1.0).abs() < 1e-8);
+                }
+                if k > 0 {
+                    warm += r.iterations;
+                    cold += one.iterations;
+                }
+            }
+            if method == Method::Bem {
+                assert!(warm < cold, "{warm} warm iterations, {cold} cold");
+            }
+        }
+        assert!(run_loads(&s, &[], &RunSettings::new(Method::Bem, 65), &mut Silent).is_err());
+        let viscous = scene(
+            Indenter::Paraboloid { c: 0.5, edge: None },
+            Medium::Viscous {
+                eta: 1.0,
+                nu: INCOMPRESSIBLE,
+            },
+            History::Constant(0.1),
+        );
+        assert!(run_loads(
+            &viscous,
+            &[0.1],
+            &RunSettings::new(Method::Mdr, 401),
+            &mut Silent
+        )
+        .is_err());
     }
 }
