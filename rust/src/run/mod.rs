@@ -81,7 +81,9 @@ pub fn run(scene: &Scene, settings: &RunSettings, monitor: &mut dyn Monitor) -> 
         ),
         memory_needed(scene, settings),
     )?;
-    let viscous_force = matches!(scene.medium, Medium::Viscous { .. }) && scene.force.is_some();
+    let viscous_force = matches!(scene.medium, Medium::Viscous { .. })
+        && scene.force.is_some()
+        && !scene.contact.is_adhesive();
     if matches!(settings.integrator, Integrator::Explicit(_))
         && !viscous_force
         && !scene.indenter.is_flat()
@@ -90,7 +92,7 @@ pub fn run(scene: &Scene, settings: &RunSettings, monitor: &mut dyn Monitor) -> 
             "the explicit integrator needs a viscous medium under a force".into(),
         ));
     }
-    let mut report = if scene.medium.is_elastic() {
+    let mut report = if scene.is_static() {
         run_static(scene, settings, monitor)?
     } else if viscous_force {
         run_viscous(scene, settings, monitor)?
@@ -480,17 +482,23 @@ fn run_viscoelastic(
             let (profile, dx) = scene
                 .indenter
                 .mdr_profile(settings.n, mdr_half_length(scene)?)?;
-            let s = crate::mdr::viscoelastic::run_mdr(
+            let attraction = scene.contact.attraction(scene.indenter.tip_radius())?;
+            let s = crate::mdr::viscoelastic::run_mdr_adhesive(
                 &profile,
                 dx,
                 &rheology,
                 scene.contact,
+                attraction,
                 &loading,
                 &request,
                 monitor,
             )?;
             mdr_report(scene, settings, dx, "viscoelastic", s, wanted, &at)
         }
+        Method::Bem if scene.contact.is_adhesive() => Err(Error::InvalidInput(format!(
+            "BEM solves hard contact only; contact '{}' is solved by MDR (method \"mdr\")",
+            scene.contact.name()
+        ))),
         Method::Bem => {
             let grid = bem_grid(scene, settings.n)?;
             let s = viscoelastic::run_bem(
@@ -630,5 +638,35 @@ mod tests {
         let d = (3.0 * 0.05 / (16.0 * 2.0 * 10f64.sqrt())).powf(2.0 / 3.0);
         assert!((r.depth[0] / d - 1.0).abs() < 1e-3, "{} {d}", r.depth[0]);
         assert_eq!(r.integrator, "static");
+    }
+
+    /// An adhesive scene file (DMT, pi w R = 1 N) runs on an elastic medium along its
+    /// force history: it lets go at -2 pi w R and reports the pull-off; BEM refuses it.
+    #[test]
+    fn adhesive_scene_file_runs() {
+        let text = r#"
+method = "mdr"
+n = 501
+duration = 2.0
+dt = 0.001
+force = [[0.0, 0.0], [1.0, 5.0], [2.0, -3.0]]
+contact = { type = "dmt", work_of_adhesion = 0.3183098861837907 }
+[indenter]
+type = "paraboloid"
+c = 0.5
+[medium]
+type = "elastic"
+G = 0.25
+"#;
+        let file = crate::model::file::SceneFile::parse(text, "dmt.toml").unwrap();
+        let r = run(&file.scene, &file.settings, &mut Silent).unwrap();
+        let f = r.pull_off_force.unwrap();
+        assert!((f / -2.0 - 1.0).abs() < 5e-3, "{f}");
+        assert_eq!(r.jump_out.as_ref().unwrap().len(), 1);
+        assert!(r.table("dmt").contains("pull-off force"));
+        let bem = RunSettings::new(Method::Bem, 17);
+        assert!(run(&file.scene, &bem, &mut Silent).is_err());
+        let bad = text.replace("type = \"dmt\", ", "type = \"dmt\", w = 1, ");
+        assert!(crate::model::file::SceneFile::parse(&bad, "bad.toml").is_err());
     }
 }
