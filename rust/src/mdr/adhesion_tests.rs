@@ -143,8 +143,10 @@ fn jkr_contact_radius_at_zero_load() {
 }
 
 /// JKR's pull-off under depth control: the contact lets go at d = -3/4 sqrt(2 pi w a / E*)
-/// with a^3 = pi w R^2 / (8 E*), carrying -5/6 pi w R; on the way it passes the force
-/// minimum -3/2 pi w R, which depth control holds stable.
+/// with a^3 = pi w R^2 / (8 E*), carrying -5/6 pi w R. The release is a fold of d(a):
+/// near it F - F_c = -2 sqrt(2 (d - d_c) / 3) (F'(a) = -2, d''(a) = 3 there), so the force
+/// converges as the square root of the depth's error (1e-5 m, the step here, is 0.5 % of
+/// force): the force is checked to 1 %, the depth to 0.1 %.
 #[test]
 fn jkr_pull_off_under_depth_control() {
     let (g, dx) = parabola(8001, 2.5);
@@ -174,8 +176,8 @@ fn jkr_pull_off_under_depth_control() {
     let jumps = s.jumps.unwrap();
     assert_eq!(jumps.jump_out.len(), 1);
     let [_, d, f] = jumps.pull_off.unwrap();
-    assert!((f / (-5.0 / 6.0) - 1.0).abs() < 3e-3, "{f}");
-    assert!((d / d_c - 1.0).abs() < 3e-3, "{d} vs {d_c}");
+    assert!((f / (-5.0 / 6.0) - 1.0).abs() < 1e-2, "{f}");
+    assert!((d / d_c - 1.0).abs() < 1e-3, "{d} vs {d_c}");
     assert_eq!(s.contact_length[s.t.len() - 1], 0.0);
     assert_eq!(s.force[s.t.len() - 1], 0.0);
 }

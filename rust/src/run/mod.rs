@@ -660,8 +660,9 @@ G = 0.25
 "#;
         let file = crate::model::file::SceneFile::parse(text, "dmt.toml").unwrap();
         let r = run(&file.scene, &file.settings, &mut Silent).unwrap();
+        // steps of 1 ms, 8 mN each: the last state in contact lies within one of -2 pi w R
         let f = r.pull_off_force.unwrap();
-        assert!((f / -2.0 - 1.0).abs() < 5e-3, "{f}");
+        assert!((-2.0..-2.0 + 0.008 * (1.0 + 1e-9)).contains(&f), "{f}");
         assert_eq!(r.jump_out.as_ref().unwrap().len(), 1);
         assert!(r.table("dmt").contains("pull-off force"));
         let bem = RunSettings::new(Method::Bem, 17);
