@@ -37,6 +37,8 @@ fn parabola(n: usize, half: f64) -> (Vec<f64>, f64) {
     (g, dx)
 }
 
+/// `run_mdr_adhesive` with the request's parts.
+#[allow(clippy::too_many_arguments)]
 fn run(
     g: &[f64],
     dx: f64,
