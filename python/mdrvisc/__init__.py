@@ -16,6 +16,7 @@ import logging
 
 from . import afm, analytic, arrays, scenefile, store, surfaces
 from ._core import num_threads, set_num_threads
+from .contact import DMT, JKR, Hard
 from .errors import (
     ConvergenceError,
     DataError,
@@ -43,7 +44,7 @@ logging.getLogger("mdrvisc").addHandler(logging.NullHandler())
 
 __all__ = ["Scene", "Result", "Fields", "OUTPUTS", "solve", "load_curve", "set_num_threads", "num_threads",
            "Rod", "Paraboloid", "Cone", "Sphere", "Pyramid", "Axisymmetric", "Profile", "Indenter",
-           "HeightMap",
+           "HeightMap", "Hard", "JKR", "DMT",
            "Viscous", "Elastic", "KelvinVoigt", "Maxwell", "StandardSolid", "Prony", "PowerLaw", "fit",
            "FitResult", "afm", "analytic", "arrays", "scenefile", "store", "surfaces", "solve_many", "Sweep",
            "SceneFailure", "sweep_scenes", "zip_scenes", "load_sweep", "MdrviscError", "InvalidInputError",

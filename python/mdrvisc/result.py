@@ -39,6 +39,8 @@ SERIES = _of_kind("series")
 SCALARS = _of_kind("scalar")
 #: Tuples of integers.
 SHAPES = _of_kind("shape")
+#: Times of a run's events, any number of them (None where not tracked).
+EVENTS = _of_kind("events")
 
 
 @dataclasses.dataclass(frozen=True)
@@ -90,6 +92,13 @@ class Result:
     The run: ``method`` ("bem"/"mdr"), ``n``, ``dx`` (m), ``grid_shape`` (BEM), ``integrator``,
     ``steps``, ``solves``, ``iterations``, ``residual`` (largest final relative residual),
     ``solver`` and ``window`` (static BEM solves), ``wall_time`` (s), ``warnings``.
+
+    An adhesive contact (:class:`~mdrvisc.JKR`, :class:`~mdrvisc.DMT`): ``pull_off_force`` (N,
+    negative: the tension the contact carried in its last state before it first let go),
+    ``pull_off_depth`` (m) and ``pull_off_time`` (s) of that state (None without a pull-off),
+    ``jump_in`` and ``jump_out`` (s: times of the steps at which a contact formed already in
+    tension, or let go in tension; arrays, None under hard contact). Under force control
+    the depth is NaN while a tensile force finds no contact.
     """
 
     units = UNITS
@@ -100,7 +109,8 @@ class Result:
                  fields=None, grid_shape=None, integrator: str = "implicit",
                  solver: str | None = None, window=None, steps: int = 0, solves: int = 0,
                  iterations: int = 0, residual: float = 0.0, wall_time: float = 0.0,
-                 warnings=()) -> None:
+                 warnings=(), pull_off_force=None, pull_off_depth=None, pull_off_time=None,
+                 jump_in=None, jump_out=None) -> None:
         self.method, self.n, self.dx = str(method), int(n), float(dx)
         for name, value in (("t", t), ("depth", depth), ("contact_length", contact_length),
                             ("force", force), ("area", area), ("velocity", velocity),
@@ -117,13 +127,18 @@ class Result:
         self.steps, self.solves, self.iterations = int(steps), int(solves), int(iterations)
         self.residual, self.wall_time = float(residual), float(wall_time)
         self.warnings = [str(w) for w in warnings]
+        for name, value in (("pull_off_force", pull_off_force), ("pull_off_depth", pull_off_depth),
+                            ("pull_off_time", pull_off_time)):
+            setattr(self, name, None if value is None else float(value))
+        for name, value in (("jump_in", jump_in), ("jump_out", jump_out)):
+            setattr(self, name, None if value is None else np.asarray(value, dtype=np.float64).ravel())
 
     @classmethod
     def _from_report(cls, report) -> Result:
         """Wraps a ``mdrvisc._core.Report``, issuing its warnings as :class:`ResolutionWarning`
         at the caller of the public function that solved it."""
         fields = {f.t: Fields(**{k: getattr(f, k) for k in _FIELD_NAMES}) for f in report.fields}
-        values = {k: getattr(report, k) for k in SERIES + SCALARS + SHAPES}
+        values = {k: getattr(report, k) for k in SERIES + SCALARS + SHAPES + EVENTS}
         for message in report.warnings:
             warnings.warn(message, ResolutionWarning, stacklevel=3)
         return cls(fields=fields, warnings=report.warnings, **values)
@@ -144,7 +159,7 @@ class Result:
     def to_dict(self) -> dict:
         """Every quantity as plain data: arrays, numbers, strings, lists; fields as a list of
         dicts with their time under ``"t"``."""
-        out = {k: getattr(self, k) for k in SERIES + SCALARS + SHAPES}
+        out = {k: getattr(self, k) for k in SERIES + SCALARS + SHAPES + EVENTS}
         out["warnings"] = list(self.warnings)
         out["fields"] = [dataclasses.asdict(f) for f in (self.fields or {}).values()]
         return out
@@ -205,7 +220,7 @@ class Result:
                 fields.setdefault(int(index), {})[name] = float(array) if name == "t" else array
             elif key == "warnings":
                 values[key] = [str(w) for w in array]
-            elif key in SERIES:
+            elif key in SERIES or key in EVENTS:
                 values[key] = array
             elif key in SHAPES:
                 values[key] = tuple(int(v) for v in array)

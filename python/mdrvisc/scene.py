@@ -14,10 +14,11 @@ import numpy as np
 
 from . import _core
 from ._validate import _array, _finite_positive, _integer, _number, _positive
+from .contact import ContactLaw, Hard, contact_from_model
 from .errors import DomainError, InvalidInputError
 from .geometry import Cone, Indenter, Paraboloid, Pyramid, Rod, Sphere
 from .heightmap import HeightMap
-from .media import Elastic, _Medium, medium_from_model
+from .media import _Medium, medium_from_model
 from .profiles import Axisymmetric, Profile
 
 __all__ = ["Scene", "OUTPUTS"]
@@ -149,6 +150,11 @@ class Scene:
     dt : float, optional
         Longest time step (s) of the viscoelastic stepping (default duration / 500);
         ``solve(..., dt=...)`` overrides it.
+    contact : Hard, JKR or DMT, optional
+        How the indenter and the body interact (see :mod:`mdrvisc.contact`; default
+        :class:`~mdrvisc.Hard`). An adhesive law carries tension (forces may be negative),
+        is solved by MDR and follows the loading history on an elastic medium too, which then
+        takes a duration (and may be depth-controlled).
 
     Notes
     -----
@@ -182,6 +188,7 @@ class Scene:
     field_times: object = None
     depth: object = None
     dt: float | None = None
+    contact: ContactLaw = Hard()
     _model: object = dataclasses.field(init=False, repr=False)
 
     def __post_init__(self):
@@ -197,7 +204,12 @@ class Scene:
         except TypeError:
             raise InvalidInputError(
                 f"Scene: outputs must be names from {OUTPUTS}, got {self.outputs!r}") from None
+        if not isinstance(self.contact, ContactLaw):
+            raise InvalidInputError(
+                f"Scene: contact must be mdrvisc.Hard(), JKR(...) or DMT(...), got {self.contact!r}")
         model = {"medium": self.medium._model(), "outputs": list(outputs)}
+        if not isinstance(self.contact, Hard):
+            model["contact"] = self.contact._model()
         arrays = {}
         for name in ("force", "depth"):
             if getattr(self, name) is not None:
@@ -221,7 +233,7 @@ class Scene:
         set_ = object.__setattr__.__get__(self)
         set_("_model", core)
         set_("outputs", outputs)
-        if not isinstance(self.medium, Elastic):
+        if self.duration is not None:
             set_("duration", float(self.duration))
             set_("times", core.output_times())
             set_("field_times", np.asarray(field_times if field_times is not None else [self.duration],
@@ -301,6 +313,7 @@ class Scene:
         values["indenter"] = indenter if indenter is not None else indenter_from_model(
             model["indenter"], core.arrays())
         values["medium"] = medium if medium is not None else medium_from_model(model["medium"])
+        values["contact"] = contact_from_model(model.get("contact"))
         for key, value in values.items():
             object.__setattr__(scene, key, value)
         scene._adopt(core, tuple(model.get("outputs", DEFAULT_OUTPUTS)), model.get("field_times"))

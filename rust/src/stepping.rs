@@ -49,6 +49,35 @@ pub struct Series<F> {
     pub steps: usize,
     /// Contact solves run.
     pub solves: usize,
+    /// The jumps of an adhesive contact (None under hard contact).
+    pub jumps: Option<Jumps>,
+}
+
+/// The jumps of an adhesive contact over a run, found at every time step.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Jumps {
+    /// Times (s) of the steps at which a contact formed already carrying tension.
+    pub jump_in: Vec<f64>,
+    /// Times (s) of the steps at which a contact that carried tension let go.
+    pub jump_out: Vec<f64>,
+    /// The last state in contact before the first jump-out: time (s), depth (m) and the
+    /// force (N, negative: tensile) the contact carried.
+    pub pull_off: Option<[f64; 3]>,
+}
+
+impl Jumps {
+    /// Records the step from `before` to `now`, each (time s, depth m, force N, elements
+    /// in contact).
+    pub fn record(&mut self, before: (f64, f64, f64, usize), now: (f64, f64, f64, usize)) {
+        let (t0, d0, f0, k0) = before;
+        let (t1, _, f1, k1) = now;
+        if k0 > 0 && k1 == 0 && f0 < 0.0 {
+            self.jump_out.push(t1);
+            self.pull_off.get_or_insert([t0, d0, f0]);
+        } else if k0 == 0 && k1 > 0 && f1 < 0.0 {
+            self.jump_in.push(t1);
+        }
+    }
 }
 
 impl<F> Default for Series<F> {
@@ -70,6 +99,7 @@ impl<F> Default for Series<F> {
             fields: vec![],
             steps: 0,
             solves: 0,
+            jumps: None,
         }
     }
 }

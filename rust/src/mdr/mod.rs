@@ -3,6 +3,7 @@
 //! the inverse transforms back to 3D fields (`transforms`) and the fits' prepared curve with
 //! its parameter derivatives (`curve`).
 
+pub mod adhesion;
 pub mod curve;
 pub mod foundation;
 pub mod transforms;

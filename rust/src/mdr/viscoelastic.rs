@@ -7,23 +7,48 @@
 //! reaches its freely relaxed surface and leaves where the contact law says so (hard
 //! contact: when its force would turn tensile). Elements out of contact relax freely.
 
+use crate::mdr::adhesion::Attachment;
 use crate::mdr::foundation::Fields1D;
 use crate::model::contact_law::{ContactLaw, SortedSurface};
 use crate::model::loading::Loading;
 use crate::model::medium::rheology::Rheology;
-use crate::stepping::{jumps_at_start, step_times, Request, Series, Trail};
+use crate::stepping::{jumps_at_start, step_times, Jumps, Request, Series, Trail};
 use crate::support::error::{check_positive, Error, Result};
 use crate::support::monitor::Monitor;
 
 /// MDR: a viscoelastic foundation (elements 4 dx times the medium) under a 1D profile `g`
 /// (m, spacing dx m) in contact by `law`, output as `request` says; also the 1D fields at its field indices:
 /// displacements w (m), line load 4 s (N/m, s the element stress) and dw/dt (m/s, zero
-/// unless field rates are asked for).
+/// unless field rates are asked for). A DMT law's attraction is that of `run_mdr_adhesive`'s
+/// `attraction`, here none.
 pub fn run_mdr(
     g: &[f64],
     dx: f64,
     medium: &Rheology,
     law: ContactLaw,
+    loading: &Loading,
+    request: &Request,
+    monitor: &mut dyn Monitor,
+) -> Result<Series<Fields1D>> {
+    run_mdr_adhesive(g, dx, medium, law, 0.0, loading, request, monitor)
+}
+
+/// `run_mdr` with the attraction (N) that acts while the surfaces touch (DMT's 2 pi w R;
+/// `ContactLaw::attraction`). An adhesive law reports its jumps and pull-off (`Series::jumps`);
+/// under force control the depth is NaN while a tensile force finds no contact (after a
+/// pull-off). JKR lets its elements go by Heß's rule with the relaxed contact modulus
+/// 4 G_inf: the critical elongation is a critical opening of the contact's edge, the
+/// relaxed JKR solution when the body relaxes faster than it is pulled and up to
+/// G_0 / G_inf times JKR's work of adhesion when it is pulled too fast to relax (Greenwood
+/// & Johnson 1981's bounds for an opening crack). A medium without a relaxed modulus
+/// (G_inf = 0) never lets go under it and is refused.
+#[allow(clippy::too_many_arguments)]
+pub fn run_mdr_adhesive(
+    g: &[f64],
+    dx: f64,
+    medium: &Rheology,
+    law: ContactLaw,
+    attraction: f64,
     loading: &Loading,
     request: &Request,
     monitor: &mut dyn Monitor,
@@ -34,6 +59,18 @@ pub fn run_mdr(
         return Err(Error::InvalidInput("the 1D profile has no elements".into()));
     }
     request.check()?;
+    law.validate()?;
+    let mut attachment = match law {
+        ContactLaw::Jkr { .. } if medium.g_inf > 0.0 => {
+            Some(Attachment::new(g, dx, law, 4.0 * medium.g_inf))
+        }
+        ContactLaw::Jkr { .. } => {
+            return Err(Error::InvalidInput(
+                "contact 'jkr' needs a medium with a relaxed modulus (G_inf > 0): Heß's rule lets an element go at the elongation sqrt(2 pi a w / E*_inf), which has no bound without one".into(),
+            ))
+        }
+        _ => None,
+    };
     let steps = step_times(request.times, request.dt, jumps_at_start(loading, medium))?;
     let start = match loading {
         Loading::Depth(_) => 0.0,
@@ -47,6 +84,8 @@ pub fn run_mdr(
     let mut surface = vec![0.0; n];
     let mut sorted = SortedSurface::default();
     let mut out = Series::default();
+    let mut jumps = law.is_adhesive().then(Jumps::default);
+    let mut before = (0.0, start, 0.0, 0usize);
     let mut t_prev = 0.0;
     let mut rule = medium.step(1.0);
     let mut rule_dt = f64::NAN;
@@ -61,20 +100,42 @@ pub fn run_mdr(
             // where the indenter meets the element's freely relaxed surface
             surface[i] = g[i] - rule.history(w[i], &q[i * m..(i + 1) * m]) / rule.g_eff;
         }
-        sorted.refill(&surface);
-        let (depth, force) = match loading {
-            Loading::Depth(hist) => {
+        let (depth, force) = match (&mut attachment, loading) {
+            (Some(at), Loading::Depth(hist)) => {
                 let d = hist.depth(t);
-                (d, c * law.compression_at(&sorted, d).0)
+                at.at_depth(g, &surface, d);
+                (d, c * at.compression(d))
             }
-            Loading::Force(hist) => {
+            (Some(at), Loading::Force(hist)) => {
                 let f = hist.force(t);
-                (law.depth_for_compression(&sorted, f / c).0, f)
+                (at.under_load(g, &surface, f / c).unwrap_or(f64::NAN), f)
             }
+            (None, Loading::Depth(hist)) => {
+                let d = hist.depth(t);
+                sorted.refill(&surface);
+                let (compression, k) = law.compression_at(&sorted, d);
+                let pull = if k > 0 { attraction } else { 0.0 };
+                (d, c * compression - pull)
+            }
+            (None, Loading::Force(hist)) => {
+                let f = hist.force(t);
+                sorted.refill(&surface);
+                let load = f + attraction;
+                let d = if load < 0.0 {
+                    f64::NAN
+                } else {
+                    law.depth_for_compression(&sorted, load / c).0
+                };
+                (d, f)
+            }
+        };
+        let touches = |i: usize| match &attachment {
+            Some(at) => at.is_attached(i),
+            None => law.compression(depth, surface[i]) > 0.0,
         };
         let mut count = 0;
         for i in 0..n {
-            let w_new = if law.compression(depth, surface[i]) > 0.0 {
+            let w_new = if touches(i) {
                 count += 1;
                 depth - g[i]
             } else {
@@ -83,6 +144,10 @@ pub fn run_mdr(
             rule.advance(w[i], w_new, &mut q[i * m..(i + 1) * m]);
             w[i] = w_new;
         }
+        if let Some(j) = &mut jumps {
+            j.record(before, (t, depth, force, count));
+        }
+        before = (t, depth, force, count);
         if h == 0.0 {
             // the jump at t = 0: rates start from the state just after it
             depths = Trail::new(vec![depth]);
@@ -101,7 +166,13 @@ pub fn run_mdr(
             out.iterations.push(0);
             if request.fields_at.contains(&k) {
                 let line_load = (0..n)
-                    .map(|i| 4.0 * rule.g_eff * law.compression(depth, surface[i]))
+                    .map(|i| {
+                        if touches(i) {
+                            4.0 * rule.g_eff * (depth - surface[i])
+                        } else {
+                            0.0
+                        }
+                    })
                     .collect();
                 let mut velocity = vec![0.0; n];
                 if let Some(trail) = &displacements {
@@ -125,8 +196,13 @@ pub fn run_mdr(
         monitor.progress("time steps", s + 1, steps.len())?;
         t_prev = t;
     }
+    out.jumps = jumps;
     Ok(out)
 }
+
+#[cfg(test)]
+#[path = "adhesion_tests.rs"]
+mod adhesion_tests;
 
 #[cfg(test)]
 mod tests {

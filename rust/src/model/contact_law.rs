@@ -2,26 +2,95 @@
 //! g = u - d + h (m). Every assumption the engines make about the sign of a contact force is
 //! made here, once: hard contact carries no tension, so an MDR element presses with
 //! max(d - g_i, 0) and leaves the surface when its force would turn tensile, a BEM pressure
-//! is projected onto p >= 0, and a prescribed force must be >= 0. An adhesive law adds a
-//! variant and its arms here.
+//! is projected onto p >= 0, and a prescribed force must be >= 0.
+//!
+//! Adhesive laws (work of adhesion w, J/m^2) carry tension. JKR (Johnson, Kendall & Roberts
+//! 1971; zero-range adhesion, any axisymmetric indenter by Heß's rule): an MDR element
+//! attaches when the indenter touches it and lets go when its elongation reaches
+//! sqrt(2 pi a w / E*) at contact radius a. DMT (Derjaguin, Muller & Toporov 1975): the
+//! non-adhesive (hard) contact plus the constant attraction 2 pi w R of a tip of radius R
+//! acting while the surfaces touch.
 
-use crate::support::error::{Error, Result};
+use crate::support::error::{check_positive, Error, Result};
+use serde::de::{self, Deserializer, MapAccess, Visitor};
 use serde::{Deserialize, Serialize};
+use std::f64::consts::PI;
 
 /// How two surfaces interact in normal contact (the scene's `contact`; default `hard`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize)]
-#[serde(rename_all = "lowercase")]
+/// Scene files write `contact = "hard"` or a table, `contact = { type = "jkr",
+/// work_of_adhesion = 0.05 }`.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+#[serde(
+    tag = "type",
+    rename_all = "lowercase",
+    deny_unknown_fields,
+    remote = "Self"
+)]
 pub enum ContactLaw {
     /// Frictionless, non-adhesive contact (Signorini): gap >= 0, pressure >= 0, p g = 0.
     #[default]
     Hard,
+    /// JKR adhesion of zero range: work of adhesion w (J/m^2) released where the surfaces
+    /// touch; the contact edge is a crack that opens when the energy released reaches w.
+    Jkr {
+        /// Work of adhesion w (J/m^2), > 0.
+        work_of_adhesion: f64,
+    },
+    /// DMT adhesion: a hard contact plus the attraction 2 pi w R of a rounded tip of radius
+    /// R while the surfaces touch (w in J/m^2).
+    Dmt {
+        /// Work of adhesion w (J/m^2), > 0.
+        work_of_adhesion: f64,
+    },
+}
+
+impl Serialize for ContactLaw {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
+        match self {
+            ContactLaw::Hard => s.serialize_str("hard"),
+            _ => ContactLaw::serialize(self, s),
+        }
+    }
+}
+
+impl<'de> Deserialize<'de> for ContactLaw {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
+        struct Law;
+        impl<'de> Visitor<'de> for Law {
+            type Value = ContactLaw;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("\"hard\" or a table { type = \"jkr\" | \"dmt\", work_of_adhesion }")
+            }
+            fn visit_str<E: de::Error>(self, v: &str) -> std::result::Result<ContactLaw, E> {
+                match v {
+                    "hard" => Ok(ContactLaw::Hard),
+                    "jkr" | "dmt" => Err(E::custom(format!(
+                        "contact '{v}' needs its work of adhesion: {{ type = \"{v}\", work_of_adhesion = ... }}"
+                    ))),
+                    other => Err(E::unknown_variant(other, &["hard", "jkr", "dmt"])),
+                }
+            }
+            fn visit_map<M: MapAccess<'de>>(
+                self,
+                m: M,
+            ) -> std::result::Result<ContactLaw, M::Error> {
+                let law = ContactLaw::deserialize(de::value::MapAccessDeserializer::new(m))?;
+                law.validate()
+                    .map_err(|e| <M::Error as de::Error>::custom(e.to_string()))?;
+                Ok(law)
+            }
+        }
+        d.deserialize_any(Law)
+    }
 }
 
 impl ContactLaw {
-    /// The law's name in scene files ("hard").
+    /// The law's name in scene files ("hard", "jkr" or "dmt").
     pub fn name(self) -> &'static str {
         match self {
             ContactLaw::Hard => "hard",
+            ContactLaw::Jkr { .. } => "jkr",
+            ContactLaw::Dmt { .. } => "dmt",
         }
     }
 
@@ -30,49 +99,92 @@ impl ContactLaw {
         matches!(self, ContactLaw::Hard)
     }
 
+    /// Whether the law carries tension (an adhesive law).
+    pub fn is_adhesive(self) -> bool {
+        !self.is_hard()
+    }
+
+    /// The work of adhesion w (J/m^2); 0 for hard contact.
+    pub fn work_of_adhesion(self) -> f64 {
+        match self {
+            ContactLaw::Hard => 0.0,
+            ContactLaw::Jkr { work_of_adhesion } | ContactLaw::Dmt { work_of_adhesion } => {
+                work_of_adhesion
+            }
+        }
+    }
+
+    /// Fails unless the law's parameters are valid (a work of adhesion finite and > 0).
+    pub fn validate(self) -> Result<()> {
+        match self {
+            ContactLaw::Hard => Ok(()),
+            _ => check_positive("contact work_of_adhesion (J/m^2)", self.work_of_adhesion()),
+        }
+    }
+
     /// Fails on a prescribed total force (N) the law cannot carry: a tensile one under hard
-    /// contact.
+    /// contact (an adhesive law carries tension up to its pull-off force).
     pub fn check_force(self, force: f64) -> Result<()> {
         match self {
             ContactLaw::Hard if force < 0.0 => Err(Error::InvalidInput(format!(
                 "forces must be >= 0 (no adhesion), got {force}"
             ))),
-            ContactLaw::Hard => Ok(()),
+            _ => Ok(()),
         }
     }
 
-    /// The nearest pressure (Pa) the law admits to `p`: max(p, 0) under hard contact.
+    /// The nearest pressure (Pa) the law admits inside the contact to `p`: max(p, 0) under
+    /// hard contact and DMT (whose attraction acts outside the contact), any under JKR.
     pub fn admissible(self, p: f64) -> f64 {
         match self {
-            ContactLaw::Hard => p.max(0.0),
+            ContactLaw::Hard | ContactLaw::Dmt { .. } => p.max(0.0),
+            ContactLaw::Jkr { .. } => p,
         }
     }
 
     /// The compression (m) of an MDR element whose surface lies at `g` (m) under an
-    /// indenter at depth `d` (m): max(d - g, 0) under hard contact.
+    /// indenter at depth `d` (m) when it is touched: max(d - g, 0) for every law (the touch
+    /// rule; an adhesive element stays attached beyond, see `detachment_elongation`).
     pub fn compression(self, d: f64, g: f64) -> f64 {
-        match self {
-            ContactLaw::Hard => (d - g).max(0.0),
-        }
+        (d - g).max(0.0)
     }
 
     /// The depth d (m) at which the elements of `surface` (their free surfaces, m) are
     /// compressed by `s` (m) in all, and how many touch: the MDR root of a force
-    /// (s = force over the element stiffness). Exact up to round-off.
+    /// (s = force over the element stiffness) by the touch rule. Exact up to round-off.
     pub fn depth_for_compression(self, surface: &SortedSurface, s: f64) -> (f64, usize) {
-        match self {
-            ContactLaw::Hard => surface.hard_root(s),
-        }
+        surface.hard_root(s)
     }
 
     /// The total compression (m) of the elements of `surface` under an indenter at depth
     /// `d` (m), and how many touch.
     pub fn compression_at(self, surface: &SortedSurface, d: f64) -> (f64, usize) {
+        let k = surface.sorted.partition_point(|&v| v < d);
+        (k as f64 * d - surface.prefix[k], k)
+    }
+
+    /// The elongation (m) at which an attached MDR element at the edge of a contact of
+    /// radius `a` (m) lets go, on a body of contact modulus `e_star` (Pa): Heß's rule
+    /// sqrt(2 pi a w / E*) under JKR, 0 (no tension) otherwise.
+    pub fn detachment_elongation(self, a: f64, e_star: f64) -> f64 {
         match self {
-            ContactLaw::Hard => {
-                let k = surface.sorted.partition_point(|&v| v < d);
-                (k as f64 * d - surface.prefix[k], k)
+            ContactLaw::Jkr { work_of_adhesion } => {
+                (2.0 * PI * a * work_of_adhesion / e_star).sqrt()
             }
+            _ => 0.0,
+        }
+    }
+
+    /// The attraction (N) between the surfaces while they touch: DMT's 2 pi w R for a tip of
+    /// radius `tip_radius` (m; Derjaguin's approximation), 0 for the other laws. Fails for DMT
+    /// on an indenter without a rounded tip (None).
+    pub fn attraction(self, tip_radius: Option<f64>) -> Result<f64> {
+        match (self, tip_radius) {
+            (ContactLaw::Dmt { work_of_adhesion }, Some(r)) => Ok(2.0 * PI * work_of_adhesion * r),
+            (ContactLaw::Dmt { .. }, None) => Err(Error::InvalidInput(
+                "contact 'dmt' needs an indenter with a rounded tip (paraboloid or sphere): its attraction 2 pi w R takes the tip radius R".into(),
+            )),
+            _ => Ok(0.0),
         }
     }
 }

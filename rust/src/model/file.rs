@@ -12,6 +12,8 @@
 //! outputs = ["depth", "contact_length", "pressure"]   # optional
 //! field_times = [5.0]     # s, optional
 //! dt = 0.01               # s, optional: longest step of the viscoelastic stepping
+//! contact = "hard"        # optional: "hard" (default), or adhesion by MDR:
+//!                         # { type = "jkr" | "dmt", work_of_adhesion = 0.05 }  (J/m^2)
 //!
 //! [indenter]
 //! type = "paraboloid"     # rod (radius) | paraboloid (c, edge) | cone (slope, edge)

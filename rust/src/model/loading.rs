@@ -90,7 +90,7 @@ impl DepthHistory {
 /// What drives the indenter.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Loading {
-    /// Prescribed force F(t) (N, >= 0).
+    /// Prescribed force F(t) (N; >= 0 unless the contact law is adhesive).
     Force(ForceHistory),
     /// Prescribed depth d(t) (m).
     Depth(DepthHistory),

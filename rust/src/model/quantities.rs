@@ -15,10 +15,12 @@ pub enum QuantityKind {
     Field,
     /// The positions a field is given at.
     Coordinate,
+    /// Times of the events of a run, any number of them (jumps of an adhesive contact).
+    Events,
 }
 
 impl QuantityKind {
-    /// "series", "scalar", "shape", "field" or "coordinate".
+    /// "series", "scalar", "shape", "field", "coordinate" or "events".
     pub fn name(self) -> &'static str {
         match self {
             QuantityKind::Series => "series",
@@ -26,6 +28,7 @@ impl QuantityKind {
             QuantityKind::Shape => "shape",
             QuantityKind::Field => "field",
             QuantityKind::Coordinate => "coordinate",
+            QuantityKind::Events => "events",
         }
     }
 }
@@ -33,7 +36,7 @@ impl QuantityKind {
 /// Every quantity of a `Report` and its `FieldSet`s but the fields list and the warnings:
 /// name, unit (SI; empty for counts, flags and labels) and kind. Each kind in the order the
 /// Python `Result` lists it.
-pub const QUANTITIES: [(&str, &str, QuantityKind); 33] = [
+pub const QUANTITIES: [(&str, &str, QuantityKind); 38] = [
     ("t", "s", QuantityKind::Series),
     ("depth", "m", QuantityKind::Series),
     ("contact_length", "m", QuantityKind::Series),
@@ -57,8 +60,13 @@ pub const QUANTITIES: [(&str, &str, QuantityKind); 33] = [
     ("residual", "", QuantityKind::Scalar),
     ("wall_time", "s", QuantityKind::Scalar),
     ("solver", "", QuantityKind::Scalar),
+    ("pull_off_force", "N", QuantityKind::Scalar),
+    ("pull_off_depth", "m", QuantityKind::Scalar),
+    ("pull_off_time", "s", QuantityKind::Scalar),
     ("grid_shape", "", QuantityKind::Shape),
     ("window", "", QuantityKind::Shape),
+    ("jump_in", "s", QuantityKind::Events),
+    ("jump_out", "s", QuantityKind::Events),
     ("x", "m", QuantityKind::Coordinate),
     ("y", "m", QuantityKind::Coordinate),
     ("r", "m", QuantityKind::Coordinate),

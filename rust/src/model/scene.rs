@@ -249,14 +249,15 @@ impl Scene {
     pub fn validate(&self) -> Result<()> {
         self.indenter.validate()?;
         self.medium.validate()?;
+        self.contact.validate()?;
         match (&self.force, &self.depth) {
             (Some(f), None) => {
                 f.force(self.contact)?;
             }
             (None, Some(d)) => {
-                if self.medium.is_elastic() {
+                if self.is_static() {
                     return Err(Error::InvalidInput(
-                        "depth control needs a time-dependent medium, not an elastic one".into(),
+                        "depth control needs a time-dependent medium or an adhesive contact, not an elastic one".into(),
                     ));
                 }
                 let start = d.depth()?.depth(0.0);
@@ -280,7 +281,7 @@ impl Scene {
         if let Some(dt) = self.dt {
             crate::support::error::check_finite_positive("dt", dt)?;
         }
-        if self.medium.is_elastic() {
+        if self.is_static() {
             if self.duration.is_some() || self.times.is_some() || self.field_times.is_some() {
                 return Err(Error::InvalidInput(
                     "an elastic scene is static: give no duration, times or field_times".into(),
@@ -289,7 +290,10 @@ impl Scene {
             return Ok(());
         }
         let duration = self.duration.ok_or_else(|| {
-            Error::InvalidInput("missing key 'duration' (s): the medium is time-dependent".into())
+            Error::InvalidInput(
+                "missing key 'duration' (s): the medium is time-dependent or the contact adhesive"
+                    .into(),
+            )
         })?;
         check_positive("duration", duration)?;
         if let Some(dt) = self.dt {
@@ -304,6 +308,12 @@ impl Scene {
             )));
         }
         Ok(())
+    }
+
+    /// Whether the scene is one static solve: an elastic medium in hard contact (an
+    /// adhesive contact follows its loading history, for its pull-off depends on it).
+    pub fn is_static(&self) -> bool {
+        self.medium.is_elastic() && !self.contact.is_adhesive()
     }
 
     /// The outputs asked for.
@@ -376,7 +386,7 @@ impl Scene {
     pub fn field_times(&self) -> Vec<f64> {
         if !self.wants_fields() {
             vec![]
-        } else if self.medium.is_elastic() {
+        } else if self.is_static() {
             vec![0.0]
         } else {
             self.requested_field_times()
@@ -408,7 +418,7 @@ impl Scene {
     /// Output times (s) of the report: the requested ones plus field times not within
     /// round-off (1e-12 duration) of one of them, sorted; [0] for a static scene.
     pub fn output_times(&self) -> Vec<f64> {
-        if self.medium.is_elastic() {
+        if self.is_static() {
             return vec![0.0];
         }
         let mut times = self.requested_times();

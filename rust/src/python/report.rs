@@ -154,6 +154,31 @@ impl PyReport {
     fn window(&self) -> Option<(usize, usize, usize, usize)> {
         self.inner.window.map(|[a, b, c, d]| (a, b, c, d))
     }
+    /// Pull-off force (N, tensile: negative) of an adhesive contact, or None.
+    #[getter]
+    fn pull_off_force(&self) -> Option<f64> {
+        self.inner.pull_off_force
+    }
+    /// Depth (m) of the pull-off, or None.
+    #[getter]
+    fn pull_off_depth(&self) -> Option<f64> {
+        self.inner.pull_off_depth
+    }
+    /// Time (s) of the pull-off, or None.
+    #[getter]
+    fn pull_off_time(&self) -> Option<f64> {
+        self.inner.pull_off_time
+    }
+    /// Times (s) an adhesive contact jumped in, or None under hard contact.
+    #[getter]
+    fn jump_in<'py>(&self, py: Python<'py>) -> Option<Bound<'py, PyArray1<f64>>> {
+        optional(py, &self.inner.jump_in)
+    }
+    /// Times (s) an adhesive contact jumped out, or None under hard contact.
+    #[getter]
+    fn jump_out<'py>(&self, py: Python<'py>) -> Option<Bound<'py, PyArray1<f64>>> {
+        optional(py, &self.inner.jump_out)
+    }
     /// Wall time (s).
     #[getter]
     fn wall_time(&self) -> f64 {

@@ -63,6 +63,11 @@ fn report(settings: &RunSettings, dx: f64, integrator: &str, t: Vec<f64>) -> Rep
         saturated: None,
         at_edge: None,
         fields: vec![],
+        pull_off_force: None,
+        pull_off_depth: None,
+        pull_off_time: None,
+        jump_in: None,
+        jump_out: None,
         steps: 0,
         solves: 0,
         iterations: 0,
@@ -77,7 +82,7 @@ fn report(settings: &RunSettings, dx: f64, integrator: &str, t: Vec<f64>) -> Rep
 
 /// The report of a run from the series `s` its engine returned: output times, depth,
 /// contact length, force, area, velocity and stiffness length as `wanted` says, saturation,
-/// edge contact, steps, solves, iterations summed and the largest residual. The series'
+/// edge contact, an adhesive contact's pull-off and jumps, steps, solves, iterations summed and the largest residual. The series'
 /// fields, patches and mean deflections stay in `s` for the caller (`bem_report`,
 /// `mdr_report`).
 pub fn report_from<F>(
@@ -99,6 +104,14 @@ pub fn report_from<F>(
         .then(|| std::mem::take(&mut s.stiffness_length));
     out.saturated = (!s.saturated.is_empty()).then(|| std::mem::take(&mut s.saturated));
     out.at_edge = (!s.at_edge.is_empty()).then(|| std::mem::take(&mut s.at_edge));
+    if let Some(jumps) = s.jumps.take() {
+        if let Some([t, d, f]) = jumps.pull_off {
+            (out.pull_off_time, out.pull_off_depth, out.pull_off_force) =
+                (Some(t), Some(d), Some(f));
+        }
+        out.jump_in = Some(jumps.jump_in);
+        out.jump_out = Some(jumps.jump_out);
+    }
     out.steps = s.steps;
     out.solves = s.solves;
     out.iterations = s.iterations.iter().sum();

@@ -67,9 +67,10 @@ pub fn run_loads(
     settings: &RunSettings,
     monitor: &mut dyn Monitor,
 ) -> Result<Vec<Report>> {
-    if !scene.medium.is_elastic() {
+    if !scene.is_static() {
         return Err(Error::InvalidInput(
-            "a load curve solves static scenes: the medium must be elastic".into(),
+            "a load curve solves static scenes: the medium must be elastic and the contact hard"
+                .into(),
         ));
     }
     if forces.is_empty() {
@@ -126,7 +127,9 @@ fn run_from(
         ),
         memory_needed(scene, settings),
     )?;
-    let viscous_force = matches!(scene.medium, Medium::Viscous { .. }) && scene.force.is_some();
+    let viscous_force = matches!(scene.medium, Medium::Viscous { .. })
+        && scene.force.is_some()
+        && !scene.contact.is_adhesive();
     if matches!(settings.integrator, Integrator::Explicit(_))
         && !viscous_force
         && !scene.indenter.is_flat()
@@ -135,7 +138,7 @@ fn run_from(
             "the explicit integrator needs a viscous medium under a force".into(),
         ));
     }
-    let (mut report, pressure) = if scene.medium.is_elastic() {
+    let (mut report, pressure) = if scene.is_static() {
         run_static(scene, settings, start_pressure, monitor)?
     } else if viscous_force {
         (run_viscous(scene, settings, monitor)?, None)
@@ -540,17 +543,23 @@ fn run_viscoelastic(
             let (profile, dx) = scene
                 .indenter
                 .mdr_profile(settings.n, mdr_half_length(scene)?)?;
-            let s = crate::mdr::viscoelastic::run_mdr(
+            let attraction = scene.contact.attraction(scene.indenter.tip_radius())?;
+            let s = crate::mdr::viscoelastic::run_mdr_adhesive(
                 &profile,
                 dx,
                 &rheology,
                 scene.contact,
+                attraction,
                 &loading,
                 &request,
                 monitor,
             )?;
             mdr_report(scene, settings, dx, "viscoelastic", s, wanted, &at)
         }
+        Method::Bem if scene.contact.is_adhesive() => Err(Error::InvalidInput(format!(
+            "BEM solves hard contact only; contact '{}' is solved by MDR (method \"mdr\")",
+            scene.contact.name()
+        ))),
         Method::Bem => {
             let grid = bem_grid(scene, settings.n)?;
             let s = viscoelastic::run_bem(
@@ -751,5 +760,36 @@ mod tests {
             &mut Silent
         )
         .is_err());
+    }
+
+    /// An adhesive scene file (DMT, pi w R = 1 N) runs on an elastic medium along its
+    /// force history: it lets go at -2 pi w R and reports the pull-off; BEM refuses it.
+    #[test]
+    fn adhesive_scene_file_runs() {
+        let text = r#"
+method = "mdr"
+n = 501
+duration = 2.0
+dt = 0.001
+force = [[0.0, 0.0], [1.0, 5.0], [2.0, -3.0]]
+contact = { type = "dmt", work_of_adhesion = 0.3183098861837907 }
+[indenter]
+type = "paraboloid"
+c = 0.5
+[medium]
+type = "elastic"
+G = 0.25
+"#;
+        let file = crate::model::file::SceneFile::parse(text, "dmt.toml").unwrap();
+        let r = run(&file.scene, &file.settings, &mut Silent).unwrap();
+        // steps of 1 ms, 8 mN each: the last state in contact lies within one of -2 pi w R
+        let f = r.pull_off_force.unwrap();
+        assert!((-2.0..-2.0 + 0.008 * (1.0 + 1e-9)).contains(&f), "{f}");
+        assert_eq!(r.jump_out.as_ref().unwrap().len(), 1);
+        assert!(r.table("dmt").contains("pull-off force"));
+        let bem = RunSettings::new(Method::Bem, 17);
+        assert!(run(&file.scene, &bem, &mut Silent).is_err());
+        let bad = text.replace("type = \"dmt\", ", "type = \"dmt\", w = 1, ");
+        assert!(crate::model::file::SceneFile::parse(&bad, "bad.toml").is_err());
     }
 }

@@ -7,7 +7,7 @@ use crate::model::Scene;
 use serde::Serialize;
 
 /// The unit of each quantity of a report.
-pub const UNITS: [(&str, &str); 18] = [
+pub const UNITS: [(&str, &str); 23] = [
     ("t", "s"),
     ("depth", "m"),
     ("contact_length", "m"),
@@ -21,6 +21,11 @@ pub const UNITS: [(&str, &str); 18] = [
     ("mean_gap", "m"),
     ("dx", "m"),
     ("wall_time", "s"),
+    ("pull_off_force", "N"),
+    ("pull_off_depth", "m"),
+    ("pull_off_time", "s"),
+    ("jump_in", "s"),
+    ("jump_out", "s"),
     ("pressure", "Pa"),
     ("surface_velocity", "m/s"),
     ("deflection", "m"),
@@ -106,6 +111,19 @@ pub struct Report {
     pub at_edge: Option<Vec<bool>>,
     /// Fields at the field times.
     pub fields: Vec<FieldSet>,
+    /// Pull-off of an adhesive contact: the force (N, tensile: negative) it carried in its
+    /// last state before it first let go.
+    pub pull_off_force: Option<f64>,
+    /// Depth (m) of the pull-off's state.
+    pub pull_off_depth: Option<f64>,
+    /// Time (s) of the pull-off's state.
+    pub pull_off_time: Option<f64>,
+    /// Times (s) of the steps at which an adhesive contact formed already carrying tension
+    /// (DMT's touch); empty when none did, None under hard contact.
+    pub jump_in: Option<Vec<f64>>,
+    /// Times (s) of the steps at which an adhesive contact that carried tension let go;
+    /// empty when none did, None under hard contact.
+    pub jump_out: Option<Vec<f64>>,
     /// Time steps taken.
     pub steps: usize,
     /// Contact solves.
@@ -229,6 +247,16 @@ impl Report {
         let mut out = format!("{name} — {}\n", self.summary());
         if let Some(p0) = &self.central_pressure {
             out += &format!("  central pressure p0 = {:.6} Pa\n", p0[p0.len() - 1]);
+        }
+        if let (Some(f), Some(d), Some(t)) =
+            (self.pull_off_force, self.pull_off_depth, self.pull_off_time)
+        {
+            out += &format!("  pull-off force {f:.8e} N at depth {d:.8e} m, t = {t} s\n");
+        }
+        for (name, times) in [("jump-in", &self.jump_in), ("jump-out", &self.jump_out)] {
+            if let Some(times) = times.as_ref().filter(|v| !v.is_empty()) {
+                out += &format!("  {name} at t = {times:?} s\n");
+            }
         }
         let numbers = |v: &[f64]| v.iter().map(|x| format!("{x:>14.8}")).collect();
         let mut columns: Vec<(&str, Vec<String>)> = vec![

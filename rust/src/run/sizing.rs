@@ -22,21 +22,27 @@ pub fn sizing_radius(scene: &Scene) -> Result<f64> {
         return ind.radius_at_depth(d.max());
     }
     let force = scene.force.as_ref().expect("validated: force or depth");
-    // MDR loads F / (4 G) of the incompressible medium with the same contact modulus
+    // MDR loads F / (4 G) of the incompressible medium with the same contact modulus; an
+    // adhesive contact is widest at its largest force (DMT: plus its attraction)
     let medium = scene.medium.incompressible_equivalent()?;
+    let attraction = scene.contact.attraction(ind.tip_radius())?;
     match medium {
+        Medium::Elastic { g, .. } if scene.contact.is_adhesive() => {
+            ind.radius_at_load((force.max() + attraction) / (4.0 * g))
+        }
         Medium::Elastic { g, .. } => ind.radius_at_load(force.last() / (4.0 * g)),
         Medium::Viscous { eta, .. } => {
             let t_end = *scene
                 .solved_times()
                 .last()
                 .expect("validated: output times");
-            ind.radius_at_load(force.force(scene.contact)?.impulse(t_end) / (4.0 * eta))
+            let impulse = force.force(scene.contact)?.impulse(t_end) + attraction * t_end;
+            ind.radius_at_load(impulse / (4.0 * eta))
         }
         _ => {
             let duration = scene.duration.expect("validated: a duration");
             let compliance = medium.creep_compliance(duration)?;
-            ind.radius_at_load(force.max() * compliance / 4.0)
+            ind.radius_at_load((force.max() + attraction) * compliance / 4.0)
         }
     }
 }

@@ -411,6 +411,16 @@ impl Indenter {
         })
     }
 
+    /// Radius of curvature (m) of a rounded tip (paraboloid 1 / (2 c), sphere), which DMT's
+    /// attraction takes; None for the other indenters.
+    pub fn tip_radius(&self) -> Option<f64> {
+        match self {
+            Indenter::Paraboloid { c, .. } => Some(0.5 / c),
+            Indenter::Sphere { radius } => Some(*radius),
+            _ => None,
+        }
+    }
+
     /// MDR profile g (m) at 1D coordinate `x` (m), even in x.
     pub fn profile_1d(&self, x: f64) -> Result<f64> {
         let x = x.abs();
