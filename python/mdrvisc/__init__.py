@@ -16,6 +16,7 @@ import logging
 
 from . import analytic, arrays, scenefile, store, surfaces
 from ._core import num_threads, set_num_threads
+from .body import Layer
 from .errors import (
     ConvergenceError,
     DataError,
@@ -42,7 +43,7 @@ logging.getLogger("mdrvisc").addHandler(logging.NullHandler())
 
 __all__ = ["Scene", "Result", "Fields", "OUTPUTS", "solve", "set_num_threads", "num_threads",
            "Rod", "Paraboloid", "Cone", "Sphere", "Pyramid", "Axisymmetric", "Profile", "Indenter",
-           "HeightMap",
+           "HeightMap", "Layer",
            "Viscous", "Elastic", "KelvinVoigt", "Maxwell", "StandardSolid", "Prony", "PowerLaw", "fit",
            "FitResult", "analytic", "arrays", "scenefile", "store", "surfaces", "solve_many", "Sweep",
            "SceneFailure", "sweep_scenes", "zip_scenes", "load_sweep", "MdrviscError", "InvalidInputError",

@@ -14,6 +14,7 @@ import numpy as np
 
 from . import _core
 from ._validate import _array, _finite_positive, _integer, _number, _positive
+from .body import Layer
 from .errors import DomainError, InvalidInputError
 from .geometry import Cone, Indenter, Paraboloid, Pyramid, Rod, Sphere
 from .heightmap import HeightMap
@@ -149,6 +150,9 @@ class Scene:
     dt : float, optional
         Longest time step (s) of the viscoelastic stepping (default duration / 500);
         ``solve(..., dt=...)`` overrides it.
+    body : Layer, optional
+        A :class:`~mdrvisc.Layer` of the medium on a rigid base in place of the half-space
+        (default None: the half-space); scene files' ``[layer]`` table.
 
     Validation, defaults and everything a solve decides (grids, steps) live in the compiled
     scene model; errors name the bad value. ``to_toml``/``from_toml`` round-trip the scene.
@@ -163,6 +167,7 @@ class Scene:
     field_times: object = None
     depth: object = None
     dt: float | None = None
+    body: Layer | None = None
     _model: object = dataclasses.field(init=False, repr=False)
 
     def __post_init__(self):
@@ -179,6 +184,10 @@ class Scene:
             raise InvalidInputError(
                 f"Scene: outputs must be names from {OUTPUTS}, got {self.outputs!r}") from None
         model = {"medium": self.medium._model(), "outputs": list(outputs)}
+        if self.body is not None:
+            if not isinstance(self.body, Layer):
+                raise InvalidInputError(f"Scene: body must be an mdrvisc.Layer or None, got {self.body!r:.200}")
+            model["layer"] = self.body._model()
         arrays = {}
         for name in ("force", "depth"):
             if getattr(self, name) is not None:
@@ -282,6 +291,8 @@ class Scene:
         values["indenter"] = indenter if indenter is not None else indenter_from_model(
             model["indenter"], core.arrays())
         values["medium"] = medium if medium is not None else medium_from_model(model["medium"])
+        if "layer" in model:
+            values["body"] = Layer._of_model(model["layer"])
         for key, value in values.items():
             object.__setattr__(scene, key, value)
         scene._adopt(core, tuple(model.get("outputs", DEFAULT_OUTPUTS)), model.get("field_times"))

@@ -2,9 +2,11 @@
 //! and preconditioners. A free half-space is solved by Love's coefficients through the
 //! DC-FFT (`FftOperator`, preconditioned by the inverse-kernel stencil) on windows that share
 //! one kernel table; a periodic cell by its spectral kernel (`PeriodicOperator`,
-//! preconditioned by the exact spectral inverse) on the whole cell.
+//! preconditioned by the exact spectral inverse) on the whole cell, a periodic layer the
+//! same way with the layer's spectral compliance (`crate::halfspace::layer`).
 
 use crate::halfspace::influence::KernelTable;
+use crate::halfspace::layer::compliance;
 use crate::halfspace::operator::{FftOperator, FftPlans, SurfaceOperator};
 use crate::halfspace::periodic::PeriodicOperator;
 use crate::model::body::Body;
@@ -26,6 +28,16 @@ impl Body {
         Ok(match self {
             Body::HalfSpace => Operator::Free(FftOperator::new(nx, ny, dx)?),
             Body::Periodic => Operator::Periodic(PeriodicOperator::new(nx, ny, dx)?),
+            Body::Layer {
+                layer,
+                nu,
+                periodic: true,
+            } => Operator::Periodic(PeriodicOperator::with_compliance(nx, ny, dx, |q| {
+                compliance(q, layer, nu)
+            })?),
+            Body::Layer {
+                periodic: false, ..
+            } => return Err(free_layer()),
         })
     }
 
@@ -48,11 +60,21 @@ impl Body {
             Body::HalfSpace => Ok(Operator::Free(FftOperator::with_kernel(
                 wx, wy, kernel, plans,
             )?)),
-            Body::Periodic => Err(Error::InvalidInput(
+            Body::Periodic | Body::Layer { periodic: true, .. } => Err(Error::InvalidInput(
                 "a periodic cell has no windows: its solves take the whole cell".into(),
             )),
+            Body::Layer {
+                periodic: false, ..
+            } => Err(free_layer()),
         }
     }
+}
+
+/// The error of a layer under a free (non-periodic) surface, which has no operator yet.
+fn free_layer() -> Error {
+    Error::InvalidInput(
+        "a layer is solved on periodic cells (a periodic height map) only: a free surface on a layer has no BEM operator".into(),
+    )
 }
 
 impl Operator {

@@ -73,6 +73,7 @@ pub fn run(scene: &Scene, settings: &RunSettings, monitor: &mut dyn Monitor) -> 
             "for an axisymmetric indenter, only for a height map",
         )?;
     }
+    check_layer(scene, settings.method)?;
     crate::support::memory::check(
         &format!(
             "{} n = {}",
@@ -111,6 +112,26 @@ pub fn run(scene: &Scene, settings: &RunSettings, monitor: &mut dyn Monitor) -> 
     }
     report.wall_time = start.elapsed().as_secs_f64();
     Ok(report)
+}
+
+/// Fails unless a run by `method` can solve the scene's layer: BEM on a periodic cell (a
+/// periodic height map), whose operator multiplies by the layer's spectral compliance.
+fn check_layer(scene: &Scene, method: Method) -> Result<()> {
+    let Some(layer) = scene.layer else {
+        return Ok(());
+    };
+    let h = layer.thickness;
+    if method == Method::Mdr {
+        return Err(Error::InvalidInput(format!(
+            "MDR has no layer ({h:e} m thick): a layer is solved by BEM (method \"bem\") on a periodic height map"
+        )));
+    }
+    if !scene.body().is_periodic() {
+        return Err(Error::InvalidInput(format!(
+            "a layer ({h:e} m thick) is solved on a periodic cell only: give a periodic height map (a free surface on a layer has no BEM operator)"
+        )));
+    }
+    Ok(())
 }
 
 /// Bytes per BEM grid element of a run (buffers of the operator, the contact solver and the
@@ -518,6 +539,7 @@ mod tests {
     fn scene(indenter: Indenter, medium: Medium, force: History) -> Scene {
         Scene {
             indenter,
+            layer: None,
             contact: ContactLaw::Hard,
             medium,
             force: Some(force),
