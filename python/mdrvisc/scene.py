@@ -186,7 +186,8 @@ class Scene:
         model = {"medium": self.medium._model(), "outputs": list(outputs)}
         if self.body is not None:
             if not isinstance(self.body, Layer):
-                raise InvalidInputError(f"Scene: body must be an mdrvisc.Layer or None, got {self.body!r:.200}")
+                raise InvalidInputError(
+                    f"Scene: body must be an mdrvisc.Layer or None, got {self.body!r:.200}")
             model["layer"] = self.body._model()
         arrays = {}
         for name in ("force", "depth"):
