@@ -22,8 +22,9 @@ class Layer:
 
     The layer has the medium's shear modulus and Poisson ratio (any nu, 0.5 included), so
     its surface compliance scales with 1 / G(t) as the half-space's does and every medium
-    steps on it. It is solved by BEM on a periodic cell (a periodic
-    :class:`~mdrvisc.HeightMap`); MDR and free (non-periodic) surfaces refuse it.
+    steps on it. It is solved by BEM, on free grids (the layer's influence coefficients,
+    elements at most 8 thicknesses wide) and periodic cells (a periodic
+    :class:`~mdrvisc.HeightMap`: the layer's spectral compliance); MDR refuses it.
 
     Parameters
     ----------

@@ -9,7 +9,7 @@ use crate::support::error::{check_finite_positive, Error, Result};
 use serde::{Deserialize, Serialize};
 
 /// How a layer is joined to its rigid base.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Deserialize, Serialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Base {
     /// Bonded: the layer's bottom does not move (no slip).
@@ -112,8 +112,10 @@ impl Body {
     /// contact, the elements outside carrying no pressure (a free surface's deflection
     /// inside depends only on the pressure inside); otherwise every solve takes the whole
     /// grid.
+    /// A layer takes the whole grid too: under a pressure its surface may rise around the
+    /// contact (an incompressible layer bulges), so a window's edge is no bound on it.
     pub fn windows(self) -> bool {
-        !self.is_periodic()
+        matches!(self, Body::HalfSpace)
     }
 
     /// Whether the grid has an edge a contact can reach (a periodic cell has none: its

@@ -114,24 +114,16 @@ pub fn run(scene: &Scene, settings: &RunSettings, monitor: &mut dyn Monitor) -> 
     Ok(report)
 }
 
-/// Fails unless a run by `method` can solve the scene's layer: BEM on a periodic cell (a
-/// periodic height map), whose operator multiplies by the layer's spectral compliance.
+/// Fails unless a run by `method` can solve the scene's layer: BEM, whose operators take
+/// the layer's compliance (`crate::halfspace::layer`); MDR has no layer.
 fn check_layer(scene: &Scene, method: Method) -> Result<()> {
-    let Some(layer) = scene.layer else {
-        return Ok(());
-    };
-    let h = layer.thickness;
-    if method == Method::Mdr {
-        return Err(Error::InvalidInput(format!(
-            "MDR has no layer ({h:e} m thick): a layer is solved by BEM (method \"bem\") on a periodic height map"
-        )));
+    match scene.layer {
+        Some(layer) if method == Method::Mdr => Err(Error::InvalidInput(format!(
+            "MDR has no layer ({:e} m thick): a layer is solved by BEM (method \"bem\")",
+            layer.thickness
+        ))),
+        _ => Ok(()),
     }
-    if !scene.body().is_periodic() {
-        return Err(Error::InvalidInput(format!(
-            "a layer ({h:e} m thick) is solved on a periodic cell only: give a periodic height map (a free surface on a layer has no BEM operator)"
-        )));
-    }
-    Ok(())
 }
 
 /// Bytes per BEM grid element of a run (buffers of the operator, the contact solver and the
