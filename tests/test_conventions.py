@@ -33,6 +33,7 @@ EXAMPLES = {
     "Axisymmetric": (lambda: mv.Axisymmetric(lambda r: 0.5 * r**2, edge=2.0), ["2"]),
     "Profile": (lambda: mv.Profile([0.0, 1.0, 2.0], [0.0, 0.5, 2.0]), ["3"]),
     "HeightMap": (lambda: mv.HeightMap(np.zeros((3, 5)), 0.25, periodic=True), ["(3, 5)", "0.25", "True"]),
+    "Layer": (lambda: mv.Layer(5e-6, "frictionless"), ["5e-06", "frictionless"]),
     "Viscous": (lambda: mv.Viscous(eta=2.5), ["2.5"]),
     "Hard": (lambda: mv.Hard(), []),
     "JKR": (lambda: mv.JKR(work_of_adhesion=0.05), ["0.05"]),

@@ -15,6 +15,7 @@ import numpy as np
 from . import _core
 from ._validate import _array, _finite_positive, _integer, _number, _positive
 from .contact import ContactLaw, Hard, contact_from_model
+from .body import Layer
 from .errors import DomainError, InvalidInputError
 from .geometry import Cone, Indenter, Paraboloid, Pyramid, Rod, Sphere
 from .heightmap import HeightMap
@@ -155,6 +156,9 @@ class Scene:
         :class:`~mdrvisc.Hard`). An adhesive law carries tension (forces may be negative),
         is solved by MDR and follows the loading history on an elastic medium too, which then
         takes a duration (and may be depth-controlled).
+    body : Layer, optional
+        A :class:`~mdrvisc.Layer` of the medium on a rigid base in place of the half-space
+        (default None: the half-space); scene files' ``[layer]`` table.
 
     Notes
     -----
@@ -189,6 +193,7 @@ class Scene:
     depth: object = None
     dt: float | None = None
     contact: ContactLaw = Hard()
+    body: Layer | None = None
     _model: object = dataclasses.field(init=False, repr=False)
 
     def __post_init__(self):
@@ -210,6 +215,11 @@ class Scene:
         model = {"medium": self.medium._model(), "outputs": list(outputs)}
         if not isinstance(self.contact, Hard):
             model["contact"] = self.contact._model()
+        if self.body is not None:
+            if not isinstance(self.body, Layer):
+                raise InvalidInputError(
+                    f"Scene: body must be an mdrvisc.Layer or None, got {self.body!r:.200}")
+            model["layer"] = self.body._model()
         arrays = {}
         for name in ("force", "depth"):
             if getattr(self, name) is not None:
@@ -314,6 +324,8 @@ class Scene:
             model["indenter"], core.arrays())
         values["medium"] = medium if medium is not None else medium_from_model(model["medium"])
         values["contact"] = contact_from_model(model.get("contact"))
+        if "layer" in model:
+            values["body"] = Layer._of_model(model["layer"])
         for key, value in values.items():
             object.__setattr__(scene, key, value)
         scene._adopt(core, tuple(model.get("outputs", DEFAULT_OUTPUTS)), model.get("field_times"))

@@ -2,9 +2,12 @@
 //! and preconditioners. A free half-space is solved by Love's coefficients through the
 //! DC-FFT (`FftOperator`, preconditioned by the inverse-kernel stencil) on windows that share
 //! one kernel table; a periodic cell by its spectral kernel (`PeriodicOperator`,
-//! preconditioned by the exact spectral inverse) on the whole cell.
+//! preconditioned by the exact spectral inverse) on the whole cell, a periodic layer the
+//! same way with the layer's spectral compliance (`crate::halfspace::layer`), and a free
+//! grid on a layer by the DC-FFT of the layer's influence coefficients on the whole grid.
 
 use crate::halfspace::influence::KernelTable;
+use crate::halfspace::layer::{compliance, FreeLayerOperator};
 use crate::halfspace::operator::{FftOperator, FftPlans, SurfaceOperator};
 use crate::halfspace::periodic::PeriodicOperator;
 use crate::model::body::Body;
@@ -18,6 +21,8 @@ pub enum Operator {
     Free(FftOperator),
     /// A periodic cell (spectral kernel, zero mean mode).
     Periodic(PeriodicOperator),
+    /// A free grid on a layer (DC-FFT of the layer's influence coefficients).
+    FreeLayer(FreeLayerOperator),
 }
 
 impl Body {
@@ -26,6 +31,18 @@ impl Body {
         Ok(match self {
             Body::HalfSpace => Operator::Free(FftOperator::new(nx, ny, dx)?),
             Body::Periodic => Operator::Periodic(PeriodicOperator::new(nx, ny, dx)?),
+            Body::Layer {
+                layer,
+                nu,
+                periodic: true,
+            } => Operator::Periodic(PeriodicOperator::with_compliance(nx, ny, dx, |q| {
+                compliance(q, layer, nu)
+            })?),
+            Body::Layer {
+                layer,
+                nu,
+                periodic: false,
+            } => Operator::FreeLayer(FreeLayerOperator::new(nx, ny, dx, layer, nu)?),
         })
     }
 
@@ -48,9 +65,10 @@ impl Body {
             Body::HalfSpace => Ok(Operator::Free(FftOperator::with_kernel(
                 wx, wy, kernel, plans,
             )?)),
-            Body::Periodic => Err(Error::InvalidInput(
-                "a periodic cell has no windows: its solves take the whole cell".into(),
-            )),
+            Body::Periodic | Body::Layer { .. } => Err(Error::InvalidInput(format!(
+                "a {} has no windows: its solves take the whole grid",
+                self.name()
+            ))),
         }
     }
 }
@@ -62,6 +80,7 @@ impl Operator {
         match self {
             Operator::Free(op) => op.padded(),
             Operator::Periodic(op) => (op.nx(), op.ny()),
+            Operator::FreeLayer(op) => op.padded(),
         }
     }
 
@@ -69,6 +88,10 @@ impl Operator {
     pub fn resize(&mut self, wx: usize, wy: usize) -> Result<()> {
         match self {
             Operator::Free(op) => op.resize(wx, wy),
+            Operator::FreeLayer(op) if (op.nx(), op.ny()) == (wx, wy) => Ok(()),
+            Operator::FreeLayer(_) => Err(Error::InvalidInput(
+                "a layer's operator is never resized".into(),
+            )),
             Operator::Periodic(op) if (op.nx(), op.ny()) == (wx, wy) => Ok(()),
             Operator::Periodic(_) => Err(Error::InvalidInput(
                 "a periodic cell's operator is never resized".into(),
@@ -82,36 +105,42 @@ impl SurfaceOperator for Operator {
         match self {
             Operator::Free(op) => op.nx(),
             Operator::Periodic(op) => op.nx(),
+            Operator::FreeLayer(op) => op.nx(),
         }
     }
     fn ny(&self) -> usize {
         match self {
             Operator::Free(op) => op.ny(),
             Operator::Periodic(op) => op.ny(),
+            Operator::FreeLayer(op) => op.ny(),
         }
     }
     fn dx(&self) -> f64 {
         match self {
             Operator::Free(op) => op.dx(),
             Operator::Periodic(op) => op.dx(),
+            Operator::FreeLayer(op) => op.dx(),
         }
     }
     fn apply(&mut self, p: &[f64], u: &mut [f64]) {
         match self {
             Operator::Free(op) => op.apply(p, u),
             Operator::Periodic(op) => op.apply(p, u),
+            Operator::FreeLayer(op) => op.apply(p, u),
         }
     }
     fn submatrix(&mut self, idx: &[usize]) -> Result<Mat<f64>> {
         match self {
             Operator::Free(op) => op.submatrix(idx),
             Operator::Periodic(op) => op.submatrix(idx),
+            Operator::FreeLayer(op) => op.submatrix(idx),
         }
     }
     fn precondition(&mut self, g: &[f64], z: &mut [f64]) {
         match self {
             Operator::Free(op) => op.precondition(g, z),
             Operator::Periodic(op) => op.precondition(g, z),
+            Operator::FreeLayer(op) => op.precondition(g, z),
         }
     }
 }

@@ -86,6 +86,13 @@ impl KernelTable {
         }
     }
 
+    /// A table of other influence coefficients (m/Pa at G = 1; a layer's): `values` at
+    /// offsets (kx, ky), kx < nx, ky < ny, row-major, even in both offsets.
+    pub(crate) fn from_values(nx: usize, ny: usize, dx: f64, values: Vec<f64>) -> Self {
+        assert_eq!(values.len(), nx * ny, "kernel table length");
+        KernelTable { nx, ny, dx, values }
+    }
+
     /// Element side (m).
     pub fn dx(&self) -> f64 {
         self.dx

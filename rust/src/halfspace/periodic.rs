@@ -1,7 +1,10 @@
 //! The surface operator of a periodic cell: deflections (m) of an incompressible half-space
-//! (G = 1 Pa) under element pressures (Pa) repeated with the periods nx dx and ny dx.
+//! (G = 1 Pa), or of a layer on a rigid base, under element pressures (Pa) repeated with
+//! the periods nx dx and ny dx.
 //!
-//! Kernel: the half-space's spectral response u_q = p_q / (2 G |q|) (E* = 4 G) at the
+//! Kernel: the body's spectral compliance C(|q|) (`PeriodicOperator::with_compliance`): a
+//! layer's is `crate::halfspace::layer::compliance`, and everything below holds for it as
+//! for the half-space's, the spectral response u_q = p_q / (2 G |q|) (E* = 4 G), at the
 //! cell's discrete wavevectors q = 2 pi (kx / (nx dx), ky / (ny dx)), |kx| <= nx/2,
 //! |ky| <= ny/2, as in tamaas and ContactMechanics. It is the exact periodic half-space for
 //! the trigonometric interpolant of the element pressures, so a band-limited load (a single
@@ -36,8 +39,8 @@ use crate::support::error::{check_positive, Error, Result};
 use faer::Mat;
 
 /// The operator of a periodic `nx` x `ny` cell of square elements (row-major, element
-/// (ix, iy) at iy * nx + ix): the spectral kernel 1 / (2 |q|) m/Pa at G = 1, zero mean
-/// mode; FFT plans, spectrum and buffers held by the operator, rows and columns transformed
+/// (ix, iy) at iy * nx + ix): a spectral kernel C(|q|) (m/Pa at G = 1; the half-space's
+/// 1 / (2 |q|)), zero mean mode; FFT plans, spectrum and buffers held by the operator, rows and columns transformed
 /// in parallel (rayon).
 pub struct PeriodicOperator {
     fft: FftOperator,
@@ -53,8 +56,20 @@ pub struct PeriodicOperator {
 const BYTES_PER_ELEMENT: f64 = 28.0;
 
 impl PeriodicOperator {
-    /// The operator of a periodic cell of `nx` x `ny` elements of side `dx` (m).
+    /// The operator of a periodic half-space cell of `nx` x `ny` elements of side `dx` (m).
     pub fn new(nx: usize, ny: usize, dx: f64) -> Result<Self> {
+        Self::with_compliance(nx, ny, dx, |q| 0.5 / q)
+    }
+
+    /// The operator of a periodic cell of `nx` x `ny` elements of side `dx` (m) of a body
+    /// whose surface compliance at wavenumber q > 0 (1/m) is `compliance(q)` (m/Pa at
+    /// G = 1, > 0 and finite).
+    pub fn with_compliance(
+        nx: usize,
+        ny: usize,
+        dx: f64,
+        compliance: impl Fn(f64) -> f64,
+    ) -> Result<Self> {
         check_positive("element size dx", dx)?;
         match nx.checked_mul(ny) {
             Some(n) if n > 0 && n <= MAX_FFT_ELEMENTS => {}
@@ -68,19 +83,20 @@ impl PeriodicOperator {
             &format!("a {nx} x {ny} periodic surface operator"),
             BYTES_PER_ELEMENT * (nx * ny) as f64,
         )?;
-        let fft = FftOperator::with_symbol(
-            nx,
-            ny,
-            dx,
-            (nx, ny),
-            |kx, ky| symbol(kx, ky, nx, ny, dx),
-            &mut FftPlans::default(),
-        );
+        let symbol = |kx, ky| {
+            let q = wavenumber(kx, ky, nx, ny, dx);
+            if q > 0.0 {
+                compliance(q)
+            } else {
+                0.0
+            }
+        };
+        let fft = FftOperator::with_symbol(nx, ny, dx, (nx, ny), symbol, &mut FftPlans::default());
         // the mean mode takes the longest wave's value (a 1 x 1 cell, all mean mode, 1)
-        let longest = symbol(1, 0, nx, ny, dx).max(symbol(0, 1, nx, ny, dx));
+        let longest = symbol(1, 0).max(symbol(0, 1));
         let mean_mode = if longest > 0.0 { longest } else { 1.0 };
         let inverse = fft.spectrum_of(|kx, ky| {
-            let k = symbol(kx, ky, nx, ny, dx);
+            let k = symbol(kx, ky);
             dx / if k > 0.0 { k } else { mean_mode }
         });
         Ok(PeriodicOperator {
@@ -97,19 +113,14 @@ impl PeriodicOperator {
     }
 }
 
-/// The kernel's symbol 1 / (2 |q|) (m/Pa at G = 1) at DFT indices (kx, ky) of an
-/// `nx` x `ny` cell (indices above n/2 stand for the negative wavevectors k - n); 0 at q = 0.
-pub fn symbol(kx: usize, ky: usize, nx: usize, ny: usize, dx: f64) -> f64 {
+/// The wavenumber |q| (1/m) at DFT indices (kx, ky) of an `nx` x `ny` cell of elements of
+/// side `dx` (m); indices above n/2 stand for the negative wavevectors k - n.
+pub fn wavenumber(kx: usize, ky: usize, nx: usize, ny: usize, dx: f64) -> f64 {
     let wave = |k: usize, n: usize| {
         let k = if k <= n / 2 { k } else { n - k };
         2.0 * std::f64::consts::PI * k as f64 / (n as f64 * dx)
     };
-    let q = wave(kx, nx).hypot(wave(ky, ny));
-    if q > 0.0 {
-        0.5 / q
-    } else {
-        0.0
-    }
+    wave(kx, nx).hypot(wave(ky, ny))
 }
 
 /// Mean separation (m) of a periodic cell with separation `height` (m) before loading at

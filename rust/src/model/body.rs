@@ -2,17 +2,59 @@
 //! (`Scene::body`) and carried by its BEM grid. The body's operators, kernel tables and
 //! preconditioners are built in `crate::halfspace::body`, the only place that builds them;
 //! the engines ask the body what it can do (`windows`, `has_edge`) instead of what it is.
-//! A finite-thickness layer adds a variant here and its operators there.
+//! A finite-thickness layer on a rigid base (`Layer`) is a body of its own, free or
+//! periodic.
 
-use crate::support::error::{Error, Result};
+use crate::support::error::{check_finite_positive, Error, Result};
 use serde::{Deserialize, Serialize};
+
+/// How a layer is joined to its rigid base.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Deserialize, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Base {
+    /// Bonded: the layer's bottom does not move (no slip).
+    #[default]
+    Bonded,
+    /// Frictionless: the bottom stays on the base (no normal displacement) and slides
+    /// freely along it (no shear traction).
+    Frictionless,
+}
+
+impl Base {
+    /// The base's name in scene files ("bonded", "frictionless").
+    pub fn name(self) -> &'static str {
+        match self {
+            Base::Bonded => "bonded",
+            Base::Frictionless => "frictionless",
+        }
+    }
+}
+
+/// A layer of the scene's medium, of uniform thickness, on a rigid flat base: the scene
+/// key `layer` (absent: a half-space).
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Layer {
+    /// Thickness (m), > 0.
+    pub thickness: f64,
+    /// How the layer is joined to its base (default bonded).
+    #[serde(default)]
+    pub base: Base,
+}
+
+impl Layer {
+    /// Fails unless the thickness is finite and > 0.
+    pub fn validate(&self) -> Result<()> {
+        check_finite_positive("layer.thickness", self.thickness)
+    }
+}
 
 /// Mean separations below this fraction of the mean height count as full contact on a
 /// periodic cell (round-off of the mean over a large cell stays far below it).
 pub const FULL_CONTACT: f64 = 1e-9;
 
 /// The solid under the indenter, of the scene's medium.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Default, Deserialize, Serialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Body {
     /// A half-space with a free surface: pressure far from the contact is zero and the
@@ -23,14 +65,46 @@ pub enum Body {
     /// periodic height map): depths are approaches from the deflected surface's mean plane
     /// and forces are totals on the cell.
     Periodic,
+    /// A layer on a rigid base (`Layer`) of Poisson ratio `nu` (the medium's), with a free
+    /// surface, or with `periodic` one cell of a periodic one (depths and forces as on a
+    /// periodic half-space).
+    Layer {
+        /// Thickness and base.
+        layer: Layer,
+        /// Poisson ratio of the layer, -1 < nu <= 0.5.
+        nu: f64,
+        /// Whether the surface repeats with the periods of its grid.
+        periodic: bool,
+    },
 }
 
 impl Body {
-    /// The body's name ("halfspace", "periodic").
+    /// The body's name ("halfspace", "periodic", "layer", "periodic layer").
     pub fn name(self) -> &'static str {
         match self {
             Body::HalfSpace => "halfspace",
             Body::Periodic => "periodic",
+            Body::Layer {
+                periodic: false, ..
+            } => "layer",
+            Body::Layer { periodic: true, .. } => "periodic layer",
+        }
+    }
+
+    /// Whether the body's surface repeats with the periods of its grid.
+    pub fn is_periodic(self) -> bool {
+        match self {
+            Body::HalfSpace => false,
+            Body::Periodic => true,
+            Body::Layer { periodic, .. } => periodic,
+        }
+    }
+
+    /// The layer of a layered body; None for a half-space.
+    pub fn layer(self) -> Option<Layer> {
+        match self {
+            Body::Layer { layer, .. } => Some(layer),
+            Body::HalfSpace | Body::Periodic => None,
         }
     }
 
@@ -38,20 +112,16 @@ impl Body {
     /// contact, the elements outside carrying no pressure (a free surface's deflection
     /// inside depends only on the pressure inside); otherwise every solve takes the whole
     /// grid.
+    /// A layer takes the whole grid too: under a pressure its surface may rise around the
+    /// contact (an incompressible layer bulges), so a window's edge is no bound on it.
     pub fn windows(self) -> bool {
-        match self {
-            Body::HalfSpace => true,
-            Body::Periodic => false,
-        }
+        matches!(self, Body::HalfSpace)
     }
 
     /// Whether the grid has an edge a contact can reach (a periodic cell has none: its
     /// opposite edges meet).
     pub fn has_edge(self) -> bool {
-        match self {
-            Body::HalfSpace => true,
-            Body::Periodic => false,
-        }
+        !self.is_periodic()
     }
 
     /// Whether a cold depth-controlled solve is reached by force-controlled solves first: on
@@ -59,10 +129,7 @@ impl Body {
     /// deflection lifts the rest of its surface into contact, and Polonsky–Keer can end
     /// released there (`crate::bem::static_contact::load_to_separation`).
     pub fn loads_depth_by_force(self) -> bool {
-        match self {
-            Body::HalfSpace => false,
-            Body::Periodic => true,
-        }
+        self.is_periodic()
     }
 
     /// Fails on a depth `depth` (m) the body cannot be pressed to by depth control, its
@@ -71,11 +138,11 @@ impl Body {
     /// mean_height - depth; at zero the cell is in full contact under any force above the
     /// one that closes it (depth control leaves the force undetermined), and below zero no
     /// force reaches it: a mean separation within `FULL_CONTACT` of the mean height of zero,
-    /// or below, is refused. A free half-space takes any depth.
+    /// or below, is refused. A free surface takes any depth.
     pub fn check_depth(self, mean_height: f64, depth: f64) -> Result<()> {
-        match self {
-            Body::HalfSpace => Ok(()),
-            Body::Periodic => {
+        match self.is_periodic() {
+            false => Ok(()),
+            true => {
                 let separation = mean_height - depth;
                 if separation > FULL_CONTACT * mean_height.abs() {
                     Ok(())

@@ -27,6 +27,10 @@
 //!                         # | prony (G_inf, terms = [[G_k, tau_k], ...])
 //!                         # | powerlaw (G0, beta, t0)
 //! nu = 0.5                # Poisson ratio of any medium, -1 < nu <= 0.5, optional
+//!
+//! [layer]                 # optional: a layer of the medium on a rigid base in place of
+//! thickness = 5e-6        # the half-space (m); solved by BEM on a periodic height map
+//! base = "bonded"         # "bonded" (default) | "frictionless"
 //! ```
 
 use super::settings::{Method, RunSettings};

@@ -228,6 +228,7 @@ impl Scene {
             indenter,
             medium: take(&mut table, "medium")?
                 .ok_or_else(|| Error::InvalidInput("scene: missing key 'medium'".into()))?,
+            layer: take(&mut table, "layer")?,
             contact: take(&mut table, "contact")?.unwrap_or_default(),
             force: history(&mut table, "force", arrays.force.take())?,
             depth: history(&mut table, "depth", arrays.depth.take())?,
@@ -250,6 +251,7 @@ impl Scene {
         let Scene {
             indenter,
             medium,
+            layer,
             contact,
             force,
             depth,
@@ -263,6 +265,9 @@ impl Scene {
             ("indenter", indenter_model(indenter)),
             ("medium", text(medium)),
         ];
+        if let Some(layer) = layer {
+            keys.push(("layer", text(layer)));
+        }
         if !contact.is_hard() {
             keys.push(("contact", text(contact)));
         }

@@ -2,7 +2,7 @@
 //! validation and defaults and its TOML and JSON forms. `crate::run` solves it into a typed
 //! `Report`. Units are SI: m, s, N, Pa, Pa s.
 
-use super::body::Body;
+use super::body::{Body, Layer};
 use super::contact_law::ContactLaw;
 use super::{Indenter, Medium};
 use crate::model::loading::{DepthHistory, ForceHistory, Loading};
@@ -194,8 +194,12 @@ impl Output {
 pub struct Scene {
     /// The indenter.
     pub indenter: Indenter,
-    /// The half-space.
+    /// The half-space, or the layer's material.
     pub medium: Medium,
+    /// A layer of the medium on a rigid base in place of the half-space (absent: a
+    /// half-space).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub layer: Option<Layer>,
     /// How the indenter and the body interact (default hard contact).
     #[serde(default, skip_serializing_if = "ContactLaw::is_hard")]
     pub contact: ContactLaw,
@@ -250,6 +254,9 @@ impl Scene {
         self.indenter.validate()?;
         self.medium.validate()?;
         self.contact.validate()?;
+        if let Some(layer) = &self.layer {
+            layer.validate()?;
+        }
         match (&self.force, &self.depth) {
             (Some(f), None) => {
                 f.force(self.contact)?;
@@ -329,11 +336,20 @@ impl Scene {
     }
 
     /// The body the scene presses into, decided here once: one cell of a periodic surface
-    /// for a periodic height map, a free half-space otherwise.
+    /// for a periodic height map, a free surface otherwise; of a half-space, or of the
+    /// scene's layer (with the medium's Poisson ratio).
     pub fn body(&self) -> Body {
-        match &self.indenter {
+        let surface = match &self.indenter {
             Indenter::HeightMap(map) => map.body(),
             _ => Body::HalfSpace,
+        };
+        match self.layer {
+            None => surface,
+            Some(layer) => Body::Layer {
+                layer,
+                nu: self.medium.nu(),
+                periodic: surface.is_periodic(),
+            },
         }
     }
 
@@ -510,6 +526,7 @@ mod tests {
     fn viscous(indenter: Indenter) -> Scene {
         Scene {
             indenter,
+            layer: None,
             contact: ContactLaw::Hard,
             medium: Medium::Viscous {
                 eta: 1.0,

@@ -119,6 +119,7 @@ fn run_from(
             "for an axisymmetric indenter, only for a height map",
         )?;
     }
+    check_layer(scene, settings.method)?;
     crate::support::memory::check(
         &format!(
             "{} n = {}",
@@ -159,6 +160,18 @@ fn run_from(
     }
     report.wall_time = start.elapsed().as_secs_f64();
     Ok((report, pressure))
+}
+
+/// Fails unless a run by `method` can solve the scene's layer: BEM, whose operators take
+/// the layer's compliance (`crate::halfspace::layer`); MDR has no layer.
+fn check_layer(scene: &Scene, method: Method) -> Result<()> {
+    match scene.layer {
+        Some(layer) if method == Method::Mdr => Err(Error::InvalidInput(format!(
+            "MDR has no layer ({:e} m thick): a layer is solved by BEM (method \"bem\")",
+            layer.thickness
+        ))),
+        _ => Ok(()),
+    }
 }
 
 /// Bytes per BEM grid element of a run (buffers of the operator, the contact solver and the
@@ -587,6 +600,7 @@ mod tests {
     fn scene(indenter: Indenter, medium: Medium, force: History) -> Scene {
         Scene {
             indenter,
+            layer: None,
             contact: ContactLaw::Hard,
             medium,
             force: Some(force),

@@ -122,7 +122,9 @@ pub fn extent_needed(scene: &Scene) -> Result<f64> {
 
 /// The BEM grid of `scene` with n elements across (see `Indenter::bem_grid`).
 pub fn bem_grid(scene: &Scene, n: usize) -> Result<Grid> {
-    scene.indenter.bem_grid(n, bem_half_width(scene)?)
+    let mut grid = scene.indenter.bem_grid(n, bem_half_width(scene)?)?;
+    grid.body = scene.body();
+    Ok(grid)
 }
 
 /// The MDR foundation of `scene` with n elements.
