@@ -11,6 +11,7 @@ __all__ = [
     "DEFAULT_N",
     "EQUIVALENT_CONE_FACTOR",
     "MAGNITUDE",
+    "MAX_FILE_BYTES",
     "OUTPUTS",
     "QUANTITIES",
     "SOLVER_DEFAULTS",
@@ -37,6 +38,8 @@ __all__ = [
 ]
 
 MAGNITUDE: float
+#: Largest input file (bytes) the command lines read.
+MAX_FILE_BYTES: int
 EQUIVALENT_CONE_FACTOR: float
 #: (name, unit, kind ("series" or "field"), computed by default, height maps only) of each output.
 OUTPUTS: tuple[tuple[str, str, str, bool, bool], ...]
