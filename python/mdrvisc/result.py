@@ -36,6 +36,9 @@ SERIES = _of_kind("series")
 SCALARS = _of_kind("scalar")
 #: Tuples of integers.
 SHAPES = _of_kind("shape")
+#: Entries of a result file under this prefix are a store's (:mod:`mdrvisc.store`), not the
+#: result's: :meth:`Result.load` skips them.
+STORE_PREFIX = "store/"
 
 
 @dataclasses.dataclass(frozen=True)
@@ -191,6 +194,8 @@ class Result:
         fields: dict[int, dict] = {}
         values = {}
         for key, array in items.items():
+            if key.startswith(STORE_PREFIX):  # what a store keeps beside the result
+                continue
             if key.startswith("fields/"):
                 _, index, name = key.split("/")
                 fields.setdefault(int(index), {})[name] = float(array) if name == "t" else array
