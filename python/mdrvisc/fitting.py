@@ -37,6 +37,10 @@ from .media import PowerLaw, Prony, _Medium, _young
 __all__ = ["fit", "FitResult"]
 
 
+#: Most Prony terms a fit estimates its start for (relaxation times a decade apart).
+DECADES = 30
+
+
 @dataclasses.dataclass(eq=False)
 class FitResult:
     """A medium fitted to an indentation curve.
@@ -151,8 +155,13 @@ class FitResult:
         rows += [(name, value, self.young_stderr[name], young[name])
                  for name, value in self.young_moduli.items()]
         for name, value, err, of in rows:
-            rel = "held" if of not in self.free else f"{err / value:.2e}"
-            lines.append(f"  {name:<14}{value:>14.6g}{err:>14.3g}{rel:>11}")
+            if of not in self.free:
+                rel = "held"
+            elif value != 0 and err > 0 and np.isfinite(err):
+                rel = f"{err / value:.2e}"
+            else:  # ran to 0, or no spread: no standard error to speak of
+                err, rel = np.nan, "undetermined"
+            lines.append(f"  {name:<14}{value:>14.6g}{err:>14.3g}{rel:>13}")
         lines.append(f"  {'nu':<14}{self.nu:>14.6g}{'':>14}{'held':>11}")
         for name, value in (("contact_point", self.contact_point), ("baseline", self.baseline)):
             if value is not None:
@@ -288,6 +297,12 @@ def fit(indenter: Indenter, model: _Medium | type, t: ArrayLike, *, depth: Array
     cls, guess, nu = _model_class(model, fixed, nu)
     if cls is Prony and guess is None:
         terms = _integer("fit", "terms", terms, 1)
+        # the guesses space the relaxation times a decade apart, from about the span down
+        most = min((data.t.size - 1) // 2, DECADES)
+        if terms > most:
+            raise InvalidInputError(
+                f"fit: terms = {terms} is more Prony terms than {data.t.size} samples can tell apart "
+                f"(2 parameters each, their relaxation times a decade apart): at most {max(most, 0)}")
 
     # the forward model on the half profile, prepared once, and the initial guess
     raw, t, w = data.raw, data.t, data.weights
