@@ -14,6 +14,7 @@ import math
 import numpy as np
 
 from ._fit_checks import array
+from ._validate import _float
 from .errors import DataError, InvalidInputError
 
 #: The first fraction of the approach (up to the highest piezo position) that must lie before
@@ -42,9 +43,9 @@ def raw_input(depth, force, piezo, deflection, spring_constant, control) -> tupl
     if control != "depth":
         raise InvalidInputError(f"fit: a raw AFM curve is depth-controlled (the piezo moves); "
                                 f"control={control!r}")
-    k = float(spring_constant)
-    if not (math.isfinite(k) and k > 0):
-        raise InvalidInputError(f"fit: spring_constant must be > 0 (N/m), got {spring_constant!r}")
+    k = _float(spring_constant)
+    if k is None or not (math.isfinite(k) and k > 0):
+        raise InvalidInputError(f"fit: spring_constant must be > 0 (N/m), got {spring_constant!r:.80}")
     return array("piezo", piezo), array("deflection", deflection), k
 
 

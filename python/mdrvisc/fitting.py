@@ -323,8 +323,9 @@ def fit(indenter: Indenter, model: _Medium | type, t: ArrayLike, *, depth: Array
     if control == "depth" and set(moduli(values0)) <= set(free):
         asked = [name for name in free if name != moduli(values0)[0]]
     scale = float(np.max(np.abs(data.measured)))
+    # a flat punch's profile spans its footprint, all of it in contact: no end to reach
     problem = Problem(curve, cls, values0, nu, free, asked, raw, free_raw, data.measured,
-                      np.sqrt(w) / scale, n)
+                      np.sqrt(w) / scale, None if indenter.is_flat else n)
     solution = levenberg_marquardt(problem, problem.x0(), max_iter=max_iter)
     result = _result(problem, solution, data, control, scale, start)
     for message in result.warnings:
@@ -421,7 +422,7 @@ def _result(problem: Problem, solution: Solution, data: _Data, control: str, sca
                             f"fitted contact point ({z_c:.6g} m) {before} samples of the approach are before "
                             f"contact, fewer than {BASELINE_SAMPLES}")
         afm = {"contact_point": z_c, "baseline": b, "spring_constant": raw.k, "depth": d}
-    if np.any(contact == problem.n):
+    if problem.n is not None and np.any(contact == problem.n):
         raise DomainError("fit: the fitted contact reaches the end of the 1D profile; the data's depths "
                           "are beyond the indenter's footprint")
     r, jac = solution.residuals, solution.jacobian

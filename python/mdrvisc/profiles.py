@@ -12,7 +12,7 @@ from numpy.typing import ArrayLike
 
 from . import _core
 from ._validate import _array, _optional_positive
-from .errors import InvalidInputError
+from .errors import InvalidInputError, MdrviscError
 from .geometry import Indenter
 
 __all__ = ["Axisymmetric", "Profile", "PROFILE_SAMPLES"]
@@ -195,6 +195,10 @@ class _Function:
         size = radius or (None if edge is None else 0.5 * edge) or 1.0
         values = self._call(f, "f", size * np.array([0.0, 0.25, 0.5, 1.0]))
         self.scale = float(np.max(np.abs(values[1:])))
+        if self.scale == 0.0:
+            raise InvalidInputError(
+                f"Axisymmetric: f is 0 at r = 0, {0.25 * size!r}, {0.5 * size!r} and {size!r} m: a flat "
+                f"profile has no contact radius to solve for (a flat punch is mdrvisc.Rod)")
         if abs(values[0]) > 1e-12 * self.scale:
             raise InvalidInputError(
                 f"Axisymmetric: f(0) must be 0 (the tip is the origin), got {float(values[0])!r}"
@@ -205,9 +209,20 @@ class _Function:
 
     @staticmethod
     def _call(func, name, r):
-        """``func(r)`` as a finite float64 array of r's shape, or InvalidInputError."""
+        """``func(r)`` as a finite float64 array of r's shape, or InvalidInputError (naming
+        the function, when it raised)."""
         try:
-            out = np.broadcast_to(np.asarray(func(r), dtype=np.float64), r.shape)
+            values = func(r)
+        except MdrviscError:
+            raise
+        except Exception as exc:  # the caller's function: any of its errors is a bad profile
+            label = getattr(func, "__qualname__", repr(func))
+            raise InvalidInputError(
+                f"Axisymmetric: {name} = {label} raised {type(exc).__name__} at radii from "
+                f"{float(r.min())!r} to {float(r.max())!r} m: {exc}"
+            ) from exc
+        try:
+            out = np.broadcast_to(np.asarray(values, dtype=np.float64), r.shape)
         except (TypeError, ValueError) as exc:
             raise InvalidInputError(
                 f"Axisymmetric: {name} must map an array of radii to an array of the same "

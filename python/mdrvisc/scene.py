@@ -261,9 +261,10 @@ class Scene:
 
     @classmethod
     def from_toml(cls, path) -> Scene:
-        """The scene of the scene file at ``path`` (its ``method`` and ``n`` are
-        :func:`mdrvisc.scenefile.load_scene`'s)."""
-        return cls._from_core(_core.load_scene_file(str(path))[0])
+        """The scene of the scene file at ``path``, with or without ``method`` and ``n`` (as
+        :meth:`to_toml` writes it without them; :func:`mdrvisc.scenefile.load_scene` gives
+        them too)."""
+        return cls._from_core(_core.read_scene_file(str(path)))
 
     @classmethod
     def _from_core(cls, core, indenter: Indenter | HeightMap | None = None,

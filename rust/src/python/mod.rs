@@ -43,7 +43,9 @@ mod core_module {
     #[pymodule_export]
     use super::report::{PyFieldSet, PyReport};
     #[pymodule_export]
-    use super::scene::{load_scene_file, parse_scene_file, parse_scene_table, run_scene, PyScene};
+    use super::scene::{
+        load_scene_file, parse_scene_file, parse_scene_table, read_scene_file, run_scene, PyScene,
+    };
 
     /// Imports NumPy's C API and adds the schema: `OUTPUTS`, `QUANTITIES`,
     /// `SOLVER_DEFAULTS`, `DEFAULT_N`.
