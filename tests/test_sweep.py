@@ -446,3 +446,38 @@ def test_a_damaged_store_entry_is_solved_again_with_a_warning(tmp_path):
     assert again.loaded == 2 and again.computed == 1
     for a, b in zip(first.results, again.results):
         np.testing.assert_array_equal(a.depth, b.depth)
+
+
+@pytest.mark.skipif(sys.platform == "win32", reason="sends SIGINT to this process")
+def test_ctrl_c_cancels_a_dask_sweep_within_a_second(client):
+    """Ctrl-C of a Dask sweep raises at once and cancels its tasks on the cluster."""
+    base = mv.Scene(indenter=mv.Paraboloid(c=1.0), medium=mv.StandardSolid(G_inf=1.0, G1=3.0, tau1=1.0),
+                    force=0.5, duration=2.0, dt=1e-6)
+    scenes = mv.sweep_scenes(base, medium__tau1=[0.1 * (1 + k) for k in range(6)])
+    sent = []
+
+    def interrupt_once_busy():
+        deadline = time.monotonic() + 30
+        while time.monotonic() < deadline and not any(client.processing().values()):
+            time.sleep(0.01)
+        time.sleep(0.5)
+        sent.append(time.monotonic())
+        signal.pthread_kill(threading.main_thread().ident, signal.SIGINT)
+
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    interrupter = threading.Thread(target=interrupt_once_busy)
+    try:
+        interrupter.start()
+        with pytest.raises(KeyboardInterrupt):
+            mv.solve_many(scenes, "mdr", 20001, client=client, progress=False)
+        stopped = time.monotonic() - sent[0]
+        interrupter.join()
+    finally:
+        signal.signal(signal.SIGINT, previous)
+    assert stopped < 1.0, f"stopped {stopped:.2f} s after SIGINT"
+    deadline = time.monotonic() + 10
+    while time.monotonic() < deadline and any(client.processing().values()):
+        time.sleep(0.05)
+    assert not any(client.processing().values()), client.processing()
+    client.restart()  # the workers' threads still run the cancelled chunks: start them afresh
+    client.run(mv.set_num_threads, 1)

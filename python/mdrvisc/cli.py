@@ -1,7 +1,8 @@
 """Command line: ``mdrvisc paper [--out DIR] [--scenes DIR] [--quick] [--no-study] [--json]`` and
 ``mdrvisc run SCENE.toml [--json] [--out FILE]`` and ``mdrvisc sweep SWEEP.toml [--scheduler
-ADDRESS] [--store DIR] [--json] [--out FILE]`` and ``mdrvisc fit DATA.csv --indenter sphere:radius=5e-6 --model
-standardsolid [--control depth] [--spring-constant K] [--json]`` (also ``python -m mdrvisc ...``).
+ADDRESS] [--store DIR] [--json] [--out FILE]`` and ``mdrvisc fit DATA.csv --indenter
+sphere:radius=5e-6 --model standardsolid [--control depth] [--spring-constant K] [--json]``
+(also ``python -m mdrvisc ...``).
 
 Results go to stdout (tables, or one JSON document with ``--json``), progress and warnings
 (``warning: ...`` lines) to stderr; ``--out FILE`` also writes them to a file, its format

@@ -74,7 +74,8 @@ def _array_or_none(name, value):
 
 def _json(model):
     """``model`` as JSON text; a non-finite number is an error naming its key (searched for
-    only when the encoder refuses one: a height map's million numbers are not walked)."""
+    only when the encoder refuses one: a height map's million numbers are not walked), a
+    value JSON has no form for (a complex number, an object) an error too."""
     def walk(value, path):
         if isinstance(value, float) and not math.isfinite(value):
             raise InvalidInputError(f"Scene: {path} must be finite, got {value!r}")
@@ -89,6 +90,9 @@ def _json(model):
     except ValueError:
         walk(model, "")
         raise
+    except TypeError as exc:  # e.g. "Object of type complex is not JSON serializable"
+        raise InvalidInputError(f"Scene: every value must be a number, a string or a list of them: "
+                                f"{exc}") from None
 
 
 def _split(table: dict) -> tuple[dict, dict]:

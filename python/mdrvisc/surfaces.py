@@ -103,9 +103,9 @@ def self_affine(shape: tuple[int, int], dx: float, hurst: float, rms_slope: floa
                              short_cutoff=cutoff, seed=seed)
     modes = _modes(nx, ny, dx, cutoff)
     if modes < MIN_MODES:
-        warnings.warn(f"self_affine: only about {modes} independent Fourier modes of the {ny} x {nx} grid lie "
-                      f"below the short cutoff: the surface is a sum of {modes} cosines, far from Gaussian "
-                      f"and self-affine (enlarge the grid or shorten the cutoff)", ResolutionWarning,
+        warnings.warn(f"self_affine: only about {modes} independent Fourier modes of the {ny} x {nx} grid "
+                      f"lie below the short cutoff: the surface is a sum of {modes} cosines, far from "
+                      f"Gaussian and self-affine (enlarge the grid or shorten the cutoff)", ResolutionWarning,
                       stacklevel=2)
     return heights
 
@@ -181,4 +181,7 @@ def psd(heights: ArrayLike, dx: float) -> tuple[np.ndarray, np.ndarray]:
     filled = counts > 0
     q_mean = np.bincount(ring[keep], weights=q[keep], minlength=1)[filled] / counts[filled]
     c_mean = np.bincount(ring[keep], weights=c[keep], minlength=1)[filled] / counts[filled]
+    if not (np.all(np.isfinite(q_mean)) and np.all(np.isfinite(c_mean))):
+        raise InvalidInputError(f"psd: the spectrum of heights up to {float(np.max(np.abs(h))):.3g} m on "
+                                f"elements of {dx:.3g} m overflows float64: rescale the units")
     return q_mean, c_mean

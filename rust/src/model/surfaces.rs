@@ -354,7 +354,10 @@ mod tests {
                 ..ok
             },
         ] {
-            assert!(matches!(self_affine(&bad, 1, &Stop::default()), Err(Error::InvalidInput(_))));
+            assert!(matches!(
+                self_affine(&bad, 1, &Stop::default()),
+                Err(Error::InvalidInput(_))
+            ));
         }
     }
 }
