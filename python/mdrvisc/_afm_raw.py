@@ -29,6 +29,14 @@ CONTACT_SIGMAS = 3.0
 RAW_NAMES = ("contact_point", "baseline")
 
 
+def _length(name: str, value: object) -> float:
+    """``value`` as a finite float (m), or InvalidInputError naming ``name``."""
+    number = _float(value)
+    if number is None or not math.isfinite(number):
+        raise InvalidInputError(f"fit: {name} must be a finite number (m), got {value!r:.80}")
+    return number
+
+
 def raw_input(depth, force, piezo, deflection, spring_constant, control) -> tuple | None:
     """(piezo, deflection, k) of a raw AFM curve, None for depth and force, or an error
     naming what is missing or given twice."""
@@ -84,7 +92,7 @@ class AfmCurve:
             raise DataError(f"fit: a raw AFM curve needs a contact-free start (the baseline): the "
                             f"deflection changes by {slope * (count - 1):.3g} m over the first {count} "
                             f"samples, more than 5 times its scatter about a line ({scatter:.3g} m)")
-        b = median if baseline is None else float(baseline)
+        b = median if baseline is None else _length("baseline", baseline)
         above = deflection[:top + 1] - b > CONTACT_SIGMAS * sigma
         if not np.any(above[count:]):
             raise DataError(f"fit: a raw AFM curve never reaches contact: the deflection never exceeds the "
@@ -92,7 +100,7 @@ class AfmCurve:
         deepest = int(np.argmax(deflection[:top + 1]))
         below = np.flatnonzero(~above[:deepest + 1])
         first = int(below[-1]) if below.size else 0
-        z_c = float(z[first]) if contact_point is None else float(contact_point)
+        z_c = float(z[first]) if contact_point is None else _length("contact_point", contact_point)
         if not z_c > z[0]:
             raise DataError(f"fit: the contact point ({z_c:.6g} m) must lie after the first sample "
                             f"(piezo {z[0]:.6g} m)")
