@@ -115,9 +115,12 @@ def test_axisymmetric_wraps_the_profiles_own_errors_naming_it(f, kind):
 
 
 def test_a_flat_axisymmetric_is_refused_at_once():
-    """A flat Axisymmetric took 16 s to be refused."""
+    """A flat Axisymmetric without a footprint took 16 s to be refused (with a disc or a
+    square footprint it is a flat punch, and stays one)."""
     with pytest.raises(mv.InvalidInputError, match="flat"):
         mv.Axisymmetric(lambda r: np.zeros_like(r))
+    punch = mv.Axisymmetric(lambda r: np.zeros_like(r), radius=0.5)
+    assert punch.contact_radius_at_depth(1e-3) == 0.5
 
 
 @pytest.mark.parametrize("k", ["a", None, [1.0], 1j, -1.0, float("nan")])

@@ -195,10 +195,11 @@ class _Function:
         size = radius or (None if edge is None else 0.5 * edge) or 1.0
         values = self._call(f, "f", size * np.array([0.0, 0.25, 0.5, 1.0]))
         self.scale = float(np.max(np.abs(values[1:])))
-        if self.scale == 0.0:
+        if self.scale == 0.0 and radius is None and edge is None:
             raise InvalidInputError(
                 f"Axisymmetric: f is 0 at r = 0, {0.25 * size!r}, {0.5 * size!r} and {size!r} m: a flat "
-                f"profile has no contact radius to solve for (a flat punch is mdrvisc.Rod)")
+                f"profile without a footprint has no contact radius to solve for (a flat punch is "
+                f"mdrvisc.Rod, or give a radius or an edge)")
         if abs(values[0]) > 1e-12 * self.scale:
             raise InvalidInputError(
                 f"Axisymmetric: f(0) must be 0 (the tip is the origin), got {float(values[0])!r}"
