@@ -193,7 +193,7 @@ class _Function:
     def __init__(self, f, df, radius, edge):
         self.f, self.df, self.radius = f, df, radius
         size = radius or (None if edge is None else 0.5 * edge) or 1.0
-        values = self._call(f, "f", size * np.array([0.0, 0.25, 0.5, 1.0]))
+        values = self._call(f, "f", size * np.array([0.0, 0.25, 0.5, 1.0]), checking=True)
         self.scale = float(np.max(np.abs(values[1:])))
         if self.scale == 0.0 and radius is None and edge is None:
             raise InvalidInputError(
@@ -205,26 +205,28 @@ class _Function:
                 f"Axisymmetric: f(0) must be 0 (the tip is the origin), got {float(values[0])!r}"
             )
         if df is not None:
-            self._call(df, "df", size * np.array([0.25, 0.5]))
+            self._call(df, "df", size * np.array([0.25, 0.5]), checking=True)
         self.sin_theta, self.weights = _tanh_sinh_sin_nodes()
 
     @staticmethod
-    def _call(func, name, r):
-        """``func(r)`` as a finite float64 array of r's shape, or InvalidInputError (naming
-        the function, when it raised)."""
+    def _call(func, name, r, checking=False):
+        """``func(r)`` as a finite float64 array of r's shape, or InvalidInputError. While
+        ``checking`` (at construction) any error of the function itself is an
+        InvalidInputError naming it; later (inside a computation) an error other than a
+        TypeError or ValueError comes back as itself."""
         try:
-            values = func(r)
+            out = np.broadcast_to(np.asarray(func(r), dtype=np.float64), r.shape)
         except MdrviscError:
             raise
-        except Exception as exc:  # the caller's function: any of its errors is a bad profile
-            label = getattr(func, "__qualname__", repr(func))
-            raise InvalidInputError(
-                f"Axisymmetric: {name} = {label} raised {type(exc).__name__} at radii from "
-                f"{float(r.min())!r} to {float(r.max())!r} m: {exc}"
-            ) from exc
-        try:
-            out = np.broadcast_to(np.asarray(values, dtype=np.float64), r.shape)
-        except (TypeError, ValueError) as exc:
+        except Exception as exc:
+            if checking:
+                label = getattr(func, "__qualname__", repr(func))
+                raise InvalidInputError(
+                    f"Axisymmetric: {name} = {label} raised {type(exc).__name__} at radii from "
+                    f"{float(r.min())!r} to {float(r.max())!r} m: {exc}"
+                ) from exc
+            if not isinstance(exc, (TypeError, ValueError)):
+                raise
             raise InvalidInputError(
                 f"Axisymmetric: {name} must map an array of radii to an array of the same "
                 f"shape ({exc})"
