@@ -214,8 +214,12 @@ class _Function:
         ``checking`` (at construction) any error of the function itself is an
         InvalidInputError naming it; later (inside a computation) an error other than a
         TypeError or ValueError comes back as itself."""
+        def not_an_array(exc):
+            return InvalidInputError(f"Axisymmetric: {name} must map an array of radii to an array "
+                                     f"of the same shape ({exc})")
+
         try:
-            out = np.broadcast_to(np.asarray(func(r), dtype=np.float64), r.shape)
+            values = func(r)
         except MdrviscError:
             raise
         except Exception as exc:
@@ -225,12 +229,13 @@ class _Function:
                     f"Axisymmetric: {name} = {label} raised {type(exc).__name__} at radii from "
                     f"{float(r.min())!r} to {float(r.max())!r} m: {exc}"
                 ) from exc
-            if not isinstance(exc, (TypeError, ValueError)):
-                raise
-            raise InvalidInputError(
-                f"Axisymmetric: {name} must map an array of radii to an array of the same "
-                f"shape ({exc})"
-            ) from None
+            if isinstance(exc, (TypeError, ValueError)):
+                raise not_an_array(exc) from None
+            raise
+        try:
+            out = np.broadcast_to(np.asarray(values, dtype=np.float64), r.shape)
+        except (TypeError, ValueError) as exc:
+            raise not_an_array(exc) from None
         bad = ~np.isfinite(out)
         if bad.any():
             raise InvalidInputError(
