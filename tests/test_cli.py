@@ -348,3 +348,130 @@ def test_force_history_in_a_scene_file_is_the_scene_force_history():
     # (the grids, sized by the final impulse, differ: fine enough that this is ~1e-8)
     constant = mv.solve(parse_scene(edit("force", 1.0))[0], method, 20001)
     assert mv.solve(scene, method, 20001).depth[0] == pytest.approx(constant.depth[0], rel=1e-6)
+
+
+def _one_line_error(status, err, *words):
+    """Exit 2 with a single ``error: ...`` line containing each of ``words``."""
+    lines = [line for line in err.splitlines() if line.startswith("error:")]
+    assert status == 2 and len(lines) == 1 and "Traceback" not in err, (status, err[-2000:])
+    for word in words:
+        assert word in lines[0], (word, lines[0])
+
+
+@pytest.fixture(scope="module")
+def curve_file(tmp_path_factory):
+    """A CSV curve (t, depth, force) of a standard solid under a sphere, made by mv.solve."""
+    t = np.linspace(0.02, 1.0, 50)
+    scene = mv.Scene(indenter=mv.Sphere(5e-6), medium=mv.StandardSolid(1e3, 2e3, 0.2),
+                     depth=([0.0, 1.0], [0.0, 1e-6]), duration=1.0, times=t)
+    r = mv.solve(scene, "mdr", 2001)
+    path = tmp_path_factory.mktemp("curve") / "curve.csv"
+    np.savetxt(path, np.c_[r.t, r.depth, r.force], delimiter=",", header="t,depth,force", comments="")
+    return path
+
+
+SPHERE = ("--indenter", "sphere:radius=5e-6")
+
+
+@pytest.mark.skipif(not Path("/dev/zero").exists(), reason="needs /dev/zero")
+@pytest.mark.parametrize("command", ["fit", "sweep", "run"])
+def test_endless_input_files_stop_at_the_size_bound(command):
+    """fit and sweep read /dev/zero without a bound and exited with an empty 'error: '."""
+    extra = (*SPHERE, "--model", "elastic") if command == "fit" else ()
+    # in a child: an unbounded read never ends
+    out = subprocess.run([sys.executable, "-m", "mdrvisc", command, "/dev/zero", *extra],
+                         capture_output=True, text=True, timeout=120)
+    _one_line_error(out.returncode, out.stderr, "/dev/zero", str(mv._core.MAX_FILE_BYTES))
+
+
+@pytest.mark.parametrize("text,words", [
+    ("", ["empty", "header"]),
+    ("t,depth,force\n", ["no rows"]),
+    ("t;depth;force\n0.1;1e-7;1e-9\n", ["comma", "semicolon"]),
+    ("t,depth,force\n0.1,1e-7\n", ["line 2", "2 values", "3 columns"]),
+    ("t,depth,force\n0.1,1e-7,abc\n", ["line 2", "'abc'"]),
+])
+def test_bad_csv_files_are_one_line_errors(tmp_path, text, words):
+    """An empty CSV printed a Python traceback; wrong column counts numpy's 51-line 'Some
+    errors were detected !'; a semicolon CSV numpy's 'could not convert'."""
+    path = tmp_path / "curve.csv"
+    path.write_text(text)
+    status, _, err = run_cli("fit", str(path), *SPHERE, "--model", "elastic")
+    _one_line_error(status, err, str(path), *words)
+
+
+@pytest.mark.parametrize("command", ["fit", "sweep"])
+def test_non_utf8_files_are_reported_with_their_name(tmp_path, command):
+    path = tmp_path / "latin1.csv"
+    path.write_bytes("t,depth,force\n# \xe9\n".encode("latin-1"))
+    extra = (*SPHERE, "--model", "elastic") if command == "fit" else ()
+    status, _, err = run_cli(command, str(path), *extra)
+    _one_line_error(status, err, str(path), "UTF-8")
+
+
+def test_a_byte_order_mark_is_accepted_in_sweep_files_as_in_scene_files(tmp_path):
+    source = EXAMPLES / "sweeps" / "relaxation_times.toml"
+    path = tmp_path / "bom.toml"
+    path.write_bytes(b"\xef\xbb\xbf" + source.read_bytes())
+    assert len(mv.load_sweep(path)[0]) == len(mv.load_sweep(source)[0])
+
+
+def test_unknown_indenter_keys_list_the_accepted_ones(curve_file):
+    """--indenter sphere:r=5e-6 answered 'Sphere.__init__() got an unexpected keyword
+    argument 'r''."""
+    status, _, err = run_cli("fit", str(curve_file), "--indenter", "sphere:r=5e-6", "--model", "elastic")
+    _one_line_error(status, err, "'r'", "radius")
+    status, _, err = run_cli("fit", str(curve_file), "--indenter", "cone:", "--model", "elastic")
+    _one_line_error(status, err, "slope")
+
+
+def test_too_many_prony_terms_is_a_terms_error(curve_file):
+    """--terms 100000 was reported as a tau_k range error."""
+    status, _, err = run_cli("fit", str(curve_file), *SPHERE, "--model", "prony", "--terms", "100000")
+    _one_line_error(status, err, "terms")
+    assert "tau" not in err
+
+
+def test_the_fit_table_has_no_relative_error_for_a_parameter_at_zero(curve_file):
+    """A parameter that ran to 0 printed a relative error of +inf beside a standard error 0."""
+    result = mv.fit(mv.Sphere(5e-6), mv.StandardSolid, *np.loadtxt(curve_file, delimiter=",",
+                                                                   skiprows=1).T[:1],
+                    depth=np.loadtxt(curve_file, delimiter=",", skiprows=1)[:, 1],
+                    force=np.loadtxt(curve_file, delimiter=",", skiprows=1)[:, 2])
+    result.parameters["G_inf"] = 0.0
+    result.stderr["G_inf"] = 0.0
+    text = repr(result)
+    row = next(line for line in text.splitlines() if line.strip().startswith("G_inf"))
+    assert "inf" not in row.replace("G_inf", "") and "undetermined" in row, row
+
+
+def test_run_out_writes_json_csv_and_npz(tmp_path):
+    scene = EXAMPLES / "paraboloid_c1_mdr.toml"
+    status, out, _ = run_cli("run", str(scene), "--json", "--no-progress")
+    assert status == 0
+    for suffix in (".json", ".csv", ".npz"):
+        path = tmp_path / f"out{suffix}"
+        assert run_cli("run", str(scene), "--no-progress", "--out", str(path))[0] == 0
+        document = json.loads(out)[0]["result"]
+        if suffix == ".json":
+            written = json.loads(path.read_text())[0]["result"]
+            assert written["depth"] == document["depth"] and written["t"] == document["t"]
+        elif suffix == ".csv":
+            rows = list(csv.DictReader(path.open()))
+            assert [float(r["depth"]) for r in rows] == document["depth"]
+            assert [float(r["t"]) for r in rows] == document["t"]
+        else:
+            result = mv.Result.load(path)
+            assert result.depth is not None and len(result.t) == len(rows)
+    status, _, err = run_cli("run", str(scene), "--no-progress", "--out", str(tmp_path / "out.txt"))
+    _one_line_error(status, err, ".csv")
+
+
+def test_sweep_out_writes_the_table(tmp_path):
+    path = EXAMPLES / "sweeps" / "relaxation_times.toml"
+    status, out, _ = run_cli("sweep", str(path), "--json", "--no-progress", "--out", str(tmp_path / "t.csv"))
+    assert status == 0
+    rows = json.loads(out)
+    written = list(csv.DictReader((tmp_path / "t.csv").open()))
+    assert len(written) == len(rows) and set(written[0]) == set(rows[0])
+    assert [float(r["depth"]) for r in written] == [r["depth"] for r in rows]

@@ -12,6 +12,7 @@ printed at the end of the run (``tests/conftest.py``). Hypothesis is derandomize
 import math
 import subprocess
 import sys
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -421,3 +422,273 @@ def test_python_m_mdrvisc_and_the_binary_print_usage_on_no_arguments(binary):
     for argv in ([sys.executable, "-m", "mdrvisc"], [str(binary)]):
         out = subprocess.run(argv, capture_output=True, text=True, timeout=60)
         assert out.returncode == 2 and "usage" in out.stderr.lower(), out.stderr
+
+
+# --- the fit, sweep, store, surfaces and result-file entry points -------------------------
+
+#: Sample arrays for the fit: a plausible curve (times, depths, forces of one shape) three
+#: times in four, else hostile arrays or values.
+CURVE_ARRAYS = st.one_of(
+    st.just("plausible"), st.just("plausible"), st.just("plausible"),
+    st.sampled_from(["empty", "nan", "inf", "negative", "unsorted", "short", "2-d", "strings", "huge"]),
+    NUMBERS,
+)
+
+
+def curve_array(kind, base):
+    """A hostile variant ``kind`` of the plausible array ``base`` (or ``kind`` itself)."""
+    variants = {
+        "plausible": base,
+        "empty": np.array([]),
+        "nan": np.where(np.arange(base.size) == 2, np.nan, base),
+        "inf": np.where(np.arange(base.size) == 1, np.inf, base),
+        "negative": -base,
+        "unsorted": base[::-1].copy(),
+        "short": base[:1],
+        "2-d": np.vstack([base, base]),
+        "strings": base.astype(str),
+        "huge": base * 1e300,
+    }
+    return variants[kind] if isinstance(kind, str) and kind in variants else kind
+
+
+FIT_T = np.linspace(0.1, 1.0, 8)
+
+
+@FUZZ
+@given(
+    t=CURVE_ARRAYS,
+    depth=CURVE_ARRAYS,
+    force=CURVE_ARRAYS,
+    model=st.sampled_from([mv.Elastic, mv.Viscous, mv.KelvinVoigt, mv.Maxwell, mv.StandardSolid, mv.Prony,
+                           mv.PowerLaw, mv.StandardSolid(1e3, 1e3, 0.5), "standardsolid", 3]),
+    control=mostly(st.sampled_from(["depth", "force"]), st.sampled_from(["piezo", None, 1])),
+    nu=mostly(st.sampled_from([None, 0.5, 0.3])),
+    terms=mostly(st.integers(1, 3), st.one_of(NUMBERS, st.just(10**6))),
+    n=mostly(st.integers(8, 40)),
+    substeps=mostly(st.integers(1, 3), st.one_of(NUMBERS, st.just(10**9))),
+    indenter=st.sampled_from(["sphere", "rod", "cone"]),
+)
+def test_fit(t, depth, force, model, control, nu, terms, n, substeps, indenter):
+    tip = {"sphere": mv.Sphere(5e-6), "rod": mv.Rod(1e-6), "cone": mv.Cone(0.4)}[indenter]
+
+    def run():
+        result = mv.fit(tip, model, curve_array(t, FIT_T), depth=curve_array(depth, 1e-7 * FIT_T),
+                        force=curve_array(force, 1e-9 * FIT_T), control=control, nu=nu, terms=terms, n=n,
+                        substeps=substeps, max_iter=5)
+        return np.array(list(result.parameters.values()) + [result.rms])
+
+    outcome("fit", run)
+
+
+@FUZZ
+@given(
+    piezo=CURVE_ARRAYS,
+    deflection=CURVE_ARRAYS,
+    spring_constant=mostly(st.sampled_from([0.05, 1.0])),
+    contact_point=mostly(st.none()),
+)
+def test_fit_raw_afm(piezo, deflection, spring_constant, contact_point):
+    t = np.linspace(0.0, 1.0, 40)
+    z = np.where(t < 0.5, 1e-7 * (t - 0.4), 1e-7 * (0.6 - t))
+
+    def run():
+        result = mv.fit(mv.Sphere(5e-6), mv.StandardSolid, t, piezo=curve_array(piezo, z),
+                        deflection=curve_array(deflection, np.maximum(z, 0.0) * 0.1),
+                        spring_constant=spring_constant, contact_point=contact_point, n=16, max_iter=3)
+        return np.array(list(result.parameters.values()))
+
+    outcome("fit (raw AFM)", run)
+
+
+SWEEP_BASE = mv.Scene(indenter=mv.Paraboloid(c=1.0), medium=mv.StandardSolid(1.0, 3.0, 0.5), force=0.5,
+                      duration=1.0, times=[0.5, 1.0])
+
+
+@FUZZ
+@given(
+    tau=st.lists(mostly(st.floats(0.1, 5.0)), min_size=0, max_size=3),
+    extra=st.sampled_from([None, "not a scene", 3]),
+    method=mostly(st.just("mdr"), st.sampled_from(["bem", "fem", None, 1])),
+    n=mostly(st.integers(1, 301), st.one_of(NUMBERS, st.just(2**64))),
+    workers=mostly(st.just(1), st.one_of(NUMBERS, st.just(0))),
+    option=st.sampled_from([{}, {"dt": 0.01}, {"tol": math.nan}, {"nope": 1}, {"max_iter": -1},
+                            {"integrator": "euler"}]),
+)
+def test_solve_many(tau, extra, method, n, workers, option):
+    def run():
+        scenes = mv.sweep_scenes(SWEEP_BASE, medium__tau1=tau) if tau else []
+        if extra is not None:
+            scenes.append(extra)
+        valid_n = isinstance(n, int) and not isinstance(n, bool) and n > 0
+        size = min(n, 9) if valid_n and method == "bem" else n
+        sweep = mv.solve_many(scenes, method, size, progress=False, workers=workers, **option)
+        for failure in sweep.failures:
+            if not isinstance(failure.error, mv.MdrviscError):
+                raise failure.error
+        return np.concatenate([[0.0]] + [r.depth for r in sweep.results if r is not None])
+
+    outcome("solve_many", run)
+
+
+#: Bytes of a stored file: garbage, truncations and foreign archives of a valid result.
+def _valid_result_bytes(tmp_path):
+    path = tmp_path / "valid.npz"
+    mv.solve(SWEEP_BASE, "mdr", 101).save(path)
+    return path.read_bytes()
+
+
+@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(
+    cut=st.one_of(st.none(), st.integers(0, 4000)),
+    garbage=st.binary(max_size=200),
+    kind=st.sampled_from(["truncated", "garbage", "npy", "pickle", "foreign npz", "empty", "folder"]),
+)
+def test_result_files_and_store_entries(tmp_path, cut, garbage, kind):
+    import pickle
+    import tempfile
+    import zipfile
+
+    from mdrvisc.store import Store
+
+    tmp_path = Path(tempfile.mkdtemp(dir=tmp_path))  # one folder per example
+    valid = _valid_result_bytes(tmp_path)
+    path = tmp_path / "entry.npz"
+    if kind == "truncated":
+        path.write_bytes(valid[: (cut or 0) % len(valid)])
+    elif kind == "garbage":
+        path.write_bytes(garbage)
+    elif kind == "npy":
+        np.save(path.with_suffix(".npy"), np.arange(3))
+        path.write_bytes(path.with_suffix(".npy").read_bytes())
+    elif kind == "pickle":
+        path.write_bytes(pickle.dumps({"t": np.arange(3)}))
+    elif kind == "foreign npz":
+        with open(path, "wb") as handle:
+            np.savez(handle, t=np.arange(3.0), depth="x", method=np.array([1, 2]))
+    elif kind == "empty":
+        with zipfile.ZipFile(path, "w"):
+            pass
+    else:
+        path.mkdir()
+
+    def load():
+        return mv.Result.load(path)
+
+    def from_store():
+        store = Store(tmp_path / "store")
+        key = "0" * 64
+        target = store.file(key)
+        if path.is_dir():
+            target.mkdir(exist_ok=True)
+        else:
+            target.write_bytes(path.read_bytes())
+        return store.load(key)
+
+    outcome("Result.load", load)
+    outcome("Store.load", from_store)
+
+
+@FUZZ
+@given(
+    shape=mostly(st.sampled_from([(8, 8), (16, 4), (1, 32), (3, 5)]),
+                 st.one_of(st.tuples(NUMBERS, NUMBERS), NUMBERS, st.just((4096, 4097)))),
+    dx=mostly(PLAUSIBLE),
+    hurst=mostly(st.floats(0.05, 0.95)),
+    rms=mostly(PLAUSIBLE),
+    which=st.sampled_from(["rms_slope", "rms_height", "both", "neither"]),
+    rolloff=mostly(st.none()),
+    short_cutoff=mostly(st.none()),
+    seed=mostly(st.integers(0, 2**64 - 1), st.one_of(NUMBERS, st.just(2**64), st.just(-1))),
+)
+def test_self_affine(shape, dx, hurst, rms, which, rolloff, short_cutoff, seed):
+    def run():
+        scale = {"rms_slope": {"rms_slope": rms}, "rms_height": {"rms_height": rms},
+                 "both": {"rms_slope": rms, "rms_height": rms}, "neither": {}}[which]
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", mv.ResolutionWarning)
+            return mv.surfaces.self_affine(shape, dx, hurst, rolloff=rolloff, short_cutoff=short_cutoff,
+                                           seed=seed, **scale)
+
+    outcome("surfaces.self_affine", run)
+
+
+@FUZZ
+@given(kind=mostly(st.integers(1, 6), ARRAYS), shape=st.sampled_from([(6, 6), (1, 8), (8, 1), (2, 2)]),
+       dx=mostly(PLAUSIBLE))
+def test_psd(kind, shape, dx):
+    def run():
+        q, c = mv.surfaces.psd(hostile_array(kind, shape), dx)
+        return np.concatenate([q, c])
+
+    outcome("surfaces.psd", run)
+
+
+BAD_CSV = st.one_of(
+    st.text(max_size=200),
+    st.sampled_from([
+        "",
+        "t,depth,force\n",
+        "t;depth;force\n0.1;1e-7;1e-9\n",
+        "t,depth,force\n0.1,1e-7\n",
+        "t,depth,force\n0.1,1e-7,1e-9,4\n",
+        "t,depth,force\nnan,inf,-inf\n",
+        "t,t,t\n1,2,3\n",
+        "\ufefft,depth,force\n0.1,1e-7,1e-9\n0.2,2e-7,2e-9\n0.3,3e-7,3e-9\n",
+        "t,piezo,deflection\n0.1,1e-7,1e-9\n",
+        "t,depth,force,weight\n0.1,1e-7,1e-9,-1\n0.2,2e-7,2e-9,1\n",
+    ]),
+)
+SWEEP_TAIL = st.sampled_from([
+    "",
+    "[sweep]\n",
+    "[sweep.axes]\n",
+    "[sweep]\nmode = \"grid\"\n[sweep.axes]\nforce = [1, 2]\n",
+    "[sweep.axes]\nforce = []\n",
+    "[sweep.axes]\nnope = [1, 2]\n",
+    "[sweep.axes]\nforce = [1, nan]\n",
+    "[sweep.axes]\n\"medium.tau1\" = [0.5, -1]\n",
+    "[sweep.axes]\nforce = 3\n",
+])
+
+
+@settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(text=BAD_CSV, model=st.sampled_from(["elastic", "standardsolid", "nope"]),
+       indenter=st.sampled_from(["sphere:radius=5e-6", "sphere:r=5e-6", "rod:radius=1e-6", "blob:x=1",
+                                 "cone"]),
+       extra=st.sampled_from([(), ("--spring-constant", "0.1"), ("--terms", "100000"),
+                              ("--control", "force")]))
+def test_python_command_line_fit(tmp_path, text, model, indenter, extra):
+    path = tmp_path / "curve.csv"
+    path.write_text(text, encoding="utf-8", errors="surrogatepass")
+
+    def run():
+        status = cli.main(["fit", str(path), "--indenter", indenter, "--model", model, *extra])
+        if status == 2:
+            raise mv.InvalidInputError("exit status 2")
+        if status != 0:
+            raise AssertionError(f"exit status {status}")
+        return 0.0
+
+    outcome("command line fit (Python)", run)
+
+
+@settings(max_examples=30, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(head=st.one_of(BAD_TOML, st.just('method = "mdr"\nn = 101\nforce = 1\nduration = 1\ntimes = [1]\n'
+                                        '[indenter]\ntype = "paraboloid"\nc = 1\n'
+                                        '[medium]\ntype = "standardsolid"\nG_inf = 1\nG1 = 1\ntau1 = 1\n')),
+       tail=SWEEP_TAIL, out=st.sampled_from([None, "t.csv", "t.json", "t.txt"]))
+def test_python_command_line_sweep(tmp_path, head, tail, out):
+    path = tmp_path / "sweep.toml"
+    path.write_text(head + tail, encoding="utf-8", errors="surrogatepass")
+
+    def run():
+        argv = ["sweep", str(path), "--no-progress"] + ([] if out is None else ["--out", str(tmp_path / out)])
+        status = cli.main(argv)
+        if status == 2:
+            raise mv.InvalidInputError("exit status 2")
+        if status != 0:
+            raise AssertionError(f"exit status {status}")
+        return 0.0
+
+    outcome("command line sweep (Python)", run)

@@ -247,6 +247,138 @@ def test_cli_sweep_names_a_bad_sweep_file(tmp_path, capsys):
     assert "sweep.mode" in capsys.readouterr().err
 
 
+LONG_SWEEP = textwrap.dedent("""
+    import multiprocessing
+    import signal
+    import sys
+    import threading
+    import time
+    signal.signal(signal.SIGINT, signal.default_int_handler)
+    import mdrvisc as mv
+    # scenes of many seconds each: the pool is busy with them when the test acts
+    base = mv.Scene(indenter=mv.Paraboloid(c=1.0), medium=mv.StandardSolid(G_inf=1.0, G1=3.0, tau1=1.0),
+                    force=0.5, duration=2.0, dt=1e-6)
+    scenes = mv.sweep_scenes(base, medium__tau1=[0.1 * (1 + k) for k in range(8)])
+
+    def announce():
+        while len(multiprocessing.active_children()) < 2:
+            time.sleep(0.05)
+        time.sleep(0.5)
+        print(" ".join(str(p.pid) for p in multiprocessing.active_children()), flush=True)
+
+    if __name__ == "__main__":
+        threading.Thread(target=announce, daemon=True).start()
+        try:
+            mv.solve_many(scenes, "mdr", 20001, progress=False, workers=2)
+        except KeyboardInterrupt:
+            print("interrupted", flush=True)
+            sys.exit(0)
+        sys.exit(3)
+""")
+
+
+def _gone(pid: int) -> bool:
+    """Whether the process ``pid`` has ended (a zombie not yet reaped counts as ended)."""
+    try:
+        with open(f"/proc/{pid}/stat") as handle:
+            return handle.read().rsplit(")", 1)[1].split()[0] == "Z"
+    except FileNotFoundError:
+        return True
+
+
+def _start_long_sweep(tmp_path):
+    script = tmp_path / "long_sweep.py"
+    script.write_text(LONG_SWEEP)
+    process = subprocess.Popen([sys.executable, str(script)], stdout=subprocess.PIPE,
+                               stderr=subprocess.PIPE, text=True)
+    workers = [int(p) for p in process.stdout.readline().split()]
+    assert len(workers) == 2 and not any(_gone(p) for p in workers), process.stderr.read()[-2000:]
+    return process, workers
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="reads /proc")
+def test_the_workers_die_with_their_killed_parent(tmp_path):
+    """When the process running a local sweep was killed (SIGKILL, the OOM killer), its
+    workers kept solving the queued scenes as orphans (two were alive 13 minutes later)."""
+    process, workers = _start_long_sweep(tmp_path)
+    process.kill()
+    process.wait(timeout=30)  # not communicate: surviving workers would hold its pipes open
+    process.stdout.close()
+    process.stderr.close()
+    deadline = time.monotonic() + 5
+    while time.monotonic() < deadline and not all(_gone(p) for p in workers):
+        time.sleep(0.05)
+    alive = [p for p in workers if not _gone(p)]
+    for pid in alive:
+        os.kill(pid, signal.SIGKILL)
+    assert not alive, f"workers {alive} outlived their parent"
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="reads /proc")
+def test_ctrl_c_of_the_parent_alone_stops_a_local_sweep_within_a_second(tmp_path):
+    """Ctrl-C waited for the running and the queued chunks (41 s when only the parent got
+    the signal); the workers are now ended at once."""
+    process, workers = _start_long_sweep(tmp_path)
+    sent = time.monotonic()
+    process.send_signal(signal.SIGINT)
+    try:
+        out, err = process.communicate(timeout=60)
+    finally:
+        process.kill()
+        for pid in workers:
+            if not _gone(pid):
+                os.kill(pid, signal.SIGKILL)
+    stopped = time.monotonic() - sent
+    assert process.returncode == 0 and out.strip() == "interrupted", (process.returncode, out, err[-2000:])
+    assert stopped < 1.0, f"stopped {stopped:.2f} s after SIGINT"
+    assert all(_gone(p) for p in workers)
+
+
+def test_a_store_entry_under_another_scenes_key_is_solved_again(tmp_path):
+    """A store file copied under another scene's key was loaded silently as that scene's
+    result; the key stored in the file is now checked."""
+    scenes = mv.sweep_scenes(base_scene(), medium__tau1=[0.5, 2.0])
+    store = tmp_path / "store"
+    first = mv.solve_many(scenes, "mdr", 2001, store=store, progress=False)
+    keys = [scene_key(s, "mdr", 2001, SOLVE_OPTIONS) for s in scenes]
+    shelf = Store(store)
+    shelf.file(keys[1]).write_bytes(shelf.file(keys[0]).read_bytes())
+    with pytest.raises(mv.DataError, match="another scene"):
+        shelf.load(keys[1])
+    with pytest.warns(UserWarning, match=shelf.file(keys[1]).name):
+        again = mv.solve_many(scenes, "mdr", 2001, store=store, progress=False)
+    assert (again.loaded, again.computed) == (1, 1)
+    assert not np.array_equal(first.results[0].depth, first.results[1].depth)
+    for a, b in zip(first.results, again.results):
+        np.testing.assert_array_equal(a.depth, b.depth)
+    assert_same(shelf.load(keys[1]), first.results[1])
+
+
+def test_a_store_path_that_is_a_file_is_a_typed_error(tmp_path):
+    path = tmp_path / "file"
+    path.write_text("")
+    with pytest.raises(mv.InvalidInputError, match="is a file"):
+        mv.solve_many([base_scene()], "mdr", 2001, store=path, progress=False)
+
+
+def test_a_sweep_warns_once_at_the_callers_line(recwarn):
+    """A sweep printed one ResolutionWarning per scene, attributed to a line of the
+    package; now one warning for the sweep, at the line that called solve_many."""
+    coarse = mv.Scene(indenter=mv.Paraboloid(c=1.0), medium=mv.StandardSolid(G_inf=1.0, G1=3.0, tau1=1.0),
+                      force=0.5, duration=2.0)
+    with pytest.warns(mv.ResolutionWarning) as single:
+        mv.solve(coarse, "mdr", 11)
+    assert single[0].filename == __file__
+    scenes = mv.sweep_scenes(coarse, medium__tau1=[0.5, 1.0, 2.0])
+    recwarn.clear()
+    sweep = mv.solve_many(scenes, "mdr", 11, progress=False, workers=1)
+    caught = [w for w in recwarn if issubclass(w.category, mv.ResolutionWarning)]
+    assert len(caught) == 1, [str(w.message) for w in caught]
+    assert caught[0].filename == __file__
+    assert "3 of 3 scenes" in str(caught[0].message)
+    assert all(r.warnings for r in sweep.results)
+
+
 distributed = pytest.importorskip("distributed", reason="the Dask tests need mdrvisc[dask]")
 
 
@@ -314,3 +446,38 @@ def test_a_damaged_store_entry_is_solved_again_with_a_warning(tmp_path):
     assert again.loaded == 2 and again.computed == 1
     for a, b in zip(first.results, again.results):
         np.testing.assert_array_equal(a.depth, b.depth)
+
+
+@pytest.mark.skipif(sys.platform == "win32", reason="sends SIGINT to this process")
+def test_ctrl_c_cancels_a_dask_sweep_within_a_second(client):
+    """Ctrl-C of a Dask sweep raises at once and cancels its tasks on the cluster."""
+    base = mv.Scene(indenter=mv.Paraboloid(c=1.0), medium=mv.StandardSolid(G_inf=1.0, G1=3.0, tau1=1.0),
+                    force=0.5, duration=2.0, dt=1e-6)
+    scenes = mv.sweep_scenes(base, medium__tau1=[0.1 * (1 + k) for k in range(6)])
+    sent = []
+
+    def interrupt_once_busy():
+        deadline = time.monotonic() + 30
+        while time.monotonic() < deadline and not any(client.processing().values()):
+            time.sleep(0.01)
+        time.sleep(0.5)
+        sent.append(time.monotonic())
+        signal.pthread_kill(threading.main_thread().ident, signal.SIGINT)
+
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    interrupter = threading.Thread(target=interrupt_once_busy)
+    try:
+        interrupter.start()
+        with pytest.raises(KeyboardInterrupt):
+            mv.solve_many(scenes, "mdr", 20001, client=client, progress=False)
+        stopped = time.monotonic() - sent[0]
+        interrupter.join()
+    finally:
+        signal.signal(signal.SIGINT, previous)
+    assert stopped < 1.0, f"stopped {stopped:.2f} s after SIGINT"
+    deadline = time.monotonic() + 10
+    while time.monotonic() < deadline and any(client.processing().values()):
+        time.sleep(0.05)
+    assert not any(client.processing().values()), client.processing()
+    client.restart()  # the workers' threads still run the cancelled chunks: start them afresh
+    client.run(mv.set_num_threads, 1)

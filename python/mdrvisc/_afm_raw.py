@@ -14,6 +14,7 @@ import math
 import numpy as np
 
 from ._fit_checks import array
+from ._validate import _float
 from .errors import DataError, InvalidInputError
 
 #: The first fraction of the approach (up to the highest piezo position) that must lie before
@@ -37,6 +38,14 @@ BASELINES = ("offset", "tilt")
 LARGEST_LENGTH = 1e-2
 
 
+def _length(name: str, value: object) -> float:
+    """``value`` as a finite float (m), or InvalidInputError naming ``name``."""
+    number = _float(value)
+    if number is None or not math.isfinite(number):
+        raise InvalidInputError(f"fit: {name} must be a finite number (m), got {value!r:.80}")
+    return number
+
+
 def raw_input(depth, force, piezo, deflection, spring_constant, control) -> tuple | None:
     """(piezo, deflection, k) of a raw AFM curve, None for depth and force, or an error
     naming what is missing or given twice, and data that look like another unit."""
@@ -51,13 +60,9 @@ def raw_input(depth, force, piezo, deflection, spring_constant, control) -> tupl
     if control != "depth":
         raise InvalidInputError(f"fit: a raw AFM curve is depth-controlled (the piezo moves); "
                                 f"control={control!r}")
-    try:
-        k = float(spring_constant)
-    except (TypeError, ValueError):
-        raise InvalidInputError(f"fit: spring_constant must be a number > 0 (N/m), "
-                                f"got {spring_constant!r}") from None
-    if not (math.isfinite(k) and k > 0):
-        raise InvalidInputError(f"fit: spring_constant must be > 0 (N/m), got {spring_constant!r}")
+    k = _float(spring_constant)
+    if k is None or not (math.isfinite(k) and k > 0):
+        raise InvalidInputError(f"fit: spring_constant must be > 0 (N/m), got {spring_constant!r:.80}")
     z, deflection = array("piezo", piezo), array("deflection", deflection)
     for name, a in (("piezo", z), ("deflection", deflection)):
         span = float(np.max(a) - np.min(a)) if a.size else 0.0
@@ -96,6 +101,8 @@ class AfmCurve:
         """The first guesses (given ones kept), or DataError when the curve does not start
         out of contact (``model`` "offset": a constant baseline), never leaves its baseline,
         or looks flipped."""
+        if baseline is not None:
+            baseline = _length("baseline", baseline)
         top = int(np.argmax(z))
         count = max(BASELINE_SAMPLES, int(round(BASELINE_FRACTION * (top + 1))))
         if top + 1 < 2 * count:
@@ -117,7 +124,7 @@ class AfmCurve:
             # over a longer span
             line = _line(z[:max(count, (3 * first) // 4)], deflection[:max(count, (3 * first) // 4)])
             first, sigma = _departure(z, deflection, top, count, line, baseline)
-        z_c = float(z[first]) if contact_point is None else float(contact_point)
+        z_c = float(z[first]) if contact_point is None else _length("contact_point", contact_point)
         if not z_c > z[0]:
             raise DataError(f"fit: the contact point ({z_c:.6g} m) must lie after the first sample "
                             f"(piezo {z[0]:.6g} m)")

@@ -11,6 +11,7 @@ __all__ = [
     "DEFAULT_N",
     "EQUIVALENT_CONE_FACTOR",
     "MAGNITUDE",
+    "MAX_FILE_BYTES",
     "OUTPUTS",
     "QUANTITIES",
     "SOLVER_DEFAULTS",
@@ -30,6 +31,7 @@ __all__ = [
     "num_threads",
     "parse_scene_file",
     "parse_scene_table",
+    "read_scene_file",
     "run_scene",
     "run_loads",
     "self_affine",
@@ -38,6 +40,8 @@ __all__ = [
 ]
 
 MAGNITUDE: float
+#: Largest input file (bytes) the command lines read.
+MAX_FILE_BYTES: int
 EQUIVALENT_CONE_FACTOR: float
 #: (name, unit, kind ("series" or "field"), computed by default, height maps only) of each output.
 OUTPUTS: tuple[tuple[str, str, str, bool, bool], ...]
@@ -277,6 +281,7 @@ def num_threads() -> int: ...
 def load_scene_file(path: str) -> tuple[Scene, str, int]: ...
 def parse_scene_file(text: str, source: str) -> tuple[Scene, str, int]: ...
 def parse_scene_table(text: str, source: str) -> tuple[Scene, str, int]: ...
+def read_scene_file(path: str) -> Scene: ...
 def run_scene(
     scene: Scene,
     method: str,

@@ -17,7 +17,7 @@ def array(name: str, values: ArrayLike) -> np.ndarray:
     """``values`` as a 1D float64 array, or DataError naming the first entry that is not finite."""
     try:
         a = np.ascontiguousarray(values, dtype=float)
-    except (TypeError, ValueError) as exc:
+    except (TypeError, ValueError, OverflowError) as exc:
         raise DataError(f"fit: {name} must be an array of real numbers: {exc}") from None
     if a.ndim != 1:
         raise DataError(f"fit: {name} must be one-dimensional, got shape {a.shape}")

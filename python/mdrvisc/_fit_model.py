@@ -92,13 +92,14 @@ class Problem:
     data (N under depth control, m under force control; a raw curve's force follows its
     baseline), weighted by ``root_w``; ``asked`` the tangents the forward model computes (one
     modulus fewer than ``free`` under depth control, see :func:`with_derived`); ``n`` the
-    profile's elements (a contact that reaches the last one fails). Calling it counts the
+    profile's elements (a contact that reaches the last one fails), None for a flat punch
+    (its profile is its footprint, all in contact). Calling it counts the
     forward solves in ``solves``.
     """
 
     def __init__(self, curve, cls: type, values0: dict[str, float], nu: float, free: list[str],
                  asked: list[str], raw: AfmCurve | None, free_raw: list[str], measured: np.ndarray,
-                 root_w: np.ndarray, n: int) -> None:
+                 root_w: np.ndarray, n: int | None) -> None:
         self.curve, self.cls, self.values0, self.nu = curve, cls, values0, nu
         self.free, self.asked, self.raw, self.free_raw = free, asked, raw, free_raw
         self.measured, self.root_w, self.n = measured, root_w, n
@@ -147,7 +148,7 @@ class Problem:
         if raw is not None:
             jac = raw.jacobian(jac, self.free_raw, z_c, m)
         self.solves += 1
-        if np.any(contact == self.n) or not np.all(np.isfinite(jac)):
+        if (self.n is not None and np.any(contact == self.n)) or not np.all(np.isfinite(jac)):
             return self._failed(x)
         return self.root_w * r, self.root_w[:, None] * jac
 

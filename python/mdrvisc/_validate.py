@@ -12,8 +12,27 @@ import operator
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ._core import MAGNITUDE
+from ._core import MAGNITUDE, MAX_FILE_BYTES
 from .errors import InvalidInputError
+
+
+def _read_text(path, what: str) -> str:
+    """The text of the file at ``path`` (a ``what``, e.g. "sweep file"), read as the scene
+    files are: at most :data:`mdrvisc._core.MAX_FILE_BYTES` bytes, UTF-8 with or without a
+    byte-order mark; InvalidInputError naming the file otherwise (also when it cannot be
+    read)."""
+    try:
+        with open(path, "rb") as handle:
+            data = handle.read(MAX_FILE_BYTES + 1)
+    except OSError as exc:
+        raise InvalidInputError(f"cannot read {what} {str(path)!r}: {exc.strerror or exc}") from None
+    if len(data) > MAX_FILE_BYTES:
+        raise InvalidInputError(f"{path}: a {what} is at most {MAX_FILE_BYTES} bytes")
+    try:
+        return data.decode("utf-8-sig")
+    except UnicodeDecodeError as exc:
+        raise InvalidInputError(f"{path}: not UTF-8 text (byte {exc.start} is "
+                                f"{data[exc.start:exc.start + 1]!r})") from None
 
 
 def _float(value: object) -> float | None:

@@ -1,27 +1,36 @@
 """Command line: ``mdrvisc paper [--out DIR] [--scenes DIR] [--quick] [--no-study] [--json]`` and
-``mdrvisc run SCENE.toml [--json]`` and ``mdrvisc sweep SWEEP.toml [--scheduler ADDRESS]
-[--store DIR] [--json]`` and ``mdrvisc fit DATA.csv|FILE.jpk-force --indenter sphere:radius=5e-6
---model standardsolid [--control depth] [--spring-constant K] [--curve N] [--segments approach,...]
-[--contact-point Z] [--baseline B] [--guess KEY=VALUE,...] [--fix NAME,...] [--out FIT.csv]
-[--json]`` (also ``python -m mdrvisc ...``).
+``mdrvisc run SCENE.toml [--json] [--out FILE]`` and ``mdrvisc sweep SWEEP.toml [--scheduler
+ADDRESS] [--store DIR] [--json] [--out FILE]`` and ``mdrvisc fit DATA.csv|FILE.jpk-force
+--indenter sphere:radius=5e-6 --model standardsolid [--control depth] [--spring-constant K]
+[--curve N] [--segments approach,...] [--contact-point Z] [--baseline B]
+[--baseline-model offset|tilt] [--guess KEY=VALUE,...]
+[--fix NAME,...] [--out FIT.csv] [--json]`` (also ``python -m mdrvisc ...``).
 
-Results go to stdout (tables, or one JSON document with ``--json``), progress to stderr.
-Bad input exits with status 2 and an ``error: ...`` line on stderr. ``mdrvisc paper`` draws its
+Results go to stdout (tables, or one JSON document with ``--json``), progress and warnings
+(``warning: ...`` lines) to stderr; ``--out FILE`` also writes them to a file, its format
+by its suffix: ``.json`` (the ``--json`` document), ``.csv`` (one row per output time; per
+scene and output time for a sweep) or, for ``run``, ``.npz`` (:meth:`mdrvisc.Result.save`).
+Input files are read up to 64 MiB. Bad input exits with status 2 and a one-line
+``error: ...`` on stderr. ``mdrvisc paper`` draws its
 figures with matplotlib (``pip install 'mdrvisc[paper]'``); without it, it writes the tables
 and the CSV/JSON files, and says on stderr that it skipped the figures and what to install.
 """
 
 import argparse
+import csv
 import dataclasses
+import inspect
 import json
 import logging
 import sys
 import time
 import warnings
+from pathlib import Path
 
 import numpy as np
 
 from . import __version__, _core, geometry, media
+from ._validate import _read_text
 from .errors import IdentifiabilityWarning, InvalidInputError, MdrviscError
 from .fitting import fit
 from .formatting import text_table, to_jsonable
@@ -29,6 +38,7 @@ from .grids import load_sweep
 from .many import solve_many
 from .paper import report, studies
 from .progress import ProgressBar
+from .result import SERIES, Result
 
 __all__ = ["main"]
 
@@ -73,6 +83,9 @@ def _parser():
     run = commands.add_parser("run", help="run one scene file (TOML)")
     run.add_argument("scene", help="scene file, e.g. examples/rod.toml")
     run.add_argument("--json", action="store_true", help="print the result as JSON")
+    run.add_argument("--out", metavar="FILE",
+                     help="also write the result to FILE: .json (the --json document), .csv (one "
+                          "row per output time) or .npz (mdrvisc.Result.load reads it)")
     run.add_argument("--no-progress", action="store_true",
                      help="no progress bar (by default a bar with the time left on stderr)")
     sweep = commands.add_parser(
@@ -86,6 +99,8 @@ def _parser():
                        help="folder of finished results: each is saved as it arrives, a rerun "
                             "computes only what is missing")
     sweep.add_argument("--json", action="store_true", help="print the table as JSON records")
+    sweep.add_argument("--out", metavar="FILE",
+                       help="also write the table to FILE: .json (the --json records) or .csv")
     sweep.add_argument("--no-progress", action="store_true",
                        help="no progress bar (by default a bar with the time left on stderr)")
     fitting = commands.add_parser(
@@ -119,6 +134,9 @@ def _parser():
                          help="raw AFM curves: first guess of the contact point (m, piezo position)")
     fitting.add_argument("--baseline", type=float, default=None, metavar="B",
                          help="raw AFM curves: first guess of the deflection baseline (m)")
+    fitting.add_argument("--baseline-model", choices=("offset", "tilt"), default="offset",
+                         help="raw AFM curves: a constant baseline (offset, default) or a line in the "
+                              "piezo position fitted with the rest (tilt: drift, virtual deflection)")
     fitting.add_argument("--guess", default=None, metavar="KEY=VALUE,...",
                          help="first guess of the medium's parameters, e.g. G_inf=1e3,G1=2e3,tau1=0.1 "
                               "(SI units; every parameter of the model; default: estimated from the data)")
@@ -150,10 +168,85 @@ def _indenter(spec):
             values[key.strip()] = float(value)
         except ValueError:
             raise InvalidInputError(f"--indenter: {item!r} is not KEY=NUMBER") from None
+    cls = classes[name.lower()]
+    keys = [k for k in inspect.signature(cls).parameters]
+    unknown = [k for k in values if k not in keys]
+    missing = [k for k, p in inspect.signature(cls).parameters.items()
+               if p.default is inspect.Parameter.empty and k not in values]
+    if unknown or missing:
+        problem = f"unknown key(s) {unknown}" if unknown else f"missing key(s) {missing}"
+        raise InvalidInputError(f"--indenter: {problem} for {name.lower()}; its keys: {keys}, "
+                                f"e.g. {name.lower()}:{keys[0]}=...")
+    return cls(**values)
+
+
+def _read_columns(path) -> dict[str, np.ndarray]:
+    """The columns of a CSV file: a header row of names, then rows of numbers separated by
+    commas (blank lines and lines starting with # skipped); InvalidInputError naming the
+    file and the line otherwise."""
+    text = _read_text(path, "CSV file")
+    lines = [(number, line) for number, line in enumerate(text.splitlines(), 1)
+             if line.strip() and not line.lstrip().startswith("#")]
+    if not lines:
+        raise InvalidInputError(f"{path}: empty; a CSV file needs a header row naming its columns "
+                                f"(e.g. t,depth,force) and rows of numbers")
+    header = [name.strip().strip('"').strip() for name in lines[0][1].split(",")]
+    if len(header) == 1:
+        hint = " (a semicolon-separated file? use commas)" if ";" in lines[0][1] else ""
+        raise InvalidInputError(f"{path}: the header row {lines[0][1].strip()[:80]!r} names one "
+                                f"column; columns are separated by commas{hint}")
+    if len(set(header)) != len(header) or "" in header:
+        raise InvalidInputError(f"{path}: the header row names columns {header}: each must be named "
+                                f"once")
+    if len(lines) == 1:
+        raise InvalidInputError(f"{path}: a header row and no rows of numbers")
+    rows = []
+    for number, line in lines[1:]:
+        cells = line.split(",")
+        if len(cells) != len(header):
+            raise InvalidInputError(f"{path}: line {number} has {len(cells)} values, the header "
+                                    f"{len(header)} columns")
+        try:
+            rows.append([float(cell) for cell in cells])
+        except ValueError:
+            bad = next(c for c in cells if not _is_number(c))
+            raise InvalidInputError(f"{path}: line {number}: {bad.strip()[:40]!r} is not a "
+                                    f"number") from None
+    table = np.array(rows, dtype=np.float64)
+    return {name: table[:, j] for j, name in enumerate(header)}
+
+
+def _is_number(text: str) -> bool:
     try:
-        return classes[name.lower()](**values)
-    except TypeError as exc:
-        raise InvalidInputError(f"--indenter: {exc}") from None
+        float(text)
+    except ValueError:
+        return False
+    return True
+
+
+def _write(path, rows: list[dict], document: str | None = None, result: Result | None = None) -> None:
+    """Writes ``rows`` (dicts of one row each) to ``path`` as CSV, ``document`` (JSON text)
+    as .json, or ``result`` as .npz (when given), by the file's suffix."""
+    suffix = Path(path).suffix.lower()
+    formats = [".csv", ".json"] + ([".npz"] if result is not None else [])
+    if suffix not in formats:
+        raise InvalidInputError(f"--out: {str(path)!r} must end in one of {formats}")
+    if suffix == ".npz":
+        result.save(path)  # type: ignore[union-attr]
+        return
+    with open(path, "w", newline="", encoding="utf-8") as handle:
+        if suffix == ".json":
+            handle.write((document if document is not None else json.dumps(to_jsonable(rows))) + "\n")
+            return
+        writer = csv.DictWriter(handle, fieldnames=list(dict.fromkeys(k for row in rows for k in row)))
+        writer.writeheader()
+        writer.writerows(rows)
+
+
+def _print_warnings(caught) -> None:
+    """Prints each caught warning as a ``warning: ...`` line on stderr."""
+    for w in caught:
+        print(f"warning: {w.message}", file=sys.stderr)
 
 
 def _keys(option: str, text: str | None) -> dict[str, float]:
@@ -202,8 +295,8 @@ def _curve(args):
         t = curve.times(model)
         return t, {"piezo": curve.piezo, "deflection": curve.deflection,
                    "spring_constant": curve.spring_constant}, None, True
-    data = np.genfromtxt(args.data, delimiter=",", names=True)
-    names = data.dtype.names or ()
+    data = _read_columns(args.data)
+    names = tuple(data)
     raw = args.spring_constant is not None
     missing = [c for c in (("t", "piezo", "deflection") if raw else ("t", "depth", "force"))
                if c not in names]
@@ -224,17 +317,17 @@ def _fit(args):
     t, curve, weights, raw = _curve(args)
     fixed = tuple(name.strip() for name in args.fix.split(",") if name.strip())
     extra = {}
-    if args.contact_point is not None or args.baseline is not None:
+    if args.contact_point is not None or args.baseline is not None or args.baseline_model != "offset":
         if not raw:
-            raise InvalidInputError("--contact-point and --baseline are for raw AFM curves")
-        extra = {"contact_point": args.contact_point, "baseline": args.baseline}
+            raise InvalidInputError("--contact-point, --baseline and --baseline-model are for raw AFM curves")
+        extra = {"contact_point": args.contact_point, "baseline": args.baseline,
+                 "baseline_model": args.baseline_model}
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", IdentifiabilityWarning)
         result = fit(_indenter(args.indenter), model, t, **curve, **extra, control=args.control,
                      nu=None if isinstance(model, media._Medium) else args.nu, terms=args.terms,
                      substeps=args.substeps, weights=weights, fixed=fixed)
-    for w in caught:
-        print(f"warning: {w.message}", file=sys.stderr)
+    _print_warnings(caught)
     w = np.ones_like(result.t) if weights is None else np.asarray(weights, dtype=float)
     columns = {"t": result.t, "data": result.data, "model": result.model, "residual": result.residuals,
                "weight": w}
@@ -256,6 +349,7 @@ def _fit(args):
             "forward": result.forward, "wall_time": result.wall_time, "success": result.success,
             "status": result.status, "message": result.message, "warnings": result.warnings,
             **({"contact_point": result.contact_point, "baseline": result.baseline,
+                "baseline_slope": result.baseline_slope,
                 "spring_constant": result.spring_constant} if raw else {}),
             "arrays": {name: a.tolist() for name, a in arrays.items()}})))
     else:
@@ -307,10 +401,18 @@ def _run(args):
             progress.close()
     _log.info("solved: %s %s n=%d steps=%d solves=%d iterations=%d wall=%.3f s", args.scene,
               method.upper(), n, report.steps, report.solves, report.iterations, report.wall_time)
+    document = f"[{report.document(args.scene, scene)}]"
     if args.json:
-        print(f"[{report.document(args.scene, scene)}]")
+        print(document)
     else:
         print(report.table(args.scene), end="")
+    if args.out is not None:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")  # the table and the document have them
+            result = Result._from_report(report)
+        rows = [{k: getattr(result, k)[i].item() for k in SERIES if getattr(result, k) is not None}
+                for i in range(len(result.t))]
+        _write(args.out, rows, document, result)
 
 
 def _sweep(args):
@@ -326,17 +428,22 @@ def _sweep(args):
             raise MdrviscError("--scheduler needs Dask: pip install 'mdrvisc[dask]'") from None
         client = Client(args.scheduler)
     try:
-        sweep = solve_many(scenes, method, n, client=client, store=args.store,
-                           progress=not args.no_progress)
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            sweep = solve_many(scenes, method, n, client=client, store=args.store,
+                               progress=not args.no_progress)
     finally:
         if client is not None:
             client.close()
+    _print_warnings(caught)
     for failure in sweep.failures:
         print(f"scene {failure.index} failed: {type(failure.error).__name__}: {failure.error}",
               file=sys.stderr)
     rows = sweep.rows()
     columns = dict.fromkeys(k for row in rows for k in row)
     rows = [{k: row.get(k) for k in columns} for row in rows]
+    if args.out is not None:
+        _write(args.out, rows)
     if args.json:
         print(json.dumps(to_jsonable(rows)))
     elif rows:

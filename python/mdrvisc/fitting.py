@@ -41,6 +41,10 @@ ROUND_OFF_RESIDUALS = 1e-11
 __all__ = ["fit", "FitResult"]
 
 
+#: Most Prony terms a fit estimates its start for (relaxation times a decade apart).
+DECADES = 30
+
+
 @dataclasses.dataclass(eq=False)
 class FitResult:
     """A medium fitted to an indentation curve.
@@ -164,8 +168,13 @@ class FitResult:
         rows += [(name, value, self.young_stderr[name], young[name])
                  for name, value in self.young_moduli.items()]
         for name, value, err, of in rows:
-            rel = "held" if of not in self.free else f"{err / value:.2e}"
-            lines.append(f"  {name:<14}{value:>14.6g}{err:>14.3g}{rel:>11}")
+            if of not in self.free:
+                rel = "held"
+            elif value != 0 and err > 0 and np.isfinite(err):
+                rel = f"{err / value:.2e}"
+            else:  # ran to 0, or no spread: no standard error to speak of
+                err, rel = np.nan, "undetermined"
+            lines.append(f"  {name:<14}{value:>14.6g}{err:>14.3g}{rel:>13}")
         lines.append(f"  {'nu':<14}{self.nu:>14.6g}{'':>14}{'held':>11}")
         for name, value in (("contact_point", self.contact_point), ("baseline", self.baseline),
                             ("baseline_slope", self.baseline_slope)):
@@ -367,6 +376,12 @@ def _problem(indenter, model, t, depth, force, piezo, deflection, spring_constan
     cls, guess, nu = _model_class(model, fixed, nu)
     if cls is Prony and guess is None:
         terms = _integer("fit", "terms", terms, 1)
+        # the guesses space the relaxation times a decade apart, from about the span down
+        most = min((data.t.size - 1) // 2, DECADES)
+        if terms > most:
+            raise InvalidInputError(
+                f"fit: terms = {terms} is more Prony terms than {data.t.size} samples can tell apart "
+                f"(2 parameters each, their relaxation times a decade apart): at most {max(most, 0)}")
 
     # the forward model on the half profile, prepared once, and the initial guess
     raw, t, w = data.raw, data.t, data.weights
@@ -388,8 +403,9 @@ def _problem(indenter, model, t, depth, force, piezo, deflection, spring_constan
     if control == "depth" and raw is None and set(moduli(values0)) <= set(free):
         asked = [name for name in free if name != moduli(values0)[0]]
     scale = float(np.max(np.abs(data.measured)))
+    # a flat punch's profile spans its footprint, all of it in contact: no end to reach
     problem = Problem(curve, cls, values0, nu, free, asked, raw, free_raw, data.measured,
-                      np.sqrt(w) / scale, n)
+                      np.sqrt(w) / scale, None if indenter.is_flat else n)
     return problem, data, scale
 
 
@@ -484,7 +500,7 @@ def _result(problem: Problem, solution: Solution, data: _Data, control: str, sca
                             f"contact, fewer than {BASELINE_SAMPLES}")
         afm = {"contact_point": z_c, "baseline": b, "spring_constant": raw.k, "depth": d,
                "baseline_slope": m if raw.tilt else None}
-    if np.any(contact == problem.n):
+    if problem.n is not None and np.any(contact == problem.n):
         raise DomainError("fit: the fitted contact reaches the end of the 1D profile; the data's depths "
                           "are beyond the indenter's footprint")
     r, jac = solution.residuals, solution.jacobian

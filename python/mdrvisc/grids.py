@@ -23,6 +23,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ._validate import _read_text
 from .errors import InvalidInputError
 from .scene import Scene, _json
 from .scenefile import parse_scene
@@ -105,8 +106,7 @@ def load_sweep(path) -> tuple[list[Scene], str, int]:
     ("product", the default, or "zip")."""
     path = Path(path)
     try:
-        with open(path, "rb") as handle:
-            data = tomllib.load(handle)
+        data = tomllib.loads(_read_text(path, "sweep file"))
     except tomllib.TOMLDecodeError as exc:
         raise InvalidInputError(f"{path}: {exc}") from None
     table = data.pop("sweep", None)

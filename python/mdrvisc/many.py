@@ -7,26 +7,35 @@ starts once per worker, not once per scene; a worker that dies is replaced and i
 solved again. With a ``dask.distributed.Client`` each chunk of scenes is one task of that
 cluster; Dask reschedules the tasks of a worker that dies. Results are
 gathered (and stored) by the calling process as they finish, so an interrupted sweep keeps
-every scene that finished.
+every scene that finished. Ctrl-C ends the local worker processes at once (the scenes they
+were solving are lost, the finished ones kept) and cancels a cluster's tasks; worker
+processes also end when the process that started them dies (killed included).
+
+The scenes' warnings (e.g. :class:`mdrvisc.errors.ResolutionWarning`) are gathered: one
+warning per kind for the whole sweep, at the caller's line, each result keeping its own in
+``Result.warnings``.
 """
 
 from __future__ import annotations
 
 import concurrent.futures
+import ctypes
 import dataclasses
 import inspect
 import json
 import operator
 import os
 import pickle
+import signal
 import sys
+import threading
 import time
 import warnings
 from collections.abc import Iterable
 from typing import TYPE_CHECKING
 
 from . import _core
-from .errors import DataError, InvalidInputError, MdrviscError
+from .errors import DataError, InvalidInputError, MdrviscError, ResolutionWarning
 from .progress import ProgressBar
 from .result import SERIES, Result
 from .scene import Scene
@@ -132,7 +141,10 @@ def _solve_core(core, method: str, n: int, options: dict):
     (an exception that cannot be pickled back is replaced by an MdrviscError saying it)."""
     try:
         scene = Scene._from_core(core)
-        return solve(scene, method, n, **options), None
+        with warnings.catch_warnings():
+            # kept in Result.warnings; the sweep issues one summary
+            warnings.simplefilter("ignore", ResolutionWarning)
+            return solve(scene, method, n, **options), None
     except Exception as exc:  # a failed scene is reported, the sweep goes on
         try:
             pickle.dumps(exc)
@@ -147,9 +159,58 @@ def _solve_chunk(chunk):
     return [(index, *_solve_core(core, method, n, options)) for index, core, method, n, options in chunk]
 
 
-def _start_worker(threads: int) -> None:
-    """A worker process: its solves use ``threads`` threads."""
+#: prctl's option that sends the calling process a signal when its parent dies (Linux).
+_PR_SET_PDEATHSIG = 1
+#: Seconds between a worker's checks that the process that started the sweep is alive.
+WATCH_PERIOD = 0.5
+
+
+def _start_worker(threads: int, parent: int) -> None:
+    """A worker process: its solves use ``threads`` threads, and it ends when the process
+    ``parent`` (the sweep's) dies, killed included: on Linux the kernel kills it with its
+    parent process; everywhere, a thread checks every :data:`WATCH_PERIOD` seconds that the
+    parent process it started under is still there."""
+    if sys.platform.startswith("linux"):
+        try:
+            libc = ctypes.CDLL(None, use_errno=True)
+            libc.prctl(_PR_SET_PDEATHSIG, signal.SIGKILL, 0, 0, 0)
+        except (OSError, AttributeError):  # pragma: no cover - a libc without prctl
+            pass
+    if not _alive(parent):  # died before the request above: nobody would kill this worker
+        os._exit(1)
+    started_under = os.getppid()
+
+    def watch() -> None:
+        while os.getppid() == started_under and _alive(parent):
+            time.sleep(WATCH_PERIOD)
+        os._exit(1)
+
+    threading.Thread(target=watch, name="mdrvisc-parent-watch", daemon=True).start()
     _core.set_num_threads(threads)
+
+
+def _alive(pid: int) -> bool:
+    """Whether the process ``pid`` exists."""
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:  # pragma: no cover - exists, owned by another user
+        return True
+    return True
+
+
+def _stop_pool(pool: concurrent.futures.ProcessPoolExecutor) -> None:
+    """Cancels the chunks not started and ends the worker processes now, without waiting for
+    the chunks they are solving (a Ctrl-C must not wait for them)."""
+    # the executor's own processes: no public way to end them before Python 3.14
+    processes = list((getattr(pool, "_processes", None) or {}).values())
+    pool.shutdown(wait=False, cancel_futures=True)
+    for process in processes:
+        if process.is_alive():
+            process.kill()
+    for process in processes:
+        process.join(timeout=5)
 
 
 def _cores() -> int:
@@ -181,7 +242,7 @@ def _run_local(tasks, workers: int, advance, collect, work=_solve_chunk) -> None
     for _ in range(POOL_RESTARTS + 1):
         unfinished = []
         with concurrent.futures.ProcessPoolExecutor(workers, initializer=_start_worker,
-                                                    initargs=(threads,)) as pool:
+                                                    initargs=(threads, os.getpid())) as pool:
             futures = {pool.submit(work, chunk): chunk for chunk in chunks}
             try:
                 for future in concurrent.futures.as_completed(futures):
@@ -194,8 +255,7 @@ def _run_local(tasks, workers: int, advance, collect, work=_solve_chunk) -> None
                         collect(*item)
                     advance(len(items))
             except BaseException:
-                for future in futures:
-                    future.cancel()
+                _stop_pool(pool)
                 raise
         if not unfinished:
             return
@@ -347,4 +407,18 @@ def solve_many(scenes: Iterable[Scene], method: str = "bem", n: int | None = Non
         sweep.wall_time = time.perf_counter() - start
         if progress:
             print(f"sweep: {sweep.summary()}", file=sys.stderr, flush=True)
+    _warn_once(sweep)
     return sweep
+
+
+def _warn_once(sweep: Sweep) -> None:
+    """One :class:`ResolutionWarning` for the sweep's results that carry warnings, at the
+    caller of :func:`solve_many`: how many scenes, which, and the first scene's messages."""
+    warned = [(i, r.warnings) for i, r in enumerate(sweep.results) if r is not None and r.warnings]
+    if not warned:
+        return
+    indices = ", ".join(str(i) for i, _ in warned[:10]) + (", ..." if len(warned) > 10 else "")
+    first, messages = warned[0]
+    warnings.warn(f"solve_many: {len(warned)} of {len(sweep.scenes)} scenes warned (scenes "
+                  f"{indices}; each result's .warnings has its own); scene {first}: "
+                  f"{'; '.join(messages)}", ResolutionWarning, stacklevel=3)

@@ -14,7 +14,7 @@ from numpy.typing import ArrayLike
 
 from . import _core
 from ._validate import _array, _optional_positive
-from .errors import InvalidInputError
+from .errors import InvalidInputError, MdrviscError
 from .geometry import Indenter
 
 __all__ = ["Axisymmetric", "Profile", "PROFILE_SAMPLES"]
@@ -201,26 +201,49 @@ class _Function:
     def __init__(self, f, df, radius, edge):
         self.f, self.df, self.radius = f, df, radius
         size = radius or (None if edge is None else 0.5 * edge) or 1.0
-        values = self._call(f, "f", size * np.array([0.0, 0.25, 0.5, 1.0]))
+        values = self._call(f, "f", size * np.array([0.0, 0.25, 0.5, 1.0]), checking=True)
         self.scale = float(np.max(np.abs(values[1:])))
+        if self.scale == 0.0 and radius is None and edge is None:
+            raise InvalidInputError(
+                f"Axisymmetric: f is 0 at r = 0, {0.25 * size!r}, {0.5 * size!r} and {size!r} m: a flat "
+                f"profile without a footprint has no contact radius to solve for (a flat punch is "
+                f"mdrvisc.Rod, or give a radius or an edge)")
         if abs(values[0]) > 1e-12 * self.scale:
             raise InvalidInputError(
                 f"Axisymmetric: f(0) must be 0 (the tip is the origin), got {float(values[0])!r}"
             )
         if df is not None:
-            self._call(df, "df", size * np.array([0.25, 0.5]))
+            self._call(df, "df", size * np.array([0.25, 0.5]), checking=True)
         self.sin_theta, self.weights = _tanh_sinh_sin_nodes()
 
     @staticmethod
-    def _call(func, name, r):
-        """``func(r)`` as a finite float64 array of r's shape, or InvalidInputError."""
+    def _call(func, name, r, checking=False):
+        """``func(r)`` as a finite float64 array of r's shape, or InvalidInputError. While
+        ``checking`` (at construction) any error of the function itself is an
+        InvalidInputError naming it; later (inside a computation) an error other than a
+        TypeError or ValueError comes back as itself."""
+        def not_an_array(exc):
+            return InvalidInputError(f"Axisymmetric: {name} must map an array of radii to an array "
+                                     f"of the same shape ({exc})")
+
         try:
-            out = np.broadcast_to(np.asarray(func(r), dtype=np.float64), r.shape)
+            values = func(r)
+        except MdrviscError:
+            raise
+        except Exception as exc:
+            if checking:
+                label = getattr(func, "__qualname__", repr(func))
+                raise InvalidInputError(
+                    f"Axisymmetric: {name} = {label} raised {type(exc).__name__} at radii from "
+                    f"{float(r.min())!r} to {float(r.max())!r} m: {exc}"
+                ) from exc
+            if isinstance(exc, (TypeError, ValueError)):
+                raise not_an_array(exc) from None
+            raise
+        try:
+            out = np.broadcast_to(np.asarray(values, dtype=np.float64), r.shape)
         except (TypeError, ValueError) as exc:
-            raise InvalidInputError(
-                f"Axisymmetric: {name} must map an array of radii to an array of the same "
-                f"shape ({exc})"
-            ) from None
+            raise not_an_array(exc) from None
         bad = ~np.isfinite(out)
         if bad.any():
             raise InvalidInputError(

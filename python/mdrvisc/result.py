@@ -41,6 +41,9 @@ SCALARS = _of_kind("scalar")
 SHAPES = _of_kind("shape")
 #: Times of a run's events, any number of them (None where not tracked).
 EVENTS = _of_kind("events")
+#: Entries of a result file under this prefix are a store's (:mod:`mdrvisc.store`), not the
+#: result's: :meth:`Result.load` skips them.
+STORE_PREFIX = "store/"
 
 
 @dataclasses.dataclass(frozen=True)
@@ -215,6 +218,8 @@ class Result:
         fields: dict[int, dict] = {}
         values = {}
         for key, array in items.items():
+            if key.startswith(STORE_PREFIX):  # what a store keeps beside the result
+                continue
             if key.startswith("fields/"):
                 _, index, name = key.split("/")
                 fields.setdefault(int(index), {})[name] = float(array) if name == "t" else array

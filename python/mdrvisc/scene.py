@@ -76,7 +76,8 @@ def _array_or_none(name, value):
 
 def _json(model):
     """``model`` as JSON text; a non-finite number is an error naming its key (searched for
-    only when the encoder refuses one: a height map's million numbers are not walked)."""
+    only when the encoder refuses one: a height map's million numbers are not walked), a
+    value JSON has no form for (a complex number, an object) an error too."""
     def walk(value, path):
         if isinstance(value, float) and not math.isfinite(value):
             raise InvalidInputError(f"Scene: {path} must be finite, got {value!r}")
@@ -91,6 +92,9 @@ def _json(model):
     except ValueError:
         walk(model, "")
         raise
+    except TypeError as exc:  # e.g. "Object of type complex is not JSON serializable"
+        raise InvalidInputError(f"Scene: every value must be a number, a string or a list of them: "
+                                f"{exc}") from None
 
 
 def _split(table: dict) -> tuple[dict, dict]:
@@ -302,9 +306,10 @@ class Scene:
 
     @classmethod
     def from_toml(cls, path) -> Scene:
-        """The scene of the scene file at ``path`` (its ``method`` and ``n`` are
-        :func:`mdrvisc.scenefile.load_scene`'s)."""
-        return cls._from_core(_core.load_scene_file(str(path))[0])
+        """The scene of the scene file at ``path``, with or without ``method`` and ``n`` (as
+        :meth:`to_toml` writes it without them; :func:`mdrvisc.scenefile.load_scene` gives
+        them too)."""
+        return cls._from_core(_core.read_scene_file(str(path)))
 
     @classmethod
     def _from_core(cls, core, indenter: Indenter | HeightMap | None = None,

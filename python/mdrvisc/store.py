@@ -5,12 +5,17 @@ what it already computed and computes only the rest."""
 from __future__ import annotations
 
 import hashlib
+import io
 import json
 import os
 import tempfile
+import zipfile
 from pathlib import Path
 
-from .result import Result
+import numpy as np
+
+from .errors import DataError, InvalidInputError
+from .result import STORE_PREFIX, Result
 from .scene import Scene
 
 __all__ = ["Store", "scene_key"]
@@ -31,15 +36,32 @@ def scene_key(scene: Scene, method: str, n: int, options: dict) -> str:
     return hashlib.sha256(text.encode()).hexdigest()
 
 
+#: The entry of a stored file that holds its key.
+KEY_ENTRY = f"{STORE_PREFIX}key"
+
+
 class Store:
-    """The folder ``path`` (made when missing) of finished results, ``<key>.npz`` each.
+    """The folder ``path`` (made when missing) of finished results, ``<key>.npz`` each: the
+    :meth:`Result.save` format plus the key it was stored under, checked when it is loaded.
 
     Writes are atomic: a result goes to a temporary file in the folder, then is renamed onto
-    its name, so a process killed while writing leaves no partial result under a key."""
+    its name, so a process killed while writing leaves no partial result under a key.
+
+    Raises
+    ------
+    InvalidInputError
+        ``path`` exists and is not a folder, or the folder cannot be made.
+    """
 
     def __init__(self, path) -> None:
         self.path = Path(path)
-        self.path.mkdir(parents=True, exist_ok=True)
+        if self.path.exists() and not self.path.is_dir():
+            raise InvalidInputError(f"store: {str(path)!r} is a file, not a folder")
+        try:
+            self.path.mkdir(parents=True, exist_ok=True)
+        except OSError as exc:
+            raise InvalidInputError(f"store: cannot make the folder {str(path)!r}: "
+                                    f"{exc.strerror or exc}") from None
 
     def file(self, key: str) -> Path:
         """The file of ``key``."""
@@ -49,8 +71,24 @@ class Store:
         return self.file(key).is_file()
 
     def load(self, key: str) -> Result:
-        """The stored result of ``key``."""
-        return Result.load(self.file(key))
+        """The stored result of ``key``.
+
+        Raises
+        ------
+        DataError
+            The file is damaged or not a result, or it was stored under another key (a file
+            copied or renamed onto this one's name): it is not this scene's result.
+        """
+        file = self.file(key)
+        result = Result.load(file)
+        with np.load(file, allow_pickle=False) as data:
+            stored = str(data[KEY_ENTRY]) if KEY_ENTRY in data.files else None
+        if stored != key:
+            where = "no key" if stored is None else f"the key {stored[:16]}..."
+            raise DataError(f"store: {str(file)!r} holds {where}, not {key[:16]}...: the result "
+                            f"of another scene (copied or renamed), or written before stores "
+                            f"kept their keys")
+        return result
 
     def save(self, key: str, result: Result) -> Path:
         """Stores ``result`` under ``key`` atomically; returns its file."""
@@ -58,6 +96,10 @@ class Store:
         os.close(handle)
         try:
             result.save(temporary)
+            entry = io.BytesIO()
+            np.save(entry, np.asarray(key))
+            with zipfile.ZipFile(temporary, "a") as archive:
+                archive.writestr(f"{KEY_ENTRY}.npy", entry.getvalue())
             os.replace(temporary, self.file(key))
         except BaseException:
             Path(temporary).unlink(missing_ok=True)

@@ -7,15 +7,21 @@ arrays (m) on square elements of side ``dx`` (m).
 """
 
 import operator
+import warnings
 
 import numpy as np
 from numpy.typing import ArrayLike
 
 from . import _core
 from ._validate import _integer, _optional_positive, _positive
-from .errors import InvalidInputError
+from .errors import InvalidInputError, ResolutionWarning
 
 __all__ = ["self_affine", "psd"]
+
+#: Fewest independent Fourier modes below the short cutoff for which :func:`self_affine`
+#: does not warn: with fewer, the heights are a sum of a handful of cosines, far from
+#: Gaussian, and their spectrum has too few rings to follow the power law.
+MIN_MODES = 16
 
 
 def self_affine(shape: tuple[int, int], dx: float, hurst: float, rms_slope: float | None = None,
@@ -62,6 +68,13 @@ def self_affine(shape: tuple[int, int], dx: float, hurst: float, rms_slope: floa
     numpy.ndarray
         Heights (m), shape (ny, nx), zero mean.
 
+    Warns
+    -----
+    ResolutionWarning
+        Fewer than :data:`MIN_MODES` independent Fourier modes lie below the short cutoff
+        (a small grid, or a cutoff close to the cell's size): the surface is a few cosines,
+        not a Gaussian self-affine one.
+
     Examples
     --------
     >>> import mdrvisc as mv
@@ -81,12 +94,31 @@ def self_affine(shape: tuple[int, int], dx: float, hurst: float, rms_slope: floa
     if hurst >= 1.0:
         raise InvalidInputError(f"self_affine: hurst must lie in (0, 1), got {hurst!r}")
     seed = _seed(seed)
-    return _core.self_affine(nx, ny, _positive("self_affine", "dx", dx), hurst,
+    dx = _positive("self_affine", "dx", dx)
+    cutoff = _optional_positive("self_affine", "short_cutoff", short_cutoff)
+    heights = _core.self_affine(nx, ny, dx, hurst,
                              rms_height=_optional_positive("self_affine", "rms_height", rms_height),
                              rms_slope=_optional_positive("self_affine", "rms_slope", rms_slope),
                              rolloff=_optional_positive("self_affine", "rolloff", rolloff),
-                             short_cutoff=_optional_positive("self_affine", "short_cutoff", short_cutoff),
-                             seed=seed)
+                             short_cutoff=cutoff, seed=seed)
+    modes = _modes(nx, ny, dx, cutoff)
+    if modes < MIN_MODES:
+        warnings.warn(f"self_affine: only about {modes} independent Fourier modes of the {ny} x {nx} grid "
+                      f"lie below the short cutoff: the surface is a sum of {modes} cosines, far from "
+                      f"Gaussian and self-affine (enlarge the grid or shorten the cutoff)", ResolutionWarning,
+                      stacklevel=2)
+    return heights
+
+
+def _modes(nx: int, ny: int, dx: float, short_cutoff: float | None) -> int:
+    """Independent real Fourier modes (pairs of wavevectors +-q counted once) of an nx x ny
+    grid of side dx with 0 < abs(q) <= the short cutoff's wavevector (as the core selects)."""
+    q_s = np.pi / max(dx, (short_cutoff or 0.0) / 2.0) * (1 + 1e-12)
+    qx = np.sort(np.abs(2 * np.pi * np.fft.fftfreq(nx, dx)))
+    qy = np.abs(2 * np.pi * np.fft.fftfreq(ny, dx))
+    room = q_s**2 - qy**2
+    within = np.where(room >= 0, np.searchsorted(qx**2, np.maximum(room, 0.0), side="right"), 0)
+    return int(within.sum()) // 2  # the nonzero wavevectors, halved, rounded up
 
 
 def _seed(value: object) -> int:
@@ -149,4 +181,7 @@ def psd(heights: ArrayLike, dx: float) -> tuple[np.ndarray, np.ndarray]:
     filled = counts > 0
     q_mean = np.bincount(ring[keep], weights=q[keep], minlength=1)[filled] / counts[filled]
     c_mean = np.bincount(ring[keep], weights=c[keep], minlength=1)[filled] / counts[filled]
+    if not (np.all(np.isfinite(q_mean)) and np.all(np.isfinite(c_mean))):
+        raise InvalidInputError(f"psd: the spectrum of heights up to {float(np.max(np.abs(h))):.3g} m on "
+                                f"elements of {dx:.3g} m overflows float64: rescale the units")
     return q_mean, c_mean

@@ -212,6 +212,11 @@ fn version_and_help() {
         out.contains("paper") && out.contains("run") && out.contains("--version"),
         "{out}"
     );
+    // it says what it does not cover, and where that is
+    assert!(
+        out.contains("mdrvisc fit") && out.contains("mdrvisc sweep") && out.contains("pip install"),
+        "{out}"
+    );
     let (code, out, _) = mdrvisc(&["run", "--help"]);
     assert_eq!(code, 0);
     assert!(

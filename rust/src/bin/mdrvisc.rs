@@ -14,7 +14,15 @@ use std::time::Instant;
 
 /// Rigid indenters on viscous and viscoelastic half-spaces by BEM and MDR.
 #[derive(Parser)]
-#[command(name = "mdrvisc", version, about)]
+#[command(
+    name = "mdrvisc",
+    version,
+    about,
+    after_help = "This Rust binary runs scene files and the paper's scenes only. Fitting \
+measured curves (`mdrvisc fit`), sweeps (`mdrvisc sweep`) and the paper's figures come \
+with the Python package: pip install mdrvisc, then `mdrvisc --help` or \
+`python -m mdrvisc --help`."
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,

@@ -93,10 +93,7 @@ impl SceneFile {
             }
             None => None,
         };
-        read_heights(&mut table, base).map_err(|e| bad(e.message()))?;
-        let scene: Scene = serde_path_to_error::deserialize(toml::Value::Table(table))
-            .map_err(|e| bad(super::scene::keyed(e)))?;
-        scene.validate().map_err(|e| bad(e.message()))?;
+        let scene = scene_of(table, source, base)?;
         let n = match (n, &scene.indenter) {
             (Some(n), _) => n,
             (None, Indenter::HeightMap(map)) => map.n(),
@@ -112,27 +109,66 @@ impl SceneFile {
 
     /// Reads and parses the scene file at `path` (at most `MAX_FILE_BYTES`).
     pub fn load(path: &str) -> Result<Self> {
-        let cannot =
-            |e: std::io::Error| Error::InvalidInput(format!("cannot read scene file {path}: {e}"));
-        let mut bytes = vec![];
-        std::fs::File::open(path)
-            .and_then(|f| f.take(MAX_FILE_BYTES + 1).read_to_end(&mut bytes))
-            .map_err(cannot)?;
-        if bytes.len() as u64 > MAX_FILE_BYTES {
-            return Err(Error::InvalidInput(format!(
-                "{path}: a scene file is at most {MAX_FILE_BYTES} bytes"
-            )));
-        }
-        let text = String::from_utf8(bytes)
-            .map_err(|_| Error::InvalidInput(format!("{path}: not UTF-8 text")))?;
+        let text = read(path)?;
         let base = Path::new(path).parent().unwrap_or(Path::new(""));
         Self::parse_in(&text, path, base)
+    }
+
+    /// The scene of the scene file at `path`, whose `method` and `n` may be absent (as
+    /// `to_toml` writes a scene without them); when `method` is there, the whole file is
+    /// checked as `load` does.
+    pub fn load_scene(path: &str) -> Result<Scene> {
+        let text = read(path)?;
+        let base = Path::new(path).parent().unwrap_or(Path::new(""));
+        let text = text.strip_prefix('\u{feff}').unwrap_or(&text);
+        let mut table: toml::Table =
+            toml::from_str(text).map_err(|e| Error::InvalidInput(format!("{path}: {e}")))?;
+        if table.contains_key("method") {
+            return Self::from_table(table, path, base).map(|file| file.scene);
+        }
+        match table.remove("n") {
+            Some(toml::Value::Integer(n)) if n >= 1 => {}
+            Some(other) => {
+                return Err(Error::InvalidInput(format!(
+                    "{path}: key 'n' must be an integer >= 1, got {other}"
+                )))
+            }
+            None => {}
+        }
+        scene_of(table, path, base)
     }
 
     /// The scene file as TOML text (a height map's heights inline).
     pub fn to_toml(&self) -> String {
         to_toml(&self.scene, Some((self.settings.method, self.settings.n)))
     }
+}
+
+/// The text of the file at `path`: at most `MAX_FILE_BYTES` bytes of UTF-8.
+fn read(path: &str) -> Result<String> {
+    let cannot =
+        |e: std::io::Error| Error::InvalidInput(format!("cannot read scene file {path}: {e}"));
+    let mut bytes = vec![];
+    std::fs::File::open(path)
+        .and_then(|f| f.take(MAX_FILE_BYTES + 1).read_to_end(&mut bytes))
+        .map_err(cannot)?;
+    if bytes.len() as u64 > MAX_FILE_BYTES {
+        return Err(Error::InvalidInput(format!(
+            "{path}: a scene file is at most {MAX_FILE_BYTES} bytes"
+        )));
+    }
+    String::from_utf8(bytes).map_err(|_| Error::InvalidInput(format!("{path}: not UTF-8 text")))
+}
+
+/// The validated scene of a scene file's table without `method` and `n`; `source` names it
+/// in errors, and files it names are read relative to `base`.
+fn scene_of(mut table: toml::Table, source: &str, base: &Path) -> Result<Scene> {
+    let bad = |e: String| Error::InvalidInput(format!("{source}: {e}"));
+    read_heights(&mut table, base).map_err(|e| bad(e.message()))?;
+    let scene: Scene = serde_path_to_error::deserialize(toml::Value::Table(table))
+        .map_err(|e| bad(super::scene::keyed(e)))?;
+    scene.validate().map_err(|e| bad(e.message()))?;
+    Ok(scene)
 }
 
 /// Replaces a height map's `heights` given as a file name by the array of that `.npy`

@@ -19,6 +19,7 @@
 //! none, so the same inputs give the same bits on every platform.
 
 use crate::support::error::{check_positive, Error, Result};
+use crate::support::monitor::Stop;
 use rayon::prelude::*;
 use rustfft::num_complex::Complex;
 use std::f64::consts::PI;
@@ -152,7 +153,8 @@ fn wavevector(k: usize, n: usize, dx: f64) -> f64 {
 
 /// A Gaussian self-affine height map (m), row-major (ny rows of nx), zero mean, periodic,
 /// from the seed `seed`: bit for bit the same on every machine (see the module's doc).
-pub fn self_affine(surface: &SelfAffine, seed: u64) -> Result<Vec<f64>> {
+/// Stops with `Error::Interrupted` within a row of work once `stop` is requested.
+pub fn self_affine(surface: &SelfAffine, seed: u64, stop: &Stop) -> Result<Vec<f64>> {
     surface.validate()?;
     let (nx, ny, dx) = (surface.nx, surface.ny, surface.dx);
     crate::support::memory::check(&format!("a {nx} x {ny} surface"), 40.0 * (nx * ny) as f64)?;
@@ -160,12 +162,15 @@ pub fn self_affine(surface: &SelfAffine, seed: u64) -> Result<Vec<f64>> {
     let mut rng = SplitMix64(seed);
     let mut z: Vec<Complex<f64>> = (0..nx * ny)
         .map(|i| {
+            if i % nx == 0 {
+                stop.check()?;
+            }
             let (kx, ky) = (i % nx, i / nx);
             let q = libm::hypot(wavevector(kx, nx, dx), wavevector(ky, ny, dx));
             let (a, b) = rng.normal_pair();
-            Complex::new(a, b) * surface.amplitude(q)
+            Ok(Complex::new(a, b) * surface.amplitude(q))
         })
-        .collect();
+        .collect::<Result<_>>()?;
     // The real field's DFT coefficients c_k = (z_k + conj(z_-k)) / 2 give its rms height
     // and slope (sum of |c_k|^2 and of |q_k|^2 |c_k|^2), summed in index order.
     let (mut height2, mut slope2) = (0.0, 0.0);
@@ -190,35 +195,41 @@ pub fn self_affine(surface: &SelfAffine, seed: u64) -> Result<Vec<f64>> {
             "the spectrum holds no mode of the {nx} x {ny} grid of side {dx} m: no wavelength between the cell's and the short cutoff ({cutoff}) fits on it; enlarge the grid or shorten the cutoff"
         )));
     }
-    inverse_dft_2d(&mut z, nx, ny);
+    inverse_dft_2d(&mut z, nx, ny, stop)?;
     Ok(z.iter().map(|c| c.re * scale).collect())
 }
 
 /// In-place unnormalised inverse DFT (sum of z_k e^(+i q x)) of `nx` x `ny` row-major data:
-/// rows, then columns (through a transpose), each transform by `dft` with `libm` twiddles.
-fn inverse_dft_2d(z: &mut [Complex<f64>], nx: usize, ny: usize) {
+/// rows, then columns (through a transpose), each transform by `dft` with `libm` twiddles;
+/// `stop` is polled before each row and column.
+fn inverse_dft_2d(z: &mut [Complex<f64>], nx: usize, ny: usize, stop: &Stop) -> Result<()> {
     let (tw_x, tw_y) = (twiddles(nx), twiddles(ny));
-    z.par_chunks_mut(nx).for_each_init(
+    z.par_chunks_mut(nx).try_for_each_init(
         || vec![Complex::default(); nx],
         |out, row| {
+            stop.check()?;
             dft(row, 1, nx, out, &tw_x, 1);
             row.copy_from_slice(out);
+            Ok::<(), Error>(())
         },
-    );
+    )?;
     let mut t = vec![Complex::default(); nx * ny];
     for (i, v) in z.iter().enumerate() {
         t[(i % nx) * ny + i / nx] = *v;
     }
-    t.par_chunks_mut(ny).for_each_init(
+    t.par_chunks_mut(ny).try_for_each_init(
         || vec![Complex::default(); ny],
         |out, col| {
+            stop.check()?;
             dft(col, 1, ny, out, &tw_y, 1);
             col.copy_from_slice(out);
+            Ok::<(), Error>(())
         },
-    );
+    )?;
     for (j, v) in t.iter().enumerate() {
         z[(j % ny) * nx + j / ny] = *v;
     }
+    Ok(())
 }
 
 /// e^(+2 pi i k / n) for k in 0..n, by `libm`.
@@ -325,7 +336,7 @@ mod tests {
             short_cutoff: None,
             roughness: Roughness::RmsHeight(1.0),
         };
-        assert!(self_affine(&ok, 1).is_ok());
+        assert!(self_affine(&ok, 1, &Stop::default()).is_ok());
         for bad in [
             SelfAffine { hurst: 1.0, ..ok },
             SelfAffine { nx: 0, ..ok },
@@ -343,7 +354,10 @@ mod tests {
                 ..ok
             },
         ] {
-            assert!(matches!(self_affine(&bad, 1), Err(Error::InvalidInput(_))));
+            assert!(matches!(
+                self_affine(&bad, 1, &Stop::default()),
+                Err(Error::InvalidInput(_))
+            ));
         }
     }
 }

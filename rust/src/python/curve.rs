@@ -1,9 +1,10 @@
 //! The fit's forward model: a prepared indentation curve (`crate::mdr::curve::Curve`) evaluated
 //! for media given as the scene model's JSON, with derivatives in the logarithms of the
-//! named parameters; the media of one call run in parallel with the GIL released.
+//! named parameters; the media of one call run in parallel with the GIL released, stopped
+//! by Ctrl-C.
 
 use super::convert::slice1;
-use super::monitor::{in_pool, to_pyerr};
+use super::monitor::{to_pyerr, PyMonitor};
 use crate::mdr::curve::{Control, Curve, Forward};
 use crate::model::Medium;
 use crate::support::error::Error;
@@ -99,16 +100,14 @@ impl PyCurve {
             .collect::<crate::Result<Vec<_>>>()
             .map_err(|e| to_pyerr(py, e))?;
         let curve = &self.inner;
-        let results = in_pool(py, || {
+        // served like a solve: Ctrl-C stops the evaluation within a step or an element
+        let results = PyMonitor::new(None).run(py, |monitor| {
+            let stop = monitor.stop();
             parsed
                 .par_iter()
-                .map(|(r, tangents)| match shift {
-                    Some(shift) => curve.evaluate_shifted(r, tangents, shift),
-                    None => curve.evaluate(r, tangents),
-                })
+                .map(|(r, tangents)| curve.evaluate_until(r, tangents, shift, &stop))
                 .collect::<crate::Result<Vec<_>>>()
-        })?
-        .map_err(|e| to_pyerr(py, e))?;
+        })?;
         let (k, p) = (curve.len(), free.len() + usize::from(shift.is_some()));
         results
             .into_iter()

@@ -32,6 +32,9 @@ mod core_module {
     /// Largest magnitude of a physical input (and inverse of the smallest nonzero one).
     #[pymodule_export]
     const MAGNITUDE: f64 = crate::support::error::MAGNITUDE;
+    /// Largest input file (bytes) the command lines read: scene, sweep and curve files.
+    #[pymodule_export]
+    const MAX_FILE_BYTES: u64 = crate::model::file::MAX_FILE_BYTES;
     /// tan(psi) / tan(alpha) of the cone MDR solves in place of a four-sided pyramid.
     #[pymodule_export]
     const EQUIVALENT_CONE_FACTOR: f64 = crate::model::indenter::pyramid::EQUIVALENT_CONE_FACTOR;
@@ -41,12 +44,20 @@ mod core_module {
     use super::report::{PyFieldSet, PyReport};
     #[pymodule_export]
     use super::scene::{
-        load_scene_file, parse_scene_file, parse_scene_table, run_loads, run_scene, PyScene,
+        load_scene_file, parse_scene_file, parse_scene_table, read_scene_file, run_loads,
+        run_scene, PyScene,
     };
 
-    /// Adds the schema: `OUTPUTS`, `QUANTITIES`, `SOLVER_DEFAULTS`, `DEFAULT_N`.
+    /// Imports NumPy's C API and adds the schema: `OUTPUTS`, `QUANTITIES`,
+    /// `SOLVER_DEFAULTS`, `DEFAULT_N`.
     #[pymodule_init]
     fn init(m: &pyo3::Bound<'_, pyo3::types::PyModule>) -> pyo3::PyResult<()> {
+        // NumPy's C API is imported here, where an exception (a Ctrl-C while its Python
+        // code runs) propagates from the import; imported lazily by the first array a call
+        // returns, it would be a panic. The first array then finds it imported and runs no
+        // Python code.
+        numpy::get_array_module(m.py())?;
+        numpy::PyArray1::<f64>::zeros(m.py(), 0, false);
         super::schema::add(m)
     }
 }

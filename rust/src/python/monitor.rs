@@ -4,11 +4,9 @@
 //! never runs on, or holds, a worker of the pool.
 
 use crate::support::error::Error;
-use crate::support::monitor::Monitor;
+use crate::support::monitor::{Monitor, Stop};
 use pyo3::prelude::*;
-use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::{self, RecvTimeoutError};
-use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 /// Raises the matching exception class of `mdrvisc.errors`.
@@ -59,14 +57,12 @@ pub(crate) struct PyMonitor {
 struct Forward<T> {
     tx: mpsc::Sender<Message<T>>,
     last: Option<Instant>,
-    cancel: Arc<AtomicBool>,
+    cancel: Stop,
 }
 
 impl<T> Monitor for Forward<T> {
     fn progress(&mut self, stage: &str, done: usize, total: usize) -> crate::Result<()> {
-        if self.cancel.load(Ordering::Relaxed) {
-            return Err(Error::Interrupted);
-        }
+        self.cancel.check()?;
         if done < total
             && self
                 .last
@@ -78,6 +74,10 @@ impl<T> Monitor for Forward<T> {
         // The receiver outlives the computation: the send cannot fail.
         let _ = self.tx.send(Message::Progress(stage.into(), done, total));
         Ok(())
+    }
+
+    fn stop(&self) -> Stop {
+        self.cancel.clone()
     }
 }
 
@@ -96,12 +96,12 @@ impl PyMonitor {
         f: impl FnOnce(&mut dyn Monitor) -> crate::Result<T> + Send,
     ) -> PyResult<T> {
         let pool = crate::support::pool::get().map_err(|e| to_pyerr(py, e))?;
-        let cancel = Arc::new(AtomicBool::new(false));
+        let cancel = Stop::default();
         let (tx, rx) = mpsc::channel();
         let mut forward = Forward {
             tx,
             last: None,
-            cancel: Arc::clone(&cancel),
+            cancel: cancel.clone(),
         };
         let callback = self.callback;
         let (r, stop) = py.detach(move || {
@@ -127,7 +127,7 @@ impl PyMonitor {
                         }
                     });
                     if let Err(e) = served {
-                        cancel.store(true, Ordering::Relaxed);
+                        cancel.request();
                         stop = Some(e);
                     }
                     match message {

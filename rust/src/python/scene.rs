@@ -338,6 +338,15 @@ pub(crate) fn load_scene_file(
         .map_err(|e| to_pyerr(py, e))
 }
 
+/// The scene of the scene file at `path`, whose `method` and `n` may be absent
+/// (`SceneFile::load_scene`).
+#[pyfunction]
+pub(crate) fn read_scene_file(py: Python<'_>, path: &str) -> PyResult<PyScene> {
+    SceneFile::load_scene(path)
+        .map(|inner| PyScene { inner })
+        .map_err(|e| to_pyerr(py, e))
+}
+
 /// A scene file's TOML text parsed and validated; `source` names it in errors.
 #[pyfunction]
 pub(crate) fn parse_scene_file(

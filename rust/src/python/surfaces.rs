@@ -1,6 +1,6 @@
 //! Bindings of the random-surface generator: numpy height maps out.
 
-use super::monitor::{in_pool, to_pyerr};
+use super::monitor::{to_pyerr, PyMonitor};
 use crate::model::surfaces::{self, Roughness, SelfAffine};
 use crate::support::error::Error;
 use numpy::{IntoPyArray, PyArrayMethods};
@@ -44,7 +44,8 @@ pub(crate) fn self_affine<'py>(
         short_cutoff,
         roughness,
     };
-    let heights = in_pool(py, || surfaces::self_affine(&surface, seed))?;
-    let heights = heights.map_err(|e| to_pyerr(py, e))?;
+    let heights = PyMonitor::new(None).run(py, |monitor| {
+        surfaces::self_affine(&surface, seed, &monitor.stop())
+    })?;
     heights.into_pyarray(py).reshape([ny, nx])
 }

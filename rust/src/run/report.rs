@@ -222,7 +222,13 @@ impl Report {
             )
         } else {
             format!(
-                "{method}: the contact spans fewer than {MIN_CONTACT_ELEMENTS} elements (min {min:.1}) {when}; expect errors of several percent there (refine n)"
+                "{method}: the contact spans fewer than {MIN_CONTACT_ELEMENTS} elements (min {min:.1}) {when}; its edge is resolved to an element, so expect errors {} there (refine n)",
+                if min > 2.0 {
+                    // a length of m elements is within one element of the true m - 1 or more
+                    format!("up to about {:.0} %", 100.0 / (min - 1.0))
+                } else {
+                    "above 100 %".to_string()
+                }
             )
         });
     }

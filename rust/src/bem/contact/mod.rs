@@ -64,7 +64,8 @@ pub struct Tuning {
     /// iterations (default 32), bounding the round-off drift of its linear updates.
     pub refresh_every: usize,
     /// Iterations between progress reports (and cancellation checks) of Polonsky–Keer and
-    /// the flat-punch CG (default 16).
+    /// the flat-punch CG (default 1: an iteration of a large grid takes a good part of a
+    /// second, and a report costs a few nanoseconds).
     pub progress_every: usize,
 }
 
@@ -79,7 +80,7 @@ impl Default for Tuning {
             gap_round_off: 1e-12,
             seed_fraction: 0.01,
             refresh_every: 32,
-            progress_every: 16,
+            progress_every: 1,
         }
     }
 }

@@ -7,6 +7,7 @@ use super::{with_shift_tangent, Control, Curve, Evaluation, Forward, StepCoeffic
 use crate::model::contact_law::{ContactLaw, SortedSurface};
 use crate::model::medium::rheology::Rheology;
 use crate::support::error::Result;
+use crate::support::monitor::Stop;
 
 impl Curve {
     /// `evaluate` under force or spring control, with `shift` (m) added to every drive
@@ -18,6 +19,7 @@ impl Curve {
         r: &Rheology,
         tangents: &[Rheology],
         shift: Option<f64>,
+        stop: &Stop,
     ) -> Result<Evaluation> {
         let stiffness = match self.control {
             Control::Spring(k) => k,
@@ -67,6 +69,7 @@ impl Curve {
             d_value.iter_mut().for_each(|v| *v = 0.0);
             let mut clock = t_prev;
             for (t, prescribed) in substeps {
+                stop.check()?;
                 let h = t - clock;
                 clock = t;
                 let fresh = !matches!(&coefficients, Some((hh, _)) if *hh == h);

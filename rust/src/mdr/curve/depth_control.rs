@@ -11,6 +11,7 @@ use super::steps::{Step, Steps};
 use super::{with_shift_tangent, Curve, Evaluation, Forward, StepCoefficients};
 use crate::model::medium::rheology::Rheology;
 use crate::support::error::Result;
+use crate::support::monitor::Stop;
 use rayon::prelude::*;
 
 /// Elements per block of the parallel loop.
@@ -147,12 +148,13 @@ impl Curve {
         r: &Rheology,
         tangents: &[Rheology],
         shift: Option<f64>,
+        stop: &Stop,
     ) -> Result<Evaluation> {
         let (all, rates) = with_shift_tangent(r, tangents, shift.is_some());
         let tangents = &all[..];
         let shift = shift.unwrap_or(0.0);
         if self.hereditary {
-            if let Some(e) = self.evaluate_hereditary(r, tangents, &rates, shift)? {
+            if let Some(e) = self.evaluate_hereditary(r, tangents, &rates, shift, stop)? {
                 return Ok(e);
             }
         }
@@ -193,13 +195,14 @@ impl Curve {
                 let mut sums = Sums::zero(samples, pp);
                 let mut state = ElementState::new(r.terms.len(), pp);
                 for &g in &self.g[b * BLOCK..n.min((b + 1) * BLOCK)] {
+                    stop.check()?;
                     if g < deepest {
                         state.run(g, &table, &mut sums);
                     }
                 }
-                sums
+                Ok(sums)
             })
-            .collect();
+            .collect::<Result<_>>()?;
         let total = blocks
             .iter()
             .fold(Sums::zero(samples, pp), |acc, b| acc.add(b));

@@ -23,6 +23,7 @@ use super::steps::{Step, Steps};
 use super::{Curve, Evaluation, Forward, StepCoefficients};
 use crate::model::medium::rheology::Rheology;
 use crate::support::error::Result;
+use crate::support::monitor::Stop;
 
 /// E* = 4 G on the two halves of the even profile: the force is 8 G A.
 const WEIGHT: f64 = 8.0;
@@ -241,6 +242,7 @@ impl Curve {
         tangents: &[Rheology],
         rates: &[f64],
         shift: f64,
+        stop: &Stop,
     ) -> Result<Option<Evaluation>> {
         let Some(area) = AreaFunction::new(&self.g, self.dx) else {
             return Ok(None);
@@ -280,6 +282,7 @@ impl Curve {
         let mut d_delta = vec![(0.0, 0.0); p];
         let mut d_force = vec![0.0; p];
         for (i, step) in steps[..peak].iter().enumerate() {
+            stop.check()?;
             let (h, c) = (
                 coefficients[step.coefficients].0,
                 &coefficients[step.coefficients].1,
@@ -338,7 +341,7 @@ impl Curve {
                     })
                     .collect(),
             };
-            falling.run(&steps[peak..], &coefficients, &mut out);
+            falling.run(&steps[peak..], &coefficients, &mut out, stop)?;
         }
         Ok(Some(out.e))
     }
@@ -389,8 +392,15 @@ impl AtEnd {
 }
 
 impl Falling<'_> {
-    /// Steps through the falling steps, handing each sample to `put`.
-    fn run(&self, steps: &[Step], coefficients: &[(f64, StepCoefficients)], out: &mut Output) {
+    /// Steps through the falling steps, handing each sample to `put`; stops with
+    /// `Error::Interrupted` once `stop` is requested.
+    fn run(
+        &self,
+        steps: &[Step],
+        coefficients: &[(f64, StepCoefficients)],
+        out: &mut Output,
+        stop: &Stop,
+    ) -> Result<()> {
         let (m, p) = (self.r.terms.len(), self.tangents.len());
         let last = self.rising.len() - 1;
         // the last rising end before contact: t1 lies after it
@@ -411,6 +421,7 @@ impl Falling<'_> {
         let mut released = false;
         let mut d_dd = vec![0.0; p];
         for step in steps {
+            stop.check()?;
             let (h, c) = (
                 coefficients[step.coefficients].0,
                 &coefficients[step.coefficients].1,
@@ -502,6 +513,7 @@ impl Falling<'_> {
                 std::mem::swap(&mut hi, &mut lo);
             }
         }
+        Ok(())
     }
 
     /// phi and the force at rising end `j` for the step `now`, with `decay` the factors

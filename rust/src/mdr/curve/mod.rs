@@ -14,6 +14,7 @@
 use crate::model::medium::rheology::Rheology;
 use crate::model::settings::MAX_STEPS;
 use crate::support::error::{check_finite, check_positive, Error, Result};
+use crate::support::monitor::Stop;
 
 mod balance;
 mod depth_control;
@@ -280,11 +281,7 @@ impl Curve {
     /// The computed quantity at the sample times for the medium `r`, and its derivatives
     /// along each of `tangents` (derivatives of r's coefficients, same shape as r).
     pub fn evaluate(&self, r: &Rheology, tangents: &[Rheology]) -> Result<Evaluation> {
-        check_tangents(r, tangents)?;
-        match self.control {
-            Control::Depth => self.evaluate_depth_control(r, tangents, None),
-            Control::Force | Control::Spring(_) => self.evaluate_balance(r, tangents, None),
-        }
+        self.evaluate_until(r, tangents, None, &Stop::default())
     }
 
     /// `evaluate` of a depth- or spring-controlled curve with `shift` (m) added to every
@@ -297,12 +294,28 @@ impl Curve {
         tangents: &[Rheology],
         shift: f64,
     ) -> Result<Evaluation> {
-        check_finite("depth shift", &[shift])?;
+        self.evaluate_until(r, tangents, Some(shift), &Stop::default())
+    }
+
+    /// `evaluate` (no `shift`) or `evaluate_shifted`, stopping with `Error::Interrupted`
+    /// soon after `stop` is requested (the loops over steps and elements poll it).
+    pub fn evaluate_until(
+        &self,
+        r: &Rheology,
+        tangents: &[Rheology],
+        shift: Option<f64>,
+        stop: &Stop,
+    ) -> Result<Evaluation> {
+        if let Some(shift) = shift {
+            check_finite("depth shift", &[shift])?;
+        }
         check_tangents(r, tangents)?;
-        match self.control {
-            Control::Depth => self.evaluate_depth_control(r, tangents, Some(shift)),
-            Control::Spring(_) => self.evaluate_balance(r, tangents, Some(shift)),
-            Control::Force => Err(Error::InvalidInput(
+        match (self.control, shift) {
+            (Control::Depth, _) => self.evaluate_depth_control(r, tangents, shift, stop),
+            (Control::Spring(_), _) | (Control::Force, None) => {
+                self.evaluate_balance(r, tangents, shift, stop)
+            }
+            (Control::Force, Some(_)) => Err(Error::InvalidInput(
                 "a shift of the prescribed values needs a depth- or spring-controlled curve".into(),
             )),
         }
