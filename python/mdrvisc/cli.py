@@ -282,8 +282,9 @@ def _model(args):
 
 def _curve(args):
     """(t, the fit's data keywords, weights or None, whether it is a raw AFM curve) of
-    ``args.data``: a CSV file, or an AFM file read by :func:`mdrvisc.afm.load`."""
-    if not args.data.lower().endswith((".csv", ".txt")):
+    ``args.data``: a CSV file (suffix .csv, .txt or none), or an AFM file read by
+    :func:`mdrvisc.afm.load`."""
+    if Path(args.data).suffix.lower() not in ("", ".csv", ".txt"):
         from . import afm
 
         curves = afm.load(args.data, spring_constant=args.spring_constant)
