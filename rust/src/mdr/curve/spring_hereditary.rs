@@ -80,7 +80,7 @@ impl Curve {
         let tol = SLACK * widest.max(self.dx);
         // the balance is solved far below the monotonicity's slack (a stiff spring
         // multiplies the depth's error)
-        let precision = 1e-4 * tol;
+        let precision = 1e-6 * tol;
         // the balance per unit weight: kw (u - d) = F / WEIGHT
         let kw = stiffness / WEIGHT;
         let lowest_g = self.g[0];
@@ -202,6 +202,8 @@ impl Curve {
         let mut decay_lower = vec![0.0; m];
         let mut released: Option<f64> = None;
         let mut d_force = vec![0.0; p];
+        let (mut lo_dphi, mut lo_df, mut hi_dphi) = (vec![0.0; p], vec![0.0; p], vec![0.0; p]);
+        let mut sum_dp = vec![0.0; p];
         for step in &steps[at..] {
             let (h, c) = (
                 coefficients[step.coefficients].0,
@@ -307,6 +309,9 @@ impl Curve {
                         - c.gain[k] * dd_prev[j];
                 }
             }
+            for (j, total) in sum_dp.iter_mut().enumerate() {
+                *total = sum(&dp_new[j * m..(j + 1) * m]);
+            }
             let now = Now {
                 time: step.time,
                 depth: d,
@@ -314,7 +319,7 @@ impl Curve {
                 damping,
                 h,
                 dd_prev: &dd_prev,
-                sum_dp: (0..p).map(|j| sum(&dp_new[j * m..(j + 1) * m])).collect(),
+                sum_dp: &sum_dp,
             };
             let radius = match found {
                 Found::Released => {
@@ -337,9 +342,6 @@ impl Curve {
                     ends[upper].radius
                 }
                 Found::Between => {
-                    let mut lo_dphi = vec![0.0; p];
-                    let mut lo_df = vec![0.0; p];
-                    let mut hi_dphi = vec![0.0; p];
                     falling.force_derivatives(
                         &now,
                         upper,
@@ -436,17 +438,12 @@ fn put(
 }
 
 /// The depth d with kw (u - d) = F(d), F non-decreasing (`force` gives F and dF/dd, per
-/// unit weight): Newton's method from `guess` kept inside the bracket that F(u) gives
-/// (a bisection where it would leave it), to `tol` (m).
+/// unit weight): Newton's method from `guess` (each step towards the root; the root
+/// bracketed by the iterates, a bisection where a step would leave the bracket), to `tol`
+/// (m). F is convex where the contact grows (A(d) is), so Newton's steps settle from above.
 fn balance(kw: f64, u: f64, guess: f64, tol: f64, mut force: impl FnMut(f64) -> (f64, f64)) -> f64 {
-    let (f_u, _) = force(u);
-    if f_u == 0.0 {
-        return u;
-    }
-    // F non-decreasing: the root lies between u and u - F(u) / kw
-    let other = u - f_u / kw;
-    let (mut lo, mut hi) = (u.min(other), u.max(other));
-    let mut d = guess.clamp(lo, hi);
+    let (mut lo, mut hi) = (f64::NEG_INFINITY, f64::INFINITY);
+    let mut d = guess;
     for _ in 0..200 {
         let (f, slope) = force(d);
         let excess = kw * (u - d) - f;
@@ -458,11 +455,11 @@ fn balance(kw: f64, u: f64, guess: f64, tol: f64, mut force: impl FnMut(f64) -> 
         } else {
             hi = d;
         }
-        let mut next = d + excess / (kw + slope);
+        let mut next = d + excess / (kw + slope.max(0.0));
         if !(next > lo && next < hi) {
             next = 0.5 * (lo + hi);
         }
-        if (next - d).abs() <= 0.25 * tol || hi - lo <= 0.25 * tol {
+        if (next - d).abs() <= tol.max(4.0 * f64::EPSILON * d.abs()) || hi - lo <= tol {
             return next;
         }
         d = next;
@@ -490,7 +487,7 @@ struct Now<'a> {
     damping: f64,
     h: f64,
     dd_prev: &'a [f64],
-    sum_dp: Vec<f64>,
+    sum_dp: &'a [f64],
 }
 
 impl Falling<'_> {
