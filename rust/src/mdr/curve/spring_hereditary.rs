@@ -12,7 +12,8 @@
 //! linear in d, and the balance is solved by walking to the interval of rising ends that
 //! holds t1. Once the contact lets go the indenter follows the drive.
 //!
-//! Covered: a depth that may wander before contact, rises (within round-off) while in
+//! Covered: a medium without a dashpot (a dashpot's force jumps with the drive's speed,
+//! and the contact with it: the elements follow that), a depth that may wander before contact, rises (within round-off) while in
 //! contact, then falls until the contact lets go, and afterwards stays below its lowest
 //! value since, or below the profile: otherwise `None` (the elements are stepped instead).
 //! Derivatives: forward mode through the same arithmetic, each step's depth derivative
@@ -61,6 +62,9 @@ impl Curve {
         shift: f64,
         stiffness: f64,
     ) -> Result<Option<Evaluation>> {
+        if r.eta != 0.0 {
+            return Ok(None);
+        }
         let Some(area) = AreaFunction::new(&self.g, self.dx) else {
             return Ok(None);
         };
@@ -169,7 +173,7 @@ impl Curve {
             at += 1;
         }
         if at == steps.len() {
-            return Ok(Some(e));
+            return Ok(finite(e));
         }
         let falling = Falling {
             r,
@@ -397,8 +401,14 @@ impl Curve {
             d_prev = d;
             dd_prev.copy_from_slice(&d_now);
         }
-        Ok(Some(e))
+        Ok(finite(e))
     }
+}
+
+/// The evaluation, or None (the elements instead) should anything in it not be finite.
+fn finite(e: Evaluation) -> Option<Evaluation> {
+    let all = |v: &[f64]| v.iter().all(|x| x.is_finite());
+    (all(&e.values) && all(&e.jacobian)).then_some(e)
 }
 
 /// eta / h, 0 without a dashpot.
@@ -457,6 +467,10 @@ fn balance(kw: f64, u: f64, guess: f64, tol: f64, mut force: impl FnMut(f64) -> 
         }
         let mut next = d + excess / (kw + slope.max(0.0));
         if !(next > lo && next < hi) {
+            if !(lo.is_finite() && hi.is_finite()) {
+                // a step that does not move d: the root to round-off
+                return d;
+            }
             next = 0.5 * (lo + hi);
         }
         if (next - d).abs() <= tol.max(4.0 * f64::EPSILON * d.abs()) || hi - lo <= tol {
