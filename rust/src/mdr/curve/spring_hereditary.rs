@@ -13,9 +13,12 @@
 //! holds t1. Once the contact lets go the indenter follows the drive.
 //!
 //! Covered: a medium without a dashpot (a dashpot's force jumps with the drive's speed,
-//! and the contact with it: the elements follow that), a depth that may wander before contact, rises (within round-off) while in
-//! contact, then falls until the contact lets go, and afterwards stays below its lowest
-//! value since, or below the profile: otherwise `None` (the elements are stepped instead).
+//! and the contact with it: the elements follow that), a depth that may wander before
+//! contact and rises (within round-off) while the contact grows, then a contact that only
+//! shrinks (t1 never moves later; the depth itself may rise as the cantilever unbends)
+//! until it lets go, and afterwards a drive that stays below its lowest value since, or
+//! below the profile: otherwise `None` (the elements are stepped instead).
+//!
 //! Derivatives: forward mode through the same arithmetic, each step's depth derivative
 //! from the implicit-function theorem on the balance, dd = (k du - 8 dF|_d) / (k + 8 dF/dd).
 
@@ -28,6 +31,9 @@ use crate::support::error::Result;
 /// Depths within this fraction of the largest drive count as unchanged (the depth's
 /// monotonicity is tested to it).
 const SLACK: f64 = 1e-12;
+
+/// How far t1 may move later between two falling steps (in rising ends: round-off).
+const REGROWTH: f64 = 1e-6;
 
 /// The state at the end of a step while the contact grows (a rising end).
 struct End {
@@ -205,6 +211,7 @@ impl Curve {
         let mut decay_upper = vec![1.0; m];
         let mut decay_lower = vec![0.0; m];
         let mut released: Option<f64> = None;
+        let mut t1_before = last as f64;
         let mut d_force = vec![0.0; p];
         let (mut lo_dphi, mut lo_df, mut hi_dphi) = (vec![0.0; p], vec![0.0; p], vec![0.0; p]);
         let mut sum_dp = vec![0.0; p];
@@ -300,9 +307,17 @@ impl Curve {
                     );
                 }
             };
-            if d > d_prev + tol {
+            // t1 (in rising ends) must not move later: the contact shrinks, or Ting's
+            // construction does not hold
+            let t1 = match found {
+                Found::Released => f64::NEG_INFINITY,
+                Found::AtEnd => upper as f64,
+                Found::Between => (upper - 1) as f64 + theta,
+            };
+            if t1 > t1_before + REGROWTH {
                 return Ok(None);
             }
+            t1_before = t1;
             let dd = d - d_prev;
             // P_k's derivatives at this step with the depth's own derivative left out
             for j in 0..p {
