@@ -266,18 +266,33 @@ impl Curve {
                     let lo_phi = phi_ref(upper - 1, &decay_lower);
                     let span = lo_phi - hi_phi;
                     // theta: where t1 falls between the two ends (1 above, <= 0 below)
-                    let (d, theta, lo_force) = if span > 0.0 {
+                    let (d, theta, lo_force, w) = if span > 0.0 {
                         let lo_force = force_at(upper - 1, &decay_lower);
                         let jump = hi_force - lo_force;
-                        let slope = c.g_eff * jump / span;
-                        let f_ref = lo_force + lo_phi / span * jump;
-                        let d = d_prev + (kw * (u - d_prev) - f_ref) / (kw + slope);
-                        (d, (lo_phi + c.g_eff * (d - d_prev)) / span, lo_force)
+                        let shape = Shape::new(&ends[upper - 1], &ends[upper]);
+                        let depth_at = |theta: f64| d_prev + (theta * span - lo_phi) / c.g_eff;
+                        // the balance's excess at t1's fraction theta, and its derivative
+                        let mut excess = |theta: f64| {
+                            let (w, dw) = shape.weight(theta, &area, &mut node);
+                            (
+                                kw * (u - depth_at(theta)) - lo_force - w * jump,
+                                -kw * span / c.g_eff - dw * jump,
+                                w,
+                            )
+                        };
+                        if excess(1.0).0 > 0.0 {
+                            (depth_at(1.0), 2.0, lo_force, 1.0)
+                        } else if excess(0.0).0 < 0.0 {
+                            (depth_at(0.0), -1.0, lo_force, 0.0)
+                        } else {
+                            let theta = root_in_unit(&mut excess);
+                            (depth_at(theta), theta, lo_force, excess(theta).2)
+                        }
                     } else if direction > 0 {
                         // the depth did not move between the two ends: t1 above them
-                        (at_end, 2.0, hi_force)
+                        (at_end, 2.0, hi_force, 1.0)
                     } else {
-                        (at_end, 0.0, hi_force)
+                        (at_end, 0.0, hi_force, 0.0)
                     };
                     if theta > 1.0 && direction >= 0 && upper < last {
                         direction = 1;
@@ -303,7 +318,7 @@ impl Curve {
                         d,
                         Found::Between,
                         theta,
-                        lo_force + theta * (hi_force - lo_force),
+                        lo_force + w.clamp(0.0, 1.0) * (hi_force - lo_force),
                     );
                 }
             };
@@ -384,14 +399,26 @@ impl Curve {
                     let span = lo_phi - hi_phi;
                     let jump =
                         falling.force(upper, &decay_upper) - falling.force(upper - 1, &decay_lower);
-                    let slope = c.g_eff * jump / span;
+                    let (lo, hi) = (&ends[upper - 1], &ends[upper]);
+                    let shape = Shape::new(lo, hi);
+                    let (w, dw) = shape.weight(theta, &area, &mut node);
+                    let d1 = lo.depth + theta * (hi.depth - lo.depth);
+                    let (_, radius, _) = area.at(d1, &mut node);
+                    let slope = c.g_eff * jump * dw / span;
                     for j in 0..p {
                         let d_theta = (lo_phi * hi_dphi[j] - hi_phi * lo_dphi[j]) / (span * span);
-                        let x = (1.0 - theta) * lo_df[j] + theta * d_force[j] + d_theta * jump;
+                        let (d_lo, d_hi) = (ends_d[(upper - 1) * p + j], ends_d[upper * p + j]);
+                        let d_w = if shape.area > 0.0 {
+                            let d_d1 =
+                                d_lo + theta * (d_hi - d_lo) + d_theta * (hi.depth - lo.depth);
+                            (radius * d_d1 - lo.radius * d_lo * (1.0 - w) - hi.radius * d_hi * w)
+                                / shape.area
+                        } else {
+                            d_theta
+                        };
+                        let x = (1.0 - w) * lo_df[j] + w * d_force[j] + d_w * jump;
                         d_now[j] = (kw * rates[j] * step.along - x) / (kw + slope);
                     }
-                    let (a, b) = (&ends[upper - 1], &ends[upper]);
-                    let (_, radius, _) = area.at(a.depth + theta * (b.depth - a.depth), &mut node);
                     radius
                 }
             };
@@ -424,6 +451,69 @@ impl Curve {
 fn finite(e: Evaluation) -> Option<Evaluation> {
     let all = |v: &[f64]| v.iter().all(|x| x.is_finite());
     (all(&e.values) && all(&e.jacobian)).then_some(e)
+}
+
+/// The shape of the force between two rising ends as t1 moves from one to the other: the
+/// area's share of its change, (A(d1) - A_lo) / (A_hi - A_lo) at the depth d1 linear in
+/// t1's fraction theta (exact for an elastic medium; the force near the release falls
+/// smoothly to zero as A does, rather than linearly), theta itself where the area does not
+/// change.
+struct Shape {
+    lo: (f64, f64),
+    hi_depth: f64,
+    /// A_hi - A_lo (m^2).
+    area: f64,
+}
+
+impl Shape {
+    fn new(lo: &End, hi: &End) -> Self {
+        Shape {
+            lo: (lo.depth, lo.area),
+            hi_depth: hi.depth,
+            area: hi.area - lo.area,
+        }
+    }
+
+    /// (w, dw / dtheta) at theta in [0, 1].
+    fn weight(&self, theta: f64, area: &AreaFunction, node: &mut usize) -> (f64, f64) {
+        if !(self.area > 0.0) {
+            return (theta, 1.0);
+        }
+        let rise = self.hi_depth - self.lo.0;
+        let (a1, radius, _) = area.at(self.lo.0 + theta * rise, node);
+        ((a1 - self.lo.1) / self.area, radius * rise / self.area)
+    }
+}
+
+/// The root in [0, 1] of a decreasing `excess` (value, derivative, w) that is >= 0 at 0 and
+/// <= 0 at 1: Newton's method kept in the bracket, a bisection where it would leave it.
+fn root_in_unit(excess: &mut impl FnMut(f64) -> (f64, f64, f64)) -> f64 {
+    let (mut lo, mut hi) = (0.0, 1.0);
+    let mut theta = 0.5;
+    for _ in 0..100 {
+        let (g, slope, _) = excess(theta);
+        if g == 0.0 {
+            return theta;
+        }
+        if g > 0.0 {
+            lo = theta;
+        } else {
+            hi = theta;
+        }
+        let mut next = if slope < 0.0 {
+            theta - g / slope
+        } else {
+            f64::NAN
+        };
+        if !(next > lo && next < hi) {
+            next = 0.5 * (lo + hi);
+        }
+        if (next - theta).abs() <= 1e-15 || hi - lo <= 1e-15 {
+            return next;
+        }
+        theta = next;
+    }
+    theta
 }
 
 /// eta / h, 0 without a dashpot.
