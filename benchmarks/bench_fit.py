@@ -31,9 +31,10 @@ contact point and the baseline fitted with the medium): an 8,000-sample approach
 ``mv.solve`` as above, z = z_c + indentation + F / k), a standard solid and a power law,
 each from its class alone; targets <= 50 ms a fit. The forward model is Ting's solution with
 the cantilever in series (row "hereditary"); the same fit with the MDR elements stepped one
-by one under the spring (row "elements", one run: seconds) shows what it replaces. Beside them the same curve's contact part
-fitted by depth control (the indentation and force at the true contact point and baseline:
-Ting's solution, the millisecond path) and PyFMRheo's Ting fit of that part (power law
+by one under the spring (row "elements", one run) shows what it replaces. Beside them the
+same curve's contact part fitted by depth control (the indentation and force at the true
+contact point and baseline: Ting's solution, the millisecond path) and PyFMRheo's Ting fit
+of that part (power law
 only; it fits force against time at a given indentation, neither the contact point nor
 the cantilever).
 

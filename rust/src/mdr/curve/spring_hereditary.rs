@@ -304,7 +304,7 @@ impl Curve {
                         }
                         continue;
                     }
-                    if theta > 1.0 && !(span > 0.0) {
+                    if theta > 1.0 && (span <= 0.0 || span.is_nan()) {
                         break (at_end, Found::AtEnd, 1.0, hi_force);
                     }
                     if theta <= 0.0 && direction <= 0 {
@@ -476,7 +476,7 @@ impl Shape {
 
     /// (w, dw / dtheta) at theta in [0, 1].
     fn weight(&self, theta: f64, area: &AreaFunction, node: &mut usize) -> (f64, f64) {
-        if !(self.area > 0.0) {
+        if self.area <= 0.0 || self.area.is_nan() {
             return (theta, 1.0);
         }
         let rise = self.hi_depth - self.lo.0;
