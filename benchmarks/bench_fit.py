@@ -34,9 +34,8 @@ the cantilever in series (row "hereditary"); the same fit with the MDR elements 
 by one under the spring (row "elements", one run) shows what it replaces. Beside them the
 same curve's contact part fitted by depth control (the indentation and force at the true
 contact point and baseline: Ting's solution, the millisecond path) and PyFMRheo's Ting fit
-of that part (power law
-only; it fits force against time at a given indentation, neither the contact point nor
-the cantilever).
+of that part (power law only; it fits force against time at a given indentation, neither
+the contact point nor the cantilever).
 
 Run: ``python benchmarks/bench_fit.py [--repeats 3] [--pyfmrheo-python PATH] [--skip-targets]
 [--skip-raw]``.
