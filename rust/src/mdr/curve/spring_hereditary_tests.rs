@@ -79,9 +79,8 @@ fn deviation(a: &[f64], b: &[f64]) -> f64 {
 /// indentation) converge to Ting's solution with the spring as the profile and the steps
 /// are refined, on every protocol and medium: their deviation from it (n = 4000, 32
 /// substeps) falls at each refinement and is below 1e-6 of the peak force at the same n and
-/// steps (measured 4e-8 to 2.7e-7), and Ting's solution at n = 500 and 8 substeps is within
-/// 1e-4 of its refined self (measured 1.8e-6 to 2.0e-5, largest near the release, where t1
-/// is interpolated between the first rising ends).
+/// steps (measured 4.2e-8 to 4.4e-8), and Ting's solution at n = 500 and 8 substeps is
+/// within 1e-4 of its refined self (measured 1.8e-6 to 2.0e-5, the power law's largest).
 #[test]
 fn elements_under_a_spring_converge_to_tings_solution() {
     for (protocol, times, u) in protocols(100) {
