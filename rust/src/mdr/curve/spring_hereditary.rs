@@ -562,7 +562,8 @@ fn balance(kw: f64, u: f64, guess: f64, tol: f64, mut force: impl FnMut(f64) -> 
     for _ in 0..200 {
         let (f, slope) = force(d);
         let excess = kw * (u - d) - f;
-        if excess == 0.0 {
+        // zero to the round-off of its terms
+        if excess.abs() <= 8.0 * f64::EPSILON * (kw * (u.abs() + d.abs()) + f.abs()) {
             return d;
         }
         if excess > 0.0 {
