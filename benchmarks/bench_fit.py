@@ -29,11 +29,13 @@ A third table fits raw AFM curves (piezo, deflection, spring constant k = 0.5 N/
 contact point and the baseline fitted with the medium): an 8,000-sample approach and retract
 (0.5 s before contact, then the triangle above, 1 % deflection noise, seed 0; data from
 ``mv.solve`` as above, z = z_c + indentation + F / k), a standard solid and a power law,
-each from its class alone; targets <= 50 ms a fit. Beside them the same curve's contact part
-fitted by depth control (the indentation and force at the true contact point and baseline:
-Ting's solution, the millisecond path) and PyFMRheo's Ting fit of that part (power law
-only; it fits force against time at a given indentation, neither the contact point nor
-the cantilever).
+each from its class alone; targets <= 50 ms a fit. The forward model is Ting's solution with
+the cantilever in series (row "hereditary"); the same fit with the MDR elements stepped one
+by one under the spring (row "elements", one run) shows what it replaces. Beside them the
+same curve's contact part fitted by depth control (the indentation and force at the true
+contact point and baseline: Ting's solution, the millisecond path) and PyFMRheo's Ting fit
+of that part (power law only; it fits force against time at a given indentation, neither
+the contact point nor the cantilever).
 
 Run: ``python benchmarks/bench_fit.py [--repeats 3] [--pyfmrheo-python PATH] [--skip-targets]
 [--skip-raw]``.
@@ -42,6 +44,7 @@ Run: ``python benchmarks/bench_fit.py [--repeats 3] [--pyfmrheo-python PATH] [--
 from __future__ import annotations
 
 import argparse
+import contextlib
 import math
 import os
 import tempfile
@@ -53,6 +56,7 @@ from scipy.optimize import least_squares
 
 import mdrvisc as mv
 from _bench import best_of, header, run_worker, table
+from mdrvisc import fitting
 from mdrvisc._fit_model import medium_of, parameters
 
 HERE = Path(__file__).resolve().parent
@@ -180,6 +184,23 @@ def raw_curve(true):
     return (t, z, deflection), (s[inside], depth[inside], measured[inside], force[inside])
 
 
+@contextlib.contextmanager
+def elements_stepped():
+    """``mv.fit`` with its forward model's Ting solution off (every curve's elements stepped):
+    the path that raw curves took before Ting's solution covered the cantilever."""
+    original = fitting.curves
+
+    def stepped(*args, **kwargs):
+        curve, estimate = original(*args, **kwargs)
+        return curve.elements_only(), estimate
+
+    fitting.curves = stepped
+    try:
+        yield
+    finally:
+        fitting.curves = original
+
+
 def raw_table(python, repeats) -> None:
     cases = [("standard solid", mv.StandardSolid(G_inf=1e3, G1=2e3, tau1=0.2)),
              ("power law", mv.PowerLaw(G0=1e3, beta=0.2, t0=1.0))]
@@ -194,6 +215,12 @@ def raw_table(python, repeats) -> None:
             tip, cls, t, piezo=z, deflection=d, spring_constant=RAW_K, n=N), repeats)
         truth = max(abs(raw.parameters[k] / v - 1) for k, v in parameters(true).items() if k != "t0")
         rows.append([label, f"mv.fit raw ({raw.forward})", raw.nfev, seconds, 0.05, truth,
+                     (raw.contact_point - RAW_Z_C) * 1e9, raw.success])
+        with elements_stepped():
+            seconds, raw = best_of(lambda t=t, z=z, d=deflection, cls=cls: mv.fit(
+                tip, cls, t, piezo=z, deflection=d, spring_constant=RAW_K, n=N), 1)
+        truth = max(abs(raw.parameters[k] / v - 1) for k, v in parameters(true).items() if k != "t0")
+        rows.append([label, f"mv.fit raw ({raw.forward})", raw.nfev, seconds, None, truth,
                      (raw.contact_point - RAW_Z_C) * 1e9, raw.success])
         seconds, ting = best_of(lambda s=s, d=depth, f=force, cls=cls: mv.fit(
             tip, cls, s, depth=d, force=f, n=N), repeats)

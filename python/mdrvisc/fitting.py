@@ -105,8 +105,9 @@ class FitResult:
     control : str
         "depth" or "force": what was prescribed.
     forward : str
-        The forward model that ran: "hereditary" (Ting's solution: depth control, a depth
-        that rises and then falls, a tip whose MDR profile rises away from its axis) or
+        The forward model that ran: "hereditary" (Ting's solution: a depth that rises and
+        then falls, under depth control or through a raw curve's cantilever, and a tip whose
+        MDR profile rises away from its axis) or
         "elements" (the MDR elements stepped one by one; see :func:`fit`'s notes).
     wall_time : float
         Seconds the fit took.
@@ -337,9 +338,13 @@ def fit(indenter: Indenter, model: _Medium | type, t: ArrayLike, *, depth: Array
     its axis, it is Ting's solution: the elements' forces integrated over the contact in
     closed form, so the cost does not grow with ``n`` (which then samples the profile's
     area function, error ~(dx / a)^2) and a 2,000-sample curve takes about a millisecond.
-    Otherwise (force control, raw AFM curves, several load cycles, a depth that wiggles)
-    the n elements are stepped one by one, each with its own history (contact-edge error
-    ~dx / a). Ting's solution assumes, as his paper does,
+    A raw AFM curve goes the same way with the cantilever in series: at each sample the
+    indentation d solves k (z - z_c - d) = F[d](t), Ting's force of the history so far, a
+    scalar equation (its derivatives by the implicit-function theorem), as long as the
+    indentation rises while in contact (any path before it) and then falls until the
+    contact lets go. Otherwise (force control, several load cycles, a depth that wiggles
+    in contact) the n elements are stepped one by one, each with its own history
+    (contact-edge error ~dx / a). Ting's solution assumes, as his paper does,
     that a contact that has let go on retraction does not touch again while the depth
     falls.
     """

@@ -69,6 +69,14 @@ impl PyCurve {
         Ok(PyCurve { inner })
     }
 
+    /// The same curve, always evaluated by stepping the elements (Ting's solution off: for
+    /// comparisons).
+    fn elements_only(&self) -> Self {
+        PyCurve {
+            inner: self.inner.clone().elements_only(),
+        }
+    }
+
     /// The shortest step and the last sample time (s): the range a power law's series holds.
     fn time_range(&self) -> (f64, f64) {
         self.inner.time_range()

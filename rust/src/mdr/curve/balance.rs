@@ -1,7 +1,8 @@
 //! Curves whose depth balances a load over all the elements: a prescribed force, or the
-//! force of a spring pressed by a prescribed drive (an AFM cantilever on its piezo). The
-//! elements are stepped together, one step at a time; the derivatives follow the stepping
-//! (the contact set piecewise constant in the parameters).
+//! force of a spring pressed by a prescribed drive (an AFM cantilever on its piezo). Spring
+//! control goes by Ting's solution (`spring_hereditary`) where it covers the history; else
+//! the elements are stepped together, one step at a time; the derivatives follow the
+//! stepping (the contact set piecewise constant in the parameters).
 
 use super::{with_shift_tangent, Control, Curve, Evaluation, Forward, StepCoefficients};
 use crate::model::contact_law::{ContactLaw, SortedSurface};
@@ -28,6 +29,13 @@ impl Curve {
         let (all, rates) = with_shift_tangent(r, tangents, shift.is_some());
         let tangents = &all[..];
         let shift = shift.unwrap_or(0.0);
+        if self.hereditary && stiffness > 0.0 {
+            if let Some(e) =
+                self.evaluate_spring_hereditary(r, tangents, &rates, shift, stiffness)?
+            {
+                return Ok(e);
+            }
+        }
         let (n, m, p) = (self.g.len(), r.terms.len(), tangents.len());
         let k_out = self.times.len();
         let mut out = Evaluation {

@@ -26,10 +26,10 @@ use crate::support::error::Result;
 use crate::support::monitor::Stop;
 
 /// E* = 4 G on the two halves of the even profile: the force is 8 G A.
-const WEIGHT: f64 = 8.0;
+pub(super) const WEIGHT: f64 = 8.0;
 
 /// Below this an exponential factor is set to zero (no denormal arithmetic).
-const NEGLIGIBLE: f64 = 1e-250;
+pub(super) const NEGLIGIBLE: f64 = 1e-250;
 
 /// The area function A(d) of an even profile rising away from its centre.
 pub(super) struct AreaFunction {
@@ -72,7 +72,7 @@ impl AreaFunction {
 
     /// (A (m^2), a (m), da/dd) at depth `d` (m); the node search starts from `hint`, its
     /// last answer (updated).
-    fn at(&self, d: f64, hint: &mut usize) -> (f64, f64, f64) {
+    pub(super) fn at(&self, d: f64, hint: &mut usize) -> (f64, f64, f64) {
         let mut j = (*hint).min(self.g.len());
         while j > 0 && self.g[j - 1] >= d {
             j -= 1;
@@ -97,7 +97,7 @@ impl AreaFunction {
     }
 
     /// Elements whose centre lies inside the contact radius `a` (m).
-    fn elements_within(&self, a: f64) -> usize {
+    pub(super) fn elements_within(&self, a: f64) -> usize {
         ((a / self.dx - 0.5).ceil().max(0.0) as usize).min(self.elements)
     }
 }
@@ -117,7 +117,7 @@ struct Rising {
 /// Per-term integrals at the ends of the rising steps and their derivatives: Q_k =
 /// G_k int exp(-(t - s) / tau_k) dA(s) and P_k = the same of the depth, one row of m per
 /// end, and the derivatives' rows tangent by tangent after it.
-struct Integrals {
+pub(super) struct Integrals {
     m: usize,
     p: usize,
     q: Vec<f64>,
@@ -128,7 +128,7 @@ struct Integrals {
 
 impl Integrals {
     /// The rest state before the first step, with room for `ends` more.
-    fn new(m: usize, p: usize, ends: usize) -> Self {
+    pub(super) fn new(m: usize, p: usize, ends: usize) -> Self {
         let with = |len: usize| {
             let mut v = Vec::with_capacity(len * (ends + 1));
             v.resize(len, 0.0);
@@ -146,7 +146,7 @@ impl Integrals {
 
     /// Appends the state after a step of coefficients `c` that changes A and d by
     /// `delta` = (dA, dd) with derivatives `d_delta` (per tangent, (d dA, d dd)).
-    fn push(&mut self, c: &StepCoefficients, delta: (f64, f64), d_delta: &[(f64, f64)]) {
+    pub(super) fn push(&mut self, c: &StepCoefficients, delta: (f64, f64), d_delta: &[(f64, f64)]) {
         let m = self.m;
         let (q_old, q_new) = grow(&mut self.q, m);
         let (p_old, p_new) = grow(&mut self.pk, m);
@@ -172,20 +172,20 @@ impl Integrals {
         }
     }
 
-    fn q(&self, i: usize) -> &[f64] {
+    pub(super) fn q(&self, i: usize) -> &[f64] {
         &self.q[i * self.m..(i + 1) * self.m]
     }
 
-    fn p(&self, i: usize) -> &[f64] {
+    pub(super) fn p(&self, i: usize) -> &[f64] {
         &self.pk[i * self.m..(i + 1) * self.m]
     }
 
-    fn dq(&self, i: usize, j: usize) -> &[f64] {
+    pub(super) fn dq(&self, i: usize, j: usize) -> &[f64] {
         let at = (i * self.p + j) * self.m;
         &self.dq[at..at + self.m]
     }
 
-    fn dp(&self, i: usize, j: usize) -> &[f64] {
+    pub(super) fn dp(&self, i: usize, j: usize) -> &[f64] {
         let at = (i * self.p + j) * self.m;
         &self.dp[at..at + self.m]
     }
@@ -563,7 +563,7 @@ impl Falling<'_> {
 }
 
 /// sum_k a_k b_k, in four partial sums (a dependency chain a quarter as long).
-fn dot(a: &[f64], b: &[f64]) -> f64 {
+pub(super) fn dot(a: &[f64], b: &[f64]) -> f64 {
     let mut acc = [0.0; 4];
     let (ca, cb) = (a.chunks_exact(4), b.chunks_exact(4));
     let tail: f64 = ca
@@ -581,7 +581,7 @@ fn dot(a: &[f64], b: &[f64]) -> f64 {
 }
 
 /// sum_k a_k, in four partial sums.
-fn sum(a: &[f64]) -> f64 {
+pub(super) fn sum(a: &[f64]) -> f64 {
     let mut acc = [0.0; 4];
     let chunks = a.chunks_exact(4);
     let tail: f64 = chunks.remainder().iter().sum();

@@ -19,6 +19,7 @@ use crate::support::monitor::Stop;
 mod balance;
 mod depth_control;
 mod hereditary;
+mod spring_hereditary;
 mod steps;
 
 /// What the curve prescribes (the other quantity is computed).
@@ -45,7 +46,7 @@ pub struct Curve {
     values: Vec<f64>,
     control: Control,
     substeps: usize,
-    /// Whether a depth-controlled curve may be evaluated by Ting's solution.
+    /// Whether a depth- or spring-controlled curve may be evaluated by Ting's solution.
     hereditary: bool,
 }
 
@@ -53,8 +54,8 @@ pub struct Curve {
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Forward {
     /// Ting's solution: the MDR elements' forces integrated over the contact in closed
-    /// form (depth control, a depth that rises and then falls, a profile rising away from
-    /// its centre).
+    /// form (depth control, or spring control with the depth balancing the spring at each
+    /// step; a depth that rises and then falls, a profile rising away from its centre).
     Hereditary,
     /// The MDR elements stepped one by one (any history).
     Elements,
@@ -357,6 +358,8 @@ fn check_tangents(r: &Rheology, tangents: &[Rheology]) -> Result<()> {
 
 #[cfg(test)]
 mod hereditary_tests;
+#[cfg(test)]
+mod spring_hereditary_tests;
 #[cfg(test)]
 mod spring_tests;
 #[cfg(test)]

@@ -1,4 +1,4 @@
-//! Curves driven through a spring (an AFM cantilever): against algebra for an elastic
+//! Curves driven through a spring (an AFM cantilever), the elements stepped: against algebra for an elastic
 //! medium, against the depth-controlled curve of the depths they compute, against depth
 //! control for a stiff spring, and their derivatives against central differences.
 
@@ -37,6 +37,7 @@ fn elastic_force_balances_the_spring() {
     let r = Rheology::new(shear, vec![], 0.0).unwrap();
     let e = Curve::new(g.clone(), dx, times, u.clone(), Control::Spring(k), 1)
         .unwrap()
+        .elements_only()
         .evaluate(&r, &[])
         .unwrap();
     let scale = e.values.iter().fold(0.0f64, |a, b| a.max(*b));
@@ -77,6 +78,7 @@ fn spring_curve_is_depth_control_at_its_own_depths() {
         1,
     )
     .unwrap()
+    .elements_only()
     .evaluate(&r, &[])
     .unwrap();
     let depth: Vec<f64> = u.iter().zip(&e.values).map(|(u, f)| u - f / k).collect();
@@ -98,6 +100,7 @@ fn spring_curve_is_depth_control_at_its_own_depths() {
         1,
     )
     .unwrap()
+    .elements_only()
     .evaluate(&r, &[])
     .unwrap();
     let held = Curve::new(g, dx, times, u, Control::Depth, 1)
@@ -117,7 +120,9 @@ fn spring_curve_is_depth_control_at_its_own_depths() {
 fn spring_derivatives_match_central_differences() {
     let (g, dx) = half_parabola(300);
     let (times, u) = drive();
-    let curve = Curve::new(g, dx, times.clone(), u, Control::Spring(0.5), 2).unwrap();
+    let curve = Curve::new(g, dx, times.clone(), u, Control::Spring(0.5), 2)
+        .unwrap()
+        .elements_only();
     let build = |p: &[f64]| Rheology::new(p[0].exp(), vec![(p[1].exp(), p[2].exp())], 0.0).unwrap();
     let params = [0.0, 0.7, -1.2];
     let r = build(&params);
