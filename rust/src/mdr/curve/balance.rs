@@ -31,7 +31,7 @@ impl Curve {
         let shift = shift.unwrap_or(0.0);
         if self.hereditary && stiffness > 0.0 {
             if let Some(e) =
-                self.evaluate_spring_hereditary(r, tangents, &rates, shift, stiffness)?
+                self.evaluate_spring_hereditary(r, tangents, &rates, shift, stiffness, stop)?
             {
                 return Ok(e);
             }

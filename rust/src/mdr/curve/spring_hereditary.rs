@@ -27,6 +27,7 @@ use super::steps::Steps;
 use super::{Curve, Evaluation, Forward};
 use crate::model::medium::rheology::Rheology;
 use crate::support::error::Result;
+use crate::support::monitor::Stop;
 
 /// Depths within this fraction of the largest drive count as unchanged (the depth's
 /// monotonicity is tested to it).
@@ -67,6 +68,7 @@ impl Curve {
         rates: &[f64],
         shift: f64,
         stiffness: f64,
+        stop: &Stop,
     ) -> Result<Option<Evaluation>> {
         if r.eta != 0.0 {
             return Ok(None);
@@ -112,6 +114,7 @@ impl Curve {
         let mut at = 0;
         // rising: the contact grows (or has not formed)
         while at < steps.len() {
+            stop.check()?;
             let step = &steps[at];
             let (h, c) = (
                 coefficients[step.coefficients].0,
@@ -216,6 +219,7 @@ impl Curve {
         let (mut lo_dphi, mut lo_df, mut hi_dphi) = (vec![0.0; p], vec![0.0; p], vec![0.0; p]);
         let mut sum_dp = vec![0.0; p];
         for step in &steps[at..] {
+            stop.check()?;
             let (h, c) = (
                 coefficients[step.coefficients].0,
                 &coefficients[step.coefficients].1,
