@@ -631,18 +631,28 @@ fn prony_creep(r: &Rheology, t: f64) -> f64 {
         let (mut history, mut gain_sum) = (0.0, 0.0);
         for (i, &(g, tau)) in r.terms.iter().enumerate() {
             let e = (-dt / tau).exp();
-            let a = g * (tau / dt) * (-(-dt / tau).exp_m1());
+            let a = g * mean_decay(dt / tau);
             history += e * q[i];
             gain_sum += a;
         }
         let x_new = (1.0 - (history - gain_sum * x)) / (r.g_inf + gain_sum);
         for (i, &(g, tau)) in r.terms.iter().enumerate() {
-            let a = g * (tau / dt) * (-(-dt / tau).exp_m1());
+            let a = g * mean_decay(dt / tau);
             q[i] = (-dt / tau).exp() * q[i] + a * (x_new - x);
         }
         x = x_new;
     }
     x
+}
+
+/// (1 - e^-x) / x, the mean of e^-s over s in [0, x]: 1 - x/2 below x = 1e-8, where the
+/// quotient would lose its digits (and is 0/0 or overflows for subnormal steps).
+fn mean_decay(x: f64) -> f64 {
+    if x < 1e-8 {
+        1.0 - 0.5 * x
+    } else {
+        -(-x).exp_m1() / x
+    }
 }
 
 #[cfg(test)]
@@ -703,7 +713,7 @@ mod tests {
             terms: vec![[3.0, 0.5]],
             nu: INCOMPRESSIBLE,
         };
-        for t in [0.0, 0.1, 1.0, 7.0] {
+        for t in [0.0, 1e-308, 1e-300, 1e-12, 0.1, 1.0, 7.0] {
             let (a, b) = (
                 sls.creep_compliance(t).unwrap(),
                 prony.creep_compliance(t).unwrap(),
