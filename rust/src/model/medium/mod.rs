@@ -607,14 +607,26 @@ impl Medium {
 }
 
 /// J(t) of a Prony series (no dashpot): the unit-stress response stepped exactly for a
-/// strain varying linearly over each of 20000 geometric steps from 1e-6 min tau_k to t.
+/// strain varying linearly over each of 20000 geometric steps from 1e-6 min tau_k to t
+/// (below 1e-12 min tau_k its first-order series, exact to round-off there).
 fn prony_creep(r: &Rheology, t: f64) -> f64 {
     let g0 = r.g_inf + r.terms.iter().map(|(g, _)| g).sum::<f64>();
     let mut x = 1.0 / g0;
     if t <= 0.0 {
         return x;
     }
-    let tau_min = r.terms.iter().map(|&(_, tau)| tau).fold(t, f64::min);
+    let tau_min = r
+        .terms
+        .iter()
+        .map(|&(_, tau)| tau)
+        .fold(f64::INFINITY, f64::min);
+    if t < 1e-12 * tau_min {
+        // J(t) = 1/G0 + t sum(g_k / tau_k) / G0^2 + O((t / tau)^2): exact to round-off here,
+        // where a geometric grid from below t would underflow
+        let rate: f64 = r.terms.iter().map(|&(g, tau)| g / tau).sum();
+        return x + t * rate / (g0 * g0);
+    }
+    let tau_min = tau_min.min(t);
     let start = (tau_min * 1e-6).min(0.5 * t);
     let steps = 20000;
     let ratio = (t / start).powf(1.0 / (steps - 1) as f64);
@@ -713,7 +725,7 @@ mod tests {
             terms: vec![[3.0, 0.5]],
             nu: INCOMPRESSIBLE,
         };
-        for t in [0.0, 1e-308, 1e-300, 1e-12, 0.1, 1.0, 7.0] {
+        for t in [0.0, 5e-324, 1e-308, 1e-300, 1e-13, 1e-12, 0.1, 1.0, 7.0] {
             let (a, b) = (
                 sls.creep_compliance(t).unwrap(),
                 prony.creep_compliance(t).unwrap(),
