@@ -113,9 +113,10 @@ def test_soft_cantilever():
     (fitted - true) / stderr below 2; measured over 30 seeds 0.78-0.86 for the medium, 0.79
     for the contact point, 1.06 for the baseline; it was 1.05-1.52 while the fit's Jacobian
     took a modulus's column from the others by Euler's relation, which the cantilever
-    breaks: test_fit_convergence.py holds the ratio to 0.8-1.25 over 150 draws). At k = 0.01 N/m (deflection 3.5
-    times the indentation) the fit from the class alone can stop in other minima of a flat
-    valley; from the true medium it lands within 2.2 standard errors."""
+    breaks: test_fit_convergence.py holds the ratio to 0.8-1.25 over 150 draws). At
+    k = 0.01 N/m (deflection 3.5 times the indentation) the fit from the class alone can
+    stop in other minima of a flat valley; from the true medium it lands within 2.2
+    standard errors."""
     true = mv.StandardSolid(G_inf=1e3, G1=2e3, tau1=0.2)
     errors, scores = [], []
     for seed in range(20):

@@ -16,8 +16,8 @@ import logging
 
 from . import afm, analytic, arrays, scenefile, store, surfaces
 from ._core import num_threads, set_num_threads
-from .contact import DMT, JKR, Hard
 from .body import Layer
+from .contact import DMT, JKR, Hard
 from .errors import (
     ConvergenceError,
     DataError,

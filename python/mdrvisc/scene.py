@@ -14,8 +14,8 @@ import numpy as np
 
 from . import _core
 from ._validate import _array, _finite_positive, _integer, _number, _positive
-from .contact import ContactLaw, Hard, contact_from_model
 from .body import Layer
+from .contact import ContactLaw, Hard, contact_from_model
 from .errors import DomainError, InvalidInputError
 from .geometry import Cone, Indenter, Paraboloid, Pyramid, Rod, Sphere
 from .heightmap import HeightMap
