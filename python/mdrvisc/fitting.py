@@ -316,8 +316,8 @@ def fit(indenter: Indenter, model: _Medium | type, t: ArrayLike, *, depth: Array
     scales the Jacobian's columns to unit norm. It stops, with ``success``, only at a
     minimum:
 
-    * stationary: the relative offset of Bates and Watts, rho = (|P r| / sqrt(p)) /
-      (|r| / sqrt(m - p)) with P r the residuals' projection on the Jacobian's range (m
+    * stationary: the relative offset of Bates and Watts, rho = (``|P r|`` / sqrt(p)) /
+      (``|r|`` / sqrt(m - p)) with P r the residuals' projection on the Jacobian's range (m
       residuals, p parameters), is at most 1e-6: the undamped Gauss-Newton step to the
       linearised minimum is shorter than 1e-6 sqrt(p) standard errors, and the cost exceeds
       the minimum's by about rho^2 p / (m - p) of itself;

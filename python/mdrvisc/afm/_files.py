@@ -88,8 +88,8 @@ class Curve:
     height : str
         Which height column gave ``piezo``: "height (piezo)" or "height (measured)".
 
-    Example
-    -------
+    Examples
+    --------
     >>> curves = mv.afm.load("cell.jpk-force-map")            # doctest: +SKIP
     >>> approach = curves[0].select("approach")                # doctest: +SKIP
     >>> result = approach.fit(mv.Sphere(radius=5e-6), mv.Elastic)   # doctest: +SKIP
@@ -282,8 +282,8 @@ def load(path, *, spring_constant: float | None = None, sensitivity: float | Non
     DataError
         The file is not a force curve file afmformats reads, or gives no spring constant.
 
-    Example
-    -------
+    Examples
+    --------
     >>> curves = mv.afm.load("map.jpk-force-map")    # doctest: +SKIP
     >>> curves[0].grid_index, curves[0].spring_constant   # doctest: +SKIP
     ((0, 0), 0.0155)

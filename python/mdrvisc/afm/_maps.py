@@ -286,8 +286,8 @@ def fit_map(curves: Sequence[Curve], indenter: Indenter, model: _Medium | type, 
         A curve whose fit raises is a row with its ``reason`` (and a :class:`CurveFailure`);
         the other curves go on.
 
-    Example
-    -------
+    Examples
+    --------
     >>> curves = mv.afm.load("cells.jpk-force-map")                       # doctest: +SKIP
     >>> fitted = mv.afm.fit_map(curves, mv.Sphere(radius=5e-6), mv.Elastic)  # doctest: +SKIP
     >>> fitted.draw(path="modulus.png")                                   # doctest: +SKIP

@@ -71,8 +71,8 @@ def piezo_ramp(travel: float, speed: float, rate: float, *, dwell: float = 0.0, 
         Times (s) from 0, piezo positions (m, rising towards the sample) and segment numbers
         (0 approach, 1 dwell, 2 retract: :data:`SEGMENTS`).
 
-    Example
-    -------
+    Examples
+    --------
     >>> t, z, segment = mv.afm.piezo_ramp(2e-6, speed=2e-6, rate=2000.0)
     >>> float(t[-1]), float(z.max()), len(t)
     (2.0, 2e-06, 4001)
@@ -186,8 +186,8 @@ def simulate(indenter: Indenter, medium: _Medium, t: ArrayLike, piezo: ArrayLike
         ``simulation.curve`` is what :func:`mdrvisc.afm.load` would give for such a file;
         ``simulation.curve.fit(indenter, type(medium))`` fits it.
 
-    Example
-    -------
+    Examples
+    --------
     >>> t, z, _ = mv.afm.piezo_ramp(3e-6, speed=5e-6, rate=2000.0, start=-1e-6)
     >>> sim = mv.afm.simulate(mv.Sphere(radius=5e-6), mv.Elastic(G=1e3), t, z, 0.05)
     >>> round(float(sim.force.max()) * 1e9, 2)   # nN
