@@ -328,18 +328,7 @@ impl Curve {
                 rising: &rising,
                 integrals: &integrals,
                 area: &area,
-                tau_rates: tangents
-                    .iter()
-                    .map(|t| {
-                        t.terms
-                            .iter()
-                            .zip(&r.terms)
-                            .enumerate()
-                            .filter(|(_, (&(_, d_tau), _))| d_tau != 0.0)
-                            .map(|(k, (&(_, d_tau), &(_, tau)))| (k, d_tau / (tau * tau)))
-                            .collect()
-                    })
-                    .collect(),
+                tau_rates: tau_rates(r, tangents),
             };
             falling.run(&steps[peak..], &coefficients, &mut out, stop)?;
         }
@@ -591,4 +580,21 @@ pub(super) fn sum(a: &[f64]) -> f64 {
         }
     }
     (acc[0] + acc[1]) + (acc[2] + acc[3]) + tail
+}
+
+/// Per tangent, the terms whose relaxation time it moves and d(1/tau_k) = d tau_k / tau_k^2
+/// (1/s per unit of the tangent's parameter), as (term index, rate) pairs.
+pub(super) fn tau_rates(r: &Rheology, tangents: &[Rheology]) -> Vec<Vec<(usize, f64)>> {
+    tangents
+        .iter()
+        .map(|t| {
+            t.terms
+                .iter()
+                .zip(&r.terms)
+                .enumerate()
+                .filter(|(_, (&(_, d_tau), _))| d_tau != 0.0)
+                .map(|(k, (&(_, d_tau), &(_, tau)))| (k, d_tau / (tau * tau)))
+                .collect()
+        })
+        .collect()
 }

@@ -22,7 +22,7 @@
 //! Derivatives: forward mode through the same arithmetic, each step's depth derivative
 //! from the implicit-function theorem on the balance, dd = (k du - 8 dF|_d) / (k + 8 dF/dd).
 
-use super::hereditary::{dot, sum, AreaFunction, Integrals, NEGLIGIBLE, WEIGHT};
+use super::hereditary::{dot, sum, tau_rates, AreaFunction, Integrals, NEGLIGIBLE, WEIGHT};
 use super::steps::Steps;
 use super::{Curve, Evaluation, Forward};
 use crate::model::medium::rheology::Rheology;
@@ -190,18 +190,7 @@ impl Curve {
             ends: &ends,
             ends_d: &ends_d,
             integrals: &integrals,
-            tau_rates: tangents
-                .iter()
-                .map(|t| {
-                    t.terms
-                        .iter()
-                        .zip(&r.terms)
-                        .enumerate()
-                        .filter(|(_, (&(_, d_tau), _))| d_tau != 0.0)
-                        .map(|(k, (&(_, d_tau), &(_, tau)))| (k, d_tau / (tau * tau)))
-                        .collect()
-                })
-                .collect(),
+            tau_rates: tau_rates(r, tangents),
         };
         let last = ends.len() - 1;
         let first = ends.iter().rposition(|s| s.area == 0.0).unwrap_or(0);
