@@ -136,4 +136,47 @@ impl PyCurve {
             })
             .collect()
     }
+    /// JKR contact (work of adhesion `work_of_adhesion`, J/m^2) of an elastic medium (JSON of a
+    /// scene's medium table) by MDR with a continuous contact edge, depth or spring control:
+    /// the force (N), contact radius (m), depth (m) and elements of the half profile in
+    /// contact at the samples, every prescribed depth or drive moved by `shift` (m).
+    #[pyo3(signature = (medium, work_of_adhesion, shift=0.0))]
+    fn evaluate_jkr<'py>(
+        &self,
+        py: Python<'py>,
+        medium: String,
+        work_of_adhesion: f64,
+        shift: f64,
+    ) -> PyResult<(
+        Bound<'py, PyArray1<f64>>,
+        Bound<'py, PyArray1<f64>>,
+        Bound<'py, PyArray1<f64>>,
+        Bound<'py, PyArray1<u64>>,
+    )> {
+        let (t_lo, t_hi) = self.inner.time_range();
+        let e = (|| {
+            let m: Medium = serde_json::from_str(&medium)
+                .map_err(|e| Error::InvalidInput(format!("medium: {e}")))?;
+            m.validate()?;
+            let (r, _) = m.rheology_tangents_of(&[], t_lo, t_hi)?;
+            if !r.terms.is_empty() || r.eta != 0.0 {
+                return Err(Error::InvalidInput(
+                    "an adhesive curve is computed for an elastic medium".into(),
+                ));
+            }
+            self.inner
+                .evaluate_jkr(4.0 * r.g_inf, work_of_adhesion, shift)
+        })()
+        .map_err(|e| to_pyerr(py, e))?;
+        Ok((
+            e.values.into_pyarray(py),
+            e.contact_radius.into_pyarray(py),
+            e.depth.into_pyarray(py),
+            e.contact
+                .iter()
+                .map(|&c| c as u64)
+                .collect::<Vec<_>>()
+                .into_pyarray(py),
+        ))
+    }
 }

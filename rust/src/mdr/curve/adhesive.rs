@@ -29,6 +29,9 @@ pub struct AdhesiveEvaluation {
     pub contact_radius: Vec<f64>,
     /// Depth (m) at each sample time (the prescribed one under depth control).
     pub depth: Vec<f64>,
+    /// Elements of the half profile in contact (centres within the contact radius) at each
+    /// sample time: their number when the contact reaches the profile's end.
+    pub contact: Vec<usize>,
 }
 
 /// The half profile as a piecewise-linear function of x, with its running integral.
@@ -189,6 +192,7 @@ impl Curve {
             values: Vec::with_capacity(k),
             contact_radius: Vec::with_capacity(k),
             depth: Vec::with_capacity(k),
+            contact: Vec::with_capacity(k),
         };
         let mut a = 0.0;
         for &v in &self.values {
@@ -215,6 +219,8 @@ impl Curve {
             out.values.push(force);
             out.contact_radius.push(a);
             out.depth.push(depth);
+            out.contact
+                .push(profile.x[1..].partition_point(|&x| x <= a));
         }
         Ok(out)
     }

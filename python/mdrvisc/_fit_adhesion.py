@@ -1,0 +1,151 @@
+"""Fits with an adhesive contact law: the least-squares problem of a fit whose forward model is
+JKR contact by MDR (``_core.Curve.evaluate_jkr``: an elastic body, the contact's edge moving
+continuously between the elements), so that the retract's dip below the baseline is data.
+
+The coordinates are those of :class:`~mdrvisc._fit_model.Problem` with the logarithm of the
+work of adhesion after the medium's (unless it is held). The Jacobian is by finite
+differences: the forward model settles the contact at the samples in microseconds, and its
+force is smooth in the parameters except where a sample crosses the pull-off (a jump) or the
+edge starts to recede (a kink), where the one-sided difference of the smaller magnitude is
+taken.
+"""
+
+import json
+
+import numpy as np
+
+from ._fit_model import Problem, medium_of
+from .contact import JKR, ContactLaw
+from .errors import InvalidInputError
+from .media import Elastic
+
+#: Name of the work of adhesion among a fit's parameters (J/m^2).
+WORK_OF_ADHESION = "work_of_adhesion"
+
+#: Step of the finite differences in the fit's coordinates (logarithms, scaled contact point):
+#: truncation ~STEP^2, round-off ~1e-16 / STEP of the force.
+STEP = 1e-6
+
+#: One-sided differences that disagree by more than this fraction of their magnitudes
+#: straddle a jump or a kink.
+DISAGREE = 1e-3
+
+
+def check_contact(contact: object, model: object, control: str) -> JKR | None:
+    """The adhesive law of :func:`~mdrvisc.fit`'s ``contact`` (None: hard contact), or
+    InvalidInputError for a law, medium or control the adhesive fit does not cover."""
+    if contact is None or (isinstance(contact, ContactLaw) and contact._model() == "hard"):
+        return None
+    if not isinstance(contact, JKR):
+        raise InvalidInputError(f"fit: contact must be mv.Hard() or mv.JKR(work_of_adhesion=...), got "
+                                f"{contact!r}")
+    cls = model if isinstance(model, type) else type(model)
+    if cls is not Elastic:
+        raise InvalidInputError(f"fit: an adhesive fit (contact=mv.JKR(...)) takes an elastic medium "
+                                f"(mv.Elastic), got {cls.__name__}")
+    if control != "depth":
+        raise InvalidInputError(f"fit: an adhesive fit is depth-controlled (or a raw AFM curve); "
+                                f"control={control!r}")
+    return contact
+
+
+class AdhesiveProblem(Problem):
+    """The least-squares problem of ``base`` (its data, weights, medium and raw AFM curve) with
+    JKR contact of initial work of adhesion ``law.work_of_adhesion``, fitted unless ``held``."""
+
+    def __init__(self, base: Problem, law: JKR, held: bool) -> None:
+        super().__init__(base.curve, base.cls, base.values0, base.nu, base.free, base.free, base.raw,
+                         base.free_raw, base.measured, base.root_w, base.n)
+        self.medium_free = list(base.free)
+        self.free = self.medium_free + ([] if held else [WORK_OF_ADHESION])
+        self.w0 = law.work_of_adhesion
+
+    def x0(self) -> np.ndarray:
+        """The initial coordinates."""
+        values = dict(self.values0, work_of_adhesion=self.w0)
+        logs = np.log([values[name] for name in self.free])
+        return np.concatenate([logs, np.zeros(len(self.free_raw))])
+
+    def medium_at(self, x: np.ndarray) -> Elastic:
+        """The medium at coordinates ``x``."""
+        values = dict(self.values0)
+        values.update({name: float(np.exp(v)) for name, v in zip(self.medium_free, x)})
+        return medium_of(self.cls, values, self.nu)
+
+    def contact_parameters(self, x: np.ndarray) -> dict[str, float]:
+        """The work of adhesion (J/m^2) at ``x``, by name."""
+        if WORK_OF_ADHESION not in self.free:
+            return {WORK_OF_ADHESION: self.w0}
+        return {WORK_OF_ADHESION: float(np.exp(x[self.free.index(WORK_OF_ADHESION)]))}
+
+    def contact_at(self, x: np.ndarray) -> JKR:
+        """The contact law at ``x``."""
+        return JKR(work_of_adhesion=self.contact_parameters(x)[WORK_OF_ADHESION])
+
+    def raw_at(self, x: np.ndarray) -> tuple[float, float, float]:
+        """The raw AFM curve's contact point, baseline and slope at ``x``."""
+        assert self.raw is not None
+        return self.raw.at(x[len(self.free):], self.free_raw)
+
+    def _forward(self, x: np.ndarray, shift: float) -> tuple[np.ndarray, np.ndarray]:
+        """Force (N) and elements of the half profile in contact at the samples, at ``x`` with
+        the drive moved by ``shift`` (m)."""
+        medium = json.dumps(self.medium_at(x)._model())
+        values, _, _, contact = self.curve.evaluate_jkr(
+            medium, self.contact_parameters(x)[WORK_OF_ADHESION], shift)
+        return values, contact
+
+    def _shift(self, x: np.ndarray) -> float:
+        return 0.0 if self.raw is None else self.raw.shift(self.raw_at(x)[0])
+
+    def jacobian(self, x: np.ndarray, values: np.ndarray) -> np.ndarray:
+        """d force / d coordinate along the medium's and the work of adhesion's coordinates,
+        then (raw AFM curves) along the shift of the drive (N/m), by finite differences;
+        ``values`` the force at ``x``."""
+        p, shift = len(self.free), self._shift(x)
+        columns = []
+        for j in range(p + (self.raw is not None)):
+            if j < p:
+                step = np.zeros_like(x)
+                step[j] = STEP
+                up, _ = self._forward(x + step, shift)
+                down, _ = self._forward(x - step, shift)
+                h = STEP
+            else:
+                h = STEP * self.raw.depth_scale
+                up, _ = self._forward(x, shift + h)
+                down, _ = self._forward(x, shift - h)
+            ahead, behind = (up - values) / h, (values - down) / h
+            apart = np.abs(ahead - behind) > DISAGREE * (np.abs(ahead) + np.abs(behind))
+            smaller = np.where(np.abs(ahead) < np.abs(behind), ahead, behind)
+            columns.append(np.where(apart, smaller, 0.5 * (ahead + behind)))
+        return np.column_stack(columns)
+
+    def __call__(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Weighted residuals and their Jacobian at ``x`` (infinite residuals out of the model's
+        domain, as :class:`Problem`'s)."""
+        try:
+            self.medium_at(x)
+        except InvalidInputError:
+            return self._failed(x)
+        raw = self.raw
+        if raw is not None:
+            z_c, b, m = self.raw_at(x)
+            if raw.z[0] > z_c:
+                return self._failed(x)  # in contact before the first sample
+        values, contact = self._forward(x, self._shift(x))
+        jac = self.jacobian(x, values)
+        if raw is None:
+            r = values - self.measured
+        else:
+            r = values - raw.force(z_c, b, m)
+            jac = raw.jacobian(jac, self.free_raw, z_c, m)
+        self.solves += 1
+        if (self.n is not None and np.any(contact == self.n)) or not np.all(np.isfinite(jac)):
+            return self._failed(x)
+        return self.root_w * r, self.root_w[:, None] * jac
+
+    def solution(self, x: np.ndarray):
+        """The forward model at ``x``: (medium, force, elements in contact, "jkr")."""
+        values, contact = self._forward(x, self._shift(x))
+        return self.medium_at(x), values, contact, "jkr"
