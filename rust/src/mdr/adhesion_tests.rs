@@ -550,3 +550,46 @@ fn visiting_what_changes_matches_every_element() {
         }
     }
 }
+
+/// Wall time of a force cycle (approach, retract through the pull-off) with the stepping
+/// that visits what changes and with the every-element reference, for 501 and 8001
+/// elements on an elastic and a standard solid body: `cargo test --release --lib
+/// jkr_stepping_time -- --ignored --nocapture`.
+#[test]
+#[ignore]
+fn jkr_stepping_time() {
+    let times: Vec<f64> = (1..=500).map(|k| 2.0 * k as f64 / 500.0).collect();
+    let loading = force_cycle(32.0 / 3.0, -3.0);
+    let media = [
+        ("elastic", elastic()),
+        (
+            "standard solid",
+            Rheology::new(G, vec![(3.0 * G, 0.5)], 0.0).unwrap(),
+        ),
+    ];
+    for n in [501, 8001] {
+        let (g, dx) = parabola(n, 2.5);
+        for (name, medium) in &media {
+            let request = Request {
+                times: &times,
+                dt: 4e-3,
+                fields_at: &[],
+                field_rates: false,
+            };
+            let clock = std::time::Instant::now();
+            let s = run_mdr_adhesive(&g, dx, medium, jkr(), 0.0, &loading, &request, &mut Silent)
+                .unwrap();
+            let fast = clock.elapsed().as_secs_f64();
+            let clock = std::time::Instant::now();
+            let (_, force, _) = every_element(&g, dx, medium, jkr(), &loading, &times, 4e-3);
+            let slow = clock.elapsed().as_secs_f64();
+            assert_eq!(s.force.len(), force.len());
+            println!(
+                "n = {n:5}, {name:14}: {:8.3} ms visiting what changes, {:8.3} ms every element ({:.0}x)",
+                1e3 * fast,
+                1e3 * slow,
+                slow / fast
+            );
+        }
+    }
+}
