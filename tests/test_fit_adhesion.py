@@ -16,6 +16,9 @@ Units: a sphere-like tip of R = 5 um on a soft gel (G = 1 kPa, E* = 4 kPa), w = 
 pi w R = 16 nN, a quarter of the Hertz force at 3 um.
 """
 
+import contextlib
+import io
+import json
 import math
 
 import numpy as np
@@ -23,7 +26,7 @@ import pytest
 from scipy.optimize import brentq
 
 import mdrvisc as mv
-from mdrvisc import fitting
+from mdrvisc import cli, fitting
 from mdrvisc._fit_adhesion import AdhesiveProblem
 from mdrvisc.errors import InvalidInputError
 
@@ -229,3 +232,25 @@ def test_what_an_adhesive_fit_refuses(kw, words):
     with pytest.raises(InvalidInputError, match=words):
         mv.fit(mv.Paraboloid(c=0.5 / R), args.pop("model"), t, depth=d, force=jkr_depth_control(d) + 1e-9,
                **args)
+
+
+def test_the_command_line_fits_the_work_of_adhesion(tmp_path):
+    """``mdrvisc fit ... --contact jkr:W``: the work of adhesion among the fitted parameters."""
+    t, d = depth_curve(150)
+    force = jkr_depth_control(d)
+    path = tmp_path / "retract.csv"
+    np.savetxt(path, np.c_[t, d, noisy(force, np.ptp(force), 4)], delimiter=",", header="t,depth,force",
+               comments="")
+    out, err = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        status = cli.main(["fit", str(path), "--indenter", f"paraboloid:c={0.5 / R}", "--model", "elastic",
+                           "--contact", f"jkr:{0.3 * W}", "--json"])
+    assert status == 0, err.getvalue()
+    document = json.loads(out.getvalue())
+    assert document["forward"] == "jkr" and "work_of_adhesion" in document["free"]
+    assert document["parameters"]["work_of_adhesion"] == pytest.approx(W, rel=0.03)
+    assert document["parameters"]["G"] == pytest.approx(G, rel=0.03)
+    with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(err := io.StringIO()):
+        status = cli.main(["fit", str(path), "--indenter", f"paraboloid:c={0.5 / R}", "--model", "elastic",
+                           "--contact", "sticky"])
+    assert status == 2 and "--contact" in err.getvalue()
