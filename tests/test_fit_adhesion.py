@@ -74,7 +74,7 @@ def jkr_depth_control(d):
         if d[i] >= d1:
             force[i] = pinned_force(a_m, d[i])
         elif attached and d[i] > branch_depth(a_end):
-            a = brentq(lambda a: branch_depth(a) - d[i], a_end, a_m, xtol=1e-16 * a_m)
+            a = brentq(lambda a, di=d[i]: branch_depth(a) - di, a_end, a_m, xtol=1e-16 * a_m)
             force[i] = branch_force(a)
         else:
             attached, force[i] = False, 0.0
@@ -89,7 +89,7 @@ def jkr_spring(u, k):
     depth = u.copy()
     for i in range(top + 1):
         if u[i] > 0:
-            depth[i] = brentq(lambda d: k * (u[i] - d) - hertz(d), 0.0, u[i], xtol=1e-18)
+            depth[i] = brentq(lambda d, ui=u[i]: k * (ui - d) - hertz(d), 0.0, u[i], xtol=1e-18)
             force[i] = k * (u[i] - depth[i])
     a_m = math.sqrt(R * depth[top])
     d1 = branch_depth(a_m)
@@ -103,7 +103,7 @@ def jkr_spring(u, k):
         if pinned >= d1:
             force[i] = k * (u[i] - pinned)
         elif attached and u[i] > drive(a_end):
-            a = brentq(lambda a: drive(a) - u[i], a_end, a_m, xtol=1e-16 * a_m)
+            a = brentq(lambda a, ui=u[i]: drive(a) - ui, a_end, a_m, xtol=1e-16 * a_m)
             force[i] = branch_force(a)
         else:
             attached, force[i] = False, 0.0
@@ -196,7 +196,7 @@ def branch_errors(n):
     a_end = unstable_end(lambda a: 2.0 * a / R - 0.5 * np.sqrt(2.0 * math.pi * W / (E_STAR * a)), a_m)
     branch_error = 0.0
     for i in on_branch:
-        a = brentq(lambda a: branch_depth(a) - d[i], a_end, a_m, xtol=1e-16 * a_m)
+        a = brentq(lambda a, di=d[i]: branch_depth(a) - di, a_end, a_m, xtol=1e-16 * a_m)
         root = math.sqrt(2.0 * math.pi * W * a / E_STAR)
         phi_a = 2.0 * a / R - 0.5 * root / a
         f_a = 4.0 * E_STAR * a**2 / R - 1.5 * math.sqrt(8.0 * math.pi * W * E_STAR * a)

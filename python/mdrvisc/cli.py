@@ -144,9 +144,9 @@ def _parser():
                          help="parameters held at their guess, e.g. contact_point, baseline, or a "
                               "medium's (those need --guess)")
     fitting.add_argument("--contact", default="hard", metavar="hard|jkr:W",
-                         help="contact law: hard (default) or jkr:W, JKR adhesion fitted from the initial "
-                              "work of adhesion W (J/m^2; --fix work_of_adhesion holds it): the retract's dip "
-                              "below the baseline is data (an elastic model)")
+                         help="contact law: hard (default) or jkr:W, JKR adhesion fitted from the "
+                              "initial work of adhesion W (J/m^2; --fix work_of_adhesion holds it): the "
+                              "retract's dip below the baseline is data (an elastic model)")
     fitting.add_argument("--terms", type=int, default=2, help="Prony terms (--model prony)")
     fitting.add_argument("--substeps", type=int, default=1, help="time steps per sample interval")
     fitting.add_argument("--out", metavar="FILE.csv", default=None,
@@ -344,7 +344,8 @@ def _fit(args):
         warnings.simplefilter("always", IdentifiabilityWarning)
         result = fit(_indenter(args.indenter), model, t, **curve, **extra, control=args.control,
                      nu=None if isinstance(model, media._Medium) else args.nu, terms=args.terms,
-                     substeps=args.substeps, weights=weights, fixed=fixed, contact=_contact(args.contact))
+                     substeps=args.substeps, weights=weights, fixed=fixed,
+                     contact=_contact(args.contact))
     _print_warnings(caught)
     w = np.ones_like(result.t) if weights is None else np.asarray(weights, dtype=float)
     columns = {"t": result.t, "data": result.data, "model": result.model, "residual": result.residuals,

@@ -573,4 +573,5 @@ def _result(problem: Problem, solution: Solution, data: _Data, control: str, sca
         rms=float(np.sqrt(np.sum(w * residual**2) / np.sum(w))), cost=0.5 * float(np.sum(w * residual**2)),
         jac=jac_parameters, success=solution.converged, status=solution.status, message=solution.message,
         nfev=problem.solves + 1, nit=solution.iterations, control=control, forward=forward,
-        wall_time=time.perf_counter() - start, warnings=messages, contact=problem.contact_at(solution.x), **afm)
+        wall_time=time.perf_counter() - start, warnings=messages, contact=problem.contact_at(solution.x),
+        **afm)
