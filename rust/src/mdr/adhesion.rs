@@ -302,7 +302,9 @@ impl AdhesiveElements {
                 }
                 self.attach(&mut s, next);
             }
-            if s.count == 0 || !self.release(&mut s, depth) || s.count == 0 {
+            // settled unless elements let go and some stay (then more may touch)
+            let released = s.count > 0 && self.release(&mut s, depth);
+            if !released || s.count == 0 {
                 break if s.count > 0 {
                     Some(depth(s.count, s.sum))
                 } else if load >= 0.0 {
@@ -353,8 +355,8 @@ impl AdhesiveElements {
         for &i in &s.left {
             let surface = self.surface(rule, i);
             let q = self.stresses(i);
-            for k in 0..m {
-                self.stress_sum[k] -= q[k];
+            for (sum, qk) in self.stress_sum.iter_mut().zip(&q) {
+                *sum -= qk;
             }
             self.sum_g -= self.g[i];
             relax(self, i, surface);
@@ -381,9 +383,10 @@ impl AdhesiveElements {
             let w_old = self.displacement(i);
             let mut q = self.stresses(i);
             rule.advance(w_old, d - self.g[i], &mut q);
-            for k in 0..m {
-                self.stress_sum[k] += q[k];
-                self.q[i * m + k] = q[k] - self.reference[k];
+            let own = &mut self.q[i * m..(i + 1) * m];
+            for (k, qk) in q.iter().enumerate() {
+                self.stress_sum[k] += qk;
+                own[k] = qk - self.reference[k];
             }
             self.sum_g += self.g[i];
             self.since[i] = t;

@@ -445,10 +445,9 @@ fn every_element(
                         sum += surface[j];
                         next += 1;
                     }
-                    if count == 0
-                        || !release(&mut attached, &mut count, &mut sum, &depth)
-                        || count == 0
-                    {
+                    let released =
+                        count > 0 && release(&mut attached, &mut count, &mut sum, &depth);
+                    if !released || count == 0 {
                         break if count > 0 {
                             depth(count, sum)
                         } else if s >= 0.0 {

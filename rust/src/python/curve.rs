@@ -21,6 +21,15 @@ type Evaluated<'py> = (
     &'static str,
 );
 
+/// An adhesive evaluation: force, contact radius and depth at the samples, and the elements
+/// in contact.
+type AdhesiveEvaluated<'py> = (
+    Bound<'py, PyArray1<f64>>,
+    Bound<'py, PyArray1<f64>>,
+    Bound<'py, PyArray1<f64>>,
+    Bound<'py, PyArray1<u64>>,
+);
+
 /// An indentation curve prepared once: the half MDR profile (m, at x = (i + 1/2) dx), the
 /// samples (s) and the prescribed depth (m, control "depth"), force (N, "force") or drive
 /// through a spring of `stiffness` (m and N/m, "spring": an AFM cantilever on its piezo).
@@ -147,12 +156,7 @@ impl PyCurve {
         medium: String,
         work_of_adhesion: f64,
         shift: f64,
-    ) -> PyResult<(
-        Bound<'py, PyArray1<f64>>,
-        Bound<'py, PyArray1<f64>>,
-        Bound<'py, PyArray1<f64>>,
-        Bound<'py, PyArray1<u64>>,
-    )> {
+    ) -> PyResult<AdhesiveEvaluated<'py>> {
         let (t_lo, t_hi) = self.inner.time_range();
         let e = (|| {
             let m: Medium = serde_json::from_str(&medium)
