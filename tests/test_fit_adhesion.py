@@ -163,6 +163,21 @@ def test_a_raw_afm_retract_gives_the_medium_the_work_of_adhesion_and_the_contact
     assert fit.baseline == pytest.approx(b, abs=3 * NOISE * np.ptp(force / k))
 
 
+@pytest.mark.parametrize("start", [0.03, 10.0])
+def test_a_poor_first_guess_still_finds_the_work_of_adhesion(start):
+    """From a work of adhesion 30 times too small or 10 times too large (which would hold the
+    contact through the whole retract, where the force does not depend on it) and a modulus
+    5 times too small."""
+    t, d = depth_curve(150)
+    force = jkr_depth_control(d)
+    data = noisy(force, np.ptp(force), 5)
+    fit = mv.fit(mv.Paraboloid(c=0.5 / R), mv.Elastic(G=G / 5), t, depth=d, force=data,
+                 contact=mv.JKR(work_of_adhesion=start * W))
+    assert fit.success, fit.message
+    assert fit.parameters["G"] == pytest.approx(G, rel=0.03)
+    assert fit.parameters["work_of_adhesion"] == pytest.approx(W, rel=0.03)
+
+
 def test_a_held_work_of_adhesion_stays():
     t, d = depth_curve(100)
     data = noisy(jkr_depth_control(d), np.ptp(jkr_depth_control(d)), 3)

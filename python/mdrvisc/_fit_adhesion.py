@@ -26,6 +26,11 @@ WORK_OF_ADHESION = "work_of_adhesion"
 #: truncation ~STEP^2, round-off ~1e-16 / STEP of the force.
 STEP = 1e-6
 
+#: Fractions of the given work of adhesion the fit starts from, the best kept: too large a
+#: work of adhesion holds the contact through the whole retract, where the force does not
+#: depend on it (a plateau of the cost), while from below the fit finds it.
+START_FRACTIONS = np.geomspace(1e-3, 1.0, 7)
+
 #: One-sided differences that disagree by more than this fraction of their magnitudes
 #: straddle a jump or a kink.
 DISAGREE = 1e-3
@@ -61,10 +66,29 @@ class AdhesiveProblem(Problem):
         self.w0 = law.work_of_adhesion
 
     def x0(self) -> np.ndarray:
-        """The initial coordinates."""
+        """The initial coordinates: the medium's initial values, and the work of adhesion of
+        :data:`START_FRACTIONS` of the given one whose residuals are least."""
         values = dict(self.values0, work_of_adhesion=self.w0)
         logs = np.log([values[name] for name in self.free])
-        return np.concatenate([logs, np.zeros(len(self.free_raw))])
+        x = np.concatenate([logs, np.zeros(len(self.free_raw))])
+        if WORK_OF_ADHESION not in self.free:
+            return x
+        at = self.free.index(WORK_OF_ADHESION)
+        starts = [np.concatenate([x[:at], [np.log(self.w0 * f)], x[at + 1:]]) for f in START_FRACTIONS]
+        return min(starts, key=self._cost)
+
+    def _cost(self, x: np.ndarray) -> float:
+        """Sum of the squared weighted residuals at ``x`` (no Jacobian; infinite out of the
+        model's domain)."""
+        try:
+            self.medium_at(x)
+        except InvalidInputError:
+            return np.inf
+        values, contact = self._forward(x, self._shift(x))
+        measured = self.measured if self.raw is None else self.raw.force(*self.raw_at(x))
+        if self.n is not None and np.any(contact == self.n):
+            return np.inf
+        return float(np.sum((self.root_w * (values - measured)) ** 2))
 
     def medium_at(self, x: np.ndarray) -> Elastic:
         """The medium at coordinates ``x``."""
