@@ -235,10 +235,29 @@ def test_the_finite_difference_jacobian_matches_jkr_derivatives():
     assert fine[2] < 1e-3 and fine[2] < coarse[2] / 3
 
 
+def test_dmt_fits_of_depth_controlled_curves():
+    """DMT (``contact=mv.DMT(...)``): a depth-controlled curve (Hertz less 2 pi w R while
+    d > 0) gives G and w; raw curves and tips without a radius are refused."""
+    t, d = depth_curve()
+    force = np.where(d > 0.0, hertz(d) - 2.0 * math.pi * W * R, 0.0)
+    fit = mv.fit(mv.Paraboloid(c=0.5 / R), mv.Elastic, t, depth=d, force=noisy(force, np.ptp(force), 6),
+                 contact=mv.DMT(work_of_adhesion=0.3 * W))
+    assert fit.success and fit.forward == "dmt", fit.message
+    assert fit.contact == mv.DMT(work_of_adhesion=fit.parameters["work_of_adhesion"])
+    assert fit.parameters["G"] == pytest.approx(G, rel=0.03)
+    assert fit.parameters["work_of_adhesion"] == pytest.approx(W, rel=0.03)
+    with pytest.raises(InvalidInputError, match="depth-controlled"):
+        mv.fit(mv.Paraboloid(c=0.5 / R), mv.Elastic, t, piezo=d + 3e-6, deflection=force / 0.05,
+               spring_constant=0.05, contact=mv.DMT(work_of_adhesion=W))
+    with pytest.raises(InvalidInputError, match="rounded tip"):
+        mv.fit(mv.Cone(slope=0.5), mv.Elastic, t, depth=d, force=force,
+               contact=mv.DMT(work_of_adhesion=W))
+
+
 @pytest.mark.parametrize("kw, words", [
     (dict(model=mv.StandardSolid), "elastic"),
     (dict(control="force"), "depth-controlled"),
-    (dict(contact=mv.DMT(work_of_adhesion=W)), "mv.JKR"),
+    (dict(contact=mv.Hard), "mv.JKR"),
 ])
 def test_what_an_adhesive_fit_refuses(kw, words):
     t, d = depth_curve(50)

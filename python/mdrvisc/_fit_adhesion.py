@@ -1,6 +1,7 @@
 """Fits with an adhesive contact law: the least-squares problem of a fit whose forward model is
 JKR contact by MDR (``_core.Curve.evaluate_jkr``: an elastic body, the contact's edge moving
-continuously between the elements), so that the retract's dip below the baseline is data.
+continuously between the elements) or DMT's (``evaluate_dmt``: the hard contact plus the
+attraction 2 pi w R of a rounded tip), so that the retract's dip below the baseline is data.
 
 The coordinates are those of :class:`~mdrvisc._fit_model.Problem` with the logarithm of the
 work of adhesion after the medium's (unless it is held). The Jacobian is by finite
@@ -15,8 +16,9 @@ import json
 import numpy as np
 
 from ._fit_model import Problem, medium_of
-from .contact import JKR, ContactLaw
+from .contact import DMT, JKR, ContactLaw
 from .errors import InvalidInputError
+from .geometry import Indenter, Paraboloid, Sphere
 from .media import Elastic
 
 #: Name of the work of adhesion among a fit's parameters (J/m^2).
@@ -36,14 +38,23 @@ START_FRACTIONS = np.geomspace(1e-3, 1.0, 7)
 DISAGREE = 1e-3
 
 
-def check_contact(contact: object, model: object, control: str) -> JKR | None:
+def check_contact(contact: object, model: object, control: str, indenter: Indenter,
+                  raw: bool) -> JKR | DMT | None:
     """The adhesive law of :func:`~mdrvisc.fit`'s ``contact`` (None: hard contact), or
-    InvalidInputError for a law, medium or control the adhesive fit does not cover."""
+    InvalidInputError for a law, medium, control, tip or curve (``raw``: an AFM curve) the
+    adhesive fit does not cover."""
     if contact is None or (isinstance(contact, ContactLaw) and contact._model() == "hard"):
         return None
-    if not isinstance(contact, JKR):
-        raise InvalidInputError(f"fit: contact must be mv.Hard() or mv.JKR(work_of_adhesion=...), got "
-                                f"{contact!r}")
+    if not isinstance(contact, (JKR, DMT)):
+        raise InvalidInputError(f"fit: contact must be mv.Hard(), mv.JKR(work_of_adhesion=...) or "
+                                f"mv.DMT(work_of_adhesion=...), got {contact!r}")
+    if isinstance(contact, DMT) and raw:
+        raise InvalidInputError("fit: DMT fits take depth-controlled curves: through a cantilever its "
+                                "contact jumps in at the touch, a jump of the force that moves with the "
+                                "contact point (fit a raw curve with mv.JKR, or DMT's depths and forces)")
+    if isinstance(contact, DMT) and tip_radius(indenter) is None:
+        raise InvalidInputError(f"fit: DMT's attraction 2 pi w R needs a rounded tip (mv.Sphere, "
+                                f"mv.Paraboloid), got {indenter!r}")
     cls = model if isinstance(model, type) else type(model)
     if cls is not Elastic:
         raise InvalidInputError(f"fit: an adhesive fit (contact=mv.JKR(...)) takes an elastic medium "
@@ -54,16 +65,26 @@ def check_contact(contact: object, model: object, control: str) -> JKR | None:
     return contact
 
 
+def tip_radius(indenter: Indenter) -> float | None:
+    """Radius of curvature (m) of a rounded tip (paraboloid 1 / (2 c), sphere), else None."""
+    if isinstance(indenter, Paraboloid):
+        return 0.5 / indenter.c
+    if isinstance(indenter, Sphere):
+        return indenter.radius
+    return None
+
+
 class AdhesiveProblem(Problem):
     """The least-squares problem of ``base`` (its data, weights, medium and raw AFM curve) with
-    JKR contact of initial work of adhesion ``law.work_of_adhesion``, fitted unless ``held``."""
+    the contact ``law`` (JKR, or DMT with the tip radius ``radius``, m) of initial work of
+    adhesion ``law.work_of_adhesion``, fitted unless ``held``."""
 
-    def __init__(self, base: Problem, law: JKR, held: bool) -> None:
+    def __init__(self, base: Problem, law: JKR | DMT, held: bool, radius: float | None = None) -> None:
         super().__init__(base.curve, base.cls, base.values0, base.nu, base.free, base.free, base.raw,
                          base.free_raw, base.measured, base.root_w, base.n)
         self.medium_free = list(base.free)
         self.free = self.medium_free + ([] if held else [WORK_OF_ADHESION])
-        self.w0 = law.work_of_adhesion
+        self.w0, self.law, self.radius = law.work_of_adhesion, type(law), radius
 
     def x0(self) -> np.ndarray:
         """The initial coordinates: the medium's initial values, and the work of adhesion of
@@ -84,6 +105,8 @@ class AdhesiveProblem(Problem):
             self.medium_at(x)
         except InvalidInputError:
             return np.inf
+        if self.raw is not None and self.raw.z[0] > self.raw_at(x)[0]:
+            return np.inf  # in contact before the first sample
         values, contact = self._forward(x, self._shift(x))
         measured = self.measured if self.raw is None else self.raw.force(*self.raw_at(x))
         if self.n is not None and np.any(contact == self.n):
@@ -102,9 +125,9 @@ class AdhesiveProblem(Problem):
             return {WORK_OF_ADHESION: self.w0}
         return {WORK_OF_ADHESION: float(np.exp(x[self.free.index(WORK_OF_ADHESION)]))}
 
-    def contact_at(self, x: np.ndarray) -> JKR:
+    def contact_at(self, x: np.ndarray) -> JKR | DMT:
         """The contact law at ``x``."""
-        return JKR(work_of_adhesion=self.contact_parameters(x)[WORK_OF_ADHESION])
+        return self.law(work_of_adhesion=self.contact_parameters(x)[WORK_OF_ADHESION])
 
     def raw_at(self, x: np.ndarray) -> tuple[float, float, float]:
         """The raw AFM curve's contact point, baseline and slope at ``x``."""
@@ -115,8 +138,11 @@ class AdhesiveProblem(Problem):
         """Force (N) and elements of the half profile in contact at the samples, at ``x`` with
         the drive moved by ``shift`` (m)."""
         medium = json.dumps(self.medium_at(x)._model())
-        values, _, _, contact = self.curve.evaluate_jkr(
-            medium, self.contact_parameters(x)[WORK_OF_ADHESION], shift)
+        w = self.contact_parameters(x)[WORK_OF_ADHESION]
+        if self.law is DMT:
+            values, _, _, contact = self.curve.evaluate_dmt(medium, 2.0 * np.pi * w * self.radius, shift)
+        else:
+            values, _, _, contact = self.curve.evaluate_jkr(medium, w, shift)
         return values, contact
 
     def _shift(self, x: np.ndarray) -> float:
@@ -170,6 +196,6 @@ class AdhesiveProblem(Problem):
         return self.root_w * r, self.root_w[:, None] * jac
 
     def solution(self, x: np.ndarray):
-        """The forward model at ``x``: (medium, force, elements in contact, "jkr")."""
+        """The forward model at ``x``: (medium, force, elements in contact, "jkr" or "dmt")."""
         values, contact = self._forward(x, self._shift(x))
-        return self.medium_at(x), values, contact, "jkr"
+        return self.medium_at(x), values, contact, self.law.__name__.lower()

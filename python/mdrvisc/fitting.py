@@ -25,7 +25,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ._afm_raw import BASELINE_SAMPLES, BASELINES, RAW_NAMES, AfmCurve, raw_input
-from ._fit_adhesion import WORK_OF_ADHESION, AdhesiveProblem, check_contact
+from ._fit_adhesion import WORK_OF_ADHESION, AdhesiveProblem, check_contact, tip_radius
 from ._fit_checks import array, check_times, covariance, identifiability
 from ._fit_model import Problem, curves, moduli, parameters
 from ._guesses import estimate
@@ -302,8 +302,12 @@ def fit(indenter: Indenter, model: _Medium | type, t: ArrayLike, *, depth: Array
         (the touch rule), stays at its largest radius on the retract until the edge's
         elongation reaches sqrt(2 pi a w / E*), then recedes in JKR equilibrium to the
         pull-off (depth control: JKR's unstable end; a raw curve: where the cantilever
-        snaps off). An elastic medium (:class:`Elastic`), depth control or a raw AFM curve;
-        the result's ``forward`` is "jkr". Default: hard contact (no adhesion).
+        snaps off). ``mv.DMT(work_of_adhesion=w)``: the hard contact plus the attraction
+        2 pi w R of a rounded tip (:class:`Sphere`, :class:`Paraboloid`) while the surfaces
+        touch; depth-controlled curves only (through a cantilever DMT's contact jumps in at
+        the touch, a jump of the force that moves with the contact point). An elastic medium
+        (:class:`Elastic`), depth control or a raw AFM curve; the result's ``forward`` is
+        "jkr" or "dmt". Default: hard contact (no adhesion).
 
     Returns
     -------
@@ -369,7 +373,7 @@ def fit(indenter: Indenter, model: _Medium | type, t: ArrayLike, *, depth: Array
     """
     start = time.perf_counter()
     max_iter = _integer("fit", "max_iter", max_iter, 1)
-    law = check_contact(contact, model, control)
+    law = check_contact(contact, model, control, indenter, piezo is not None or deflection is not None)
     held_law = law is not None and WORK_OF_ADHESION in fixed
     if law is not None:
         fixed = tuple(name for name in fixed if name != WORK_OF_ADHESION)
@@ -377,7 +381,7 @@ def fit(indenter: Indenter, model: _Medium | type, t: ArrayLike, *, depth: Array
                                     contact_point, baseline, control, weights, fixed, nu, terms, n, substeps,
                                     baseline_model)
     if law is not None:
-        problem = AdhesiveProblem(problem, law, held_law)
+        problem = AdhesiveProblem(problem, law, held_law, tip_radius(indenter))
     # residuals below this are round-off of the forward model's sums (noise-free data that
     # the model reproduces)
     floor = ROUND_OFF_RESIDUALS * float(np.linalg.norm(problem.root_w * data.measured))

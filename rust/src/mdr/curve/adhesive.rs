@@ -115,20 +115,30 @@ fn bisect(f: impl Fn(f64) -> f64, mut lo: f64, mut hi: f64) -> f64 {
 #[derive(Clone, Copy)]
 enum Drive {
     Depth(f64),
-    /// Drive u (m), spring stiffness over the contact modulus times 2 (m).
+    /// Drive u (m), spring stiffness over the contact modulus times 2 (m), and an
+    /// attraction over the same (m^2; DMT's while the surfaces touch).
     Spring {
         u: f64,
         kappa: f64,
+        pull: f64,
     },
 }
 
 impl Drive {
     /// The depth (m) at contact radius a (m): the prescribed one, or the one balancing the
-    /// spring, kappa (u - d) = a d - integral_0^a g.
+    /// spring, kappa (u - d) = a d - integral_0^a g - pull.
     fn depth(self, a: f64, integral: f64) -> f64 {
         match self {
             Drive::Depth(d) => d,
-            Drive::Spring { u, kappa } => (kappa * u + integral) / (kappa + a),
+            Drive::Spring { u, kappa, pull } => (kappa * u + integral + pull) / (kappa + a),
+        }
+    }
+
+    /// The prescribed depth or drive (m).
+    fn value(self) -> f64 {
+        match self {
+            Drive::Depth(d) => d,
+            Drive::Spring { u, .. } => u,
         }
     }
 }
@@ -175,6 +185,15 @@ fn settle(profile: &Profile, a: f64, drive: Drive, crack: f64) -> f64 {
     a
 }
 
+/// An adhesive law of the curve.
+#[derive(Clone, Copy)]
+enum Law {
+    /// JKR: the detachment elongation's square over the radius, 2 pi w / E* (m).
+    Jkr { crack: f64 },
+    /// DMT: the attraction while the surfaces touch (N).
+    Dmt { attraction: f64 },
+}
+
 impl Curve {
     /// The force (N) at the sample times of a depth- or spring-controlled curve on an
     /// elastic body of contact modulus `e_star` (Pa) in JKR contact of work of adhesion `w`
@@ -184,9 +203,31 @@ impl Curve {
     pub fn evaluate_jkr(&self, e_star: f64, w: f64, shift: f64) -> Result<AdhesiveEvaluation> {
         check_positive("contact modulus E*", e_star)?;
         check_positive("work of adhesion", w)?;
+        let crack = 2.0 * PI * w / e_star;
+        self.evaluate_adhesive(e_star, Law::Jkr { crack }, shift)
+    }
+
+    /// `evaluate_jkr` for DMT: the hard contact plus the `attraction` (N, 2 pi w R) while the
+    /// surfaces touch. The contact forms when the indenter reaches the surface (under a
+    /// spring it then jumps in) and lets go when the balance finds no depth that touches.
+    pub fn evaluate_dmt(
+        &self,
+        e_star: f64,
+        attraction: f64,
+        shift: f64,
+    ) -> Result<AdhesiveEvaluation> {
+        check_positive("contact modulus E*", e_star)?;
+        check_positive("attraction", attraction)?;
+        self.evaluate_adhesive(e_star, Law::Dmt { attraction }, shift)
+    }
+
+    fn evaluate_adhesive(&self, e_star: f64, law: Law, shift: f64) -> Result<AdhesiveEvaluation> {
         check_finite("depth shift", &[shift])?;
         let profile = Profile::new(&self.g, self.dx)?;
-        let crack = 2.0 * PI * w / e_star;
+        let (crack, attraction) = match law {
+            Law::Jkr { crack } => (crack, 0.0),
+            Law::Dmt { attraction } => (0.0, attraction),
+        };
         let k = self.values.len();
         let mut out = AdhesiveEvaluation {
             values: Vec::with_capacity(k),
@@ -195,12 +236,14 @@ impl Curve {
             contact: Vec::with_capacity(k),
         };
         let mut a = 0.0;
+        let mut touching = false;
         for &v in &self.values {
             let drive = match self.control {
                 Control::Depth => Drive::Depth(v + shift),
                 Control::Spring(stiffness) => Drive::Spring {
                     u: v + shift,
                     kappa: stiffness / (2.0 * e_star),
+                    pull: attraction / (2.0 * e_star),
                 },
                 Control::Force => {
                     return Err(Error::InvalidInput(
@@ -208,13 +251,27 @@ impl Curve {
                     ))
                 }
             };
-            a = settle(&profile, a, drive, crack);
+            match law {
+                Law::Jkr { .. } => a = settle(&profile, a, drive, crack),
+                Law::Dmt { .. } => {
+                    // the surfaces touch once the indenter reaches them; through a spring
+                    // they stay in touch while the balance has a depth that reaches them
+                    let reaches = drive.value() > profile.g[0];
+                    touching = reaches || (touching && matches!(drive, Drive::Spring { .. }));
+                    a = if touching {
+                        settle(&profile, a, drive, 0.0)
+                    } else {
+                        0.0
+                    };
+                    touching &= a > 0.0;
+                }
+            }
             let (force, depth) = if a > 0.0 {
                 let integral = profile.at(a).1;
                 let d = drive.depth(a, integral);
-                (2.0 * e_star * (a * d - integral), d)
+                (2.0 * e_star * (a * d - integral) - attraction, d)
             } else {
-                (0.0, drive.depth(0.0, 0.0))
+                (0.0, drive.value())
             };
             out.values.push(force);
             out.contact_radius.push(a);
@@ -343,5 +400,55 @@ mod tests {
         let least = out.values.iter().copied().fold(0.0, f64::min);
         assert!((least / (-1.5 * PI * w * r) - 1.0).abs() < 1e-4, "{least}");
         assert_eq!(*out.values.last().unwrap(), 0.0);
+    }
+
+    /// DMT: Hertz less the attraction while the surfaces touch; through a spring the
+    /// contact jumps in at the touch and holds down to the drive -P / k, where the depth
+    /// reaches the surface, carrying -P.
+    #[test]
+    fn dmt_is_hertz_less_the_attraction_while_touching() {
+        let (r, e, p): (f64, f64, f64) = (1.0, 1.0, 0.01);
+        let k_samples = 2001;
+        let (stiffness, u_max) = (1.0, 0.05);
+        let values: Vec<f64> = (0..k_samples)
+            .map(|i| {
+                let s = i as f64 / (k_samples - 1) as f64;
+                if s < 0.5 {
+                    -0.01 + 2.0 * s * (u_max + 0.01)
+                } else {
+                    u_max - 2.0 * (s - 0.5) * 2.0 * u_max
+                }
+            })
+            .collect();
+        let times: Vec<f64> = (1..=k_samples).map(|i| i as f64).collect();
+        let hertz = |d: f64| 4.0 / 3.0 * e * r.sqrt() * d.max(0.0).powf(1.5);
+        let depth = paraboloid(20000, 0.4, r, times.clone(), values.clone(), Control::Depth);
+        let out = depth.evaluate_dmt(e, p, 0.0).unwrap();
+        for (&d, &f) in values.iter().zip(&out.values) {
+            let exact = if d > depth.g[0] { hertz(d) - p } else { 0.0 };
+            assert!((f - exact).abs() < 1e-8, "{d}: {f} vs {exact}");
+        }
+        let spring = paraboloid(
+            20000,
+            0.4,
+            r,
+            times,
+            values.clone(),
+            Control::Spring(stiffness),
+        );
+        let out = spring.evaluate_dmt(e, p, 0.0).unwrap();
+        let top = k_samples / 2;
+        for (i, ((&u, &f), &d)) in values.iter().zip(&out.values).zip(&out.depth).enumerate() {
+            assert!((f - stiffness * (u - d)).abs() < 1e-12);
+            let touching = if i <= top {
+                u > 0.0
+            } else {
+                u > -p / stiffness
+            };
+            assert_eq!(f != 0.0, touching, "{i}: u = {u}");
+            if touching {
+                assert!((f - (hertz(d) - p)).abs() < 1e-8, "{i}: {f}");
+            }
+        }
     }
 }
