@@ -110,7 +110,8 @@ class FitResult:
         The forward model that ran: "hereditary" (Ting's solution: a depth that rises and
         then falls, under depth control or through a raw curve's cantilever, and a tip whose
         MDR profile rises away from its axis) or
-        "elements" (the MDR elements stepped one by one; see :func:`fit`'s notes).
+        "elements" (the MDR elements stepped one by one; see :func:`fit`'s notes); "jkr" or
+        "dmt" for an adhesive fit (``contact``).
     wall_time : float
         Seconds the fit took.
     warnings : list of str
