@@ -122,6 +122,14 @@ class Problem:
         assert self.raw is not None
         return self.raw.at(x[len(self.free):], self.free_raw)
 
+    def contact_parameters(self, x: np.ndarray) -> dict[str, float]:
+        """The contact law's fitted parameters at ``x``, by name (none: hard contact)."""
+        return {}
+
+    def contact_at(self, x: np.ndarray):
+        """The contact law at ``x`` (None: hard contact)."""
+        return None
+
     def _failed(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         return np.full(self.measured.size, np.inf), np.zeros((self.measured.size, x.size))
 

@@ -3,7 +3,7 @@
 ADDRESS] [--store DIR] [--json] [--out FILE]`` and ``mdrvisc fit DATA.csv|FILE.jpk-force
 --indenter sphere:radius=5e-6 --model standardsolid [--control depth] [--spring-constant K]
 [--curve N] [--segments approach,...] [--contact-point Z] [--baseline B]
-[--baseline-model offset|tilt] [--guess KEY=VALUE,...]
+[--baseline-model offset|tilt] [--guess KEY=VALUE,...] [--contact hard|jkr:W|dmt:W]
 [--fix NAME,...] [--out FIT.csv] [--json]`` (also ``python -m mdrvisc ...``).
 
 Results go to stdout (tables, or one JSON document with ``--json``), progress and warnings
@@ -29,7 +29,7 @@ from pathlib import Path
 
 import numpy as np
 
-from . import __version__, _core, geometry, media
+from . import __version__, _core, contact, geometry, media
 from ._validate import _read_text
 from .errors import IdentifiabilityWarning, InvalidInputError, MdrviscError
 from .fitting import fit
@@ -143,6 +143,11 @@ def _parser():
     fitting.add_argument("--fix", default="", metavar="NAME,...",
                          help="parameters held at their guess, e.g. contact_point, baseline, or a "
                               "medium's (those need --guess)")
+    fitting.add_argument("--contact", default="hard", metavar="hard|jkr:W|dmt:W",
+                         help="contact law: hard (default), or jkr:W or dmt:W, adhesion fitted from the "
+                              "initial work of adhesion W (J/m^2; --fix work_of_adhesion holds it): the "
+                              "retract's dip below the baseline is data (an elastic model; DMT: depth "
+                              "and force columns)")
     fitting.add_argument("--terms", type=int, default=2, help="Prony terms (--model prony)")
     fitting.add_argument("--substeps", type=int, default=1, help="time steps per sample interval")
     fitting.add_argument("--out", metavar="FILE.csv", default=None,
@@ -311,6 +316,24 @@ def _curve(args):
     return np.atleast_1d(data["t"]), curve, weights, raw
 
 
+def _contact(text: str):
+    """The contact law of ``--contact``: "hard", "jkr:W" or "dmt:W" (W the work of adhesion,
+    J/m^2)."""
+    kind, _, value = text.partition(":")
+    kind = kind.strip().lower()
+    if kind == "hard" and not value:
+        return contact.Hard()
+    if kind in ("jkr", "dmt"):
+        try:
+            w = float(value)
+        except ValueError:
+            pass
+        else:
+            return (contact.JKR if kind == "jkr" else contact.DMT)(work_of_adhesion=w)
+    raise InvalidInputError(f"--contact: {text!r} is not hard, jkr:W or dmt:W (W the work of adhesion "
+                            f"in J/m^2)")
+
+
 def _fit(args):
     """Fits the model to the curve of a CSV or AFM file; prints the result's table or JSON and
     writes the fitted curve with --out."""
@@ -327,7 +350,8 @@ def _fit(args):
         warnings.simplefilter("always", IdentifiabilityWarning)
         result = fit(_indenter(args.indenter), model, t, **curve, **extra, control=args.control,
                      nu=None if isinstance(model, media._Medium) else args.nu, terms=args.terms,
-                     substeps=args.substeps, weights=weights, fixed=fixed)
+                     substeps=args.substeps, weights=weights, fixed=fixed,
+                     contact=_contact(args.contact))
     _print_warnings(caught)
     w = np.ones_like(result.t) if weights is None else np.asarray(weights, dtype=float)
     columns = {"t": result.t, "data": result.data, "model": result.model, "residual": result.residuals,

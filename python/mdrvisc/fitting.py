@@ -25,11 +25,13 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ._afm_raw import BASELINE_SAMPLES, BASELINES, RAW_NAMES, AfmCurve, raw_input
+from ._fit_adhesion import WORK_OF_ADHESION, AdhesiveProblem, check_contact, tip_radius
 from ._fit_checks import array, check_times, covariance, identifiability
 from ._fit_model import Problem, curves, moduli, parameters
 from ._guesses import estimate
 from ._least_squares import Solution, levenberg_marquardt
 from ._validate import _integer, _poisson_ratio
+from .contact import ContactLaw
 from .errors import DataError, DomainError, IdentifiabilityWarning, InvalidInputError
 from .geometry import Indenter
 from .media import PowerLaw, Prony, _Medium, _young
@@ -108,7 +110,8 @@ class FitResult:
         The forward model that ran: "hereditary" (Ting's solution: a depth that rises and
         then falls, under depth control or through a raw curve's cantilever, and a tip whose
         MDR profile rises away from its axis) or
-        "elements" (the MDR elements stepped one by one; see :func:`fit`'s notes).
+        "elements" (the MDR elements stepped one by one; see :func:`fit`'s notes); "jkr" or
+        "dmt" for an adhesive fit (``contact``).
     wall_time : float
         Seconds the fit took.
     warnings : list of str
@@ -126,6 +129,10 @@ class FitResult:
     baseline_slope : float or None
         Raw AFM curves with ``baseline_model="tilt"`` only: the baseline's slope m along the
         piezo (m/m): the baseline is b + m (z - z_c).
+    contact : ContactLaw or None
+        Adhesive fits only (``contact=mv.JKR(...)``): the fitted law; its work of adhesion
+        (J/m^2) is also ``parameters["work_of_adhesion"]``, with its standard error in
+        ``stderr``.
     """
 
     medium: _Medium
@@ -157,6 +164,7 @@ class FitResult:
     depth: np.ndarray | None = None
     spring_constant: float | None = None
     baseline_slope: float | None = None
+    contact: ContactLaw | None = None
 
     def __repr__(self) -> str:
         unit = "N" if self.control == "depth" else "m"
@@ -209,7 +217,8 @@ def fit(indenter: Indenter, model: _Medium | type, t: ArrayLike, *, depth: Array
         spring_constant: float | None = None, contact_point: float | None = None,
         baseline: float | None = None, control: str = "depth", weights: ArrayLike | None = None,
         fixed: tuple[str, ...] = (), nu: float | None = None, terms: int = 2, n: int = 500,
-        substeps: int = 1, max_iter: int = 100, baseline_model: str = "offset") -> FitResult:
+        substeps: int = 1, max_iter: int = 100, baseline_model: str = "offset",
+        contact: ContactLaw | None = None) -> FitResult:
     """Fit a medium to an indentation curve: depth and force, or a raw AFM curve, at times ``t``.
 
     Parameters
@@ -237,7 +246,8 @@ def fit(indenter: Indenter, model: _Medium | type, t: ArrayLike, *, depth: Array
         contact point z_c and the deflection baseline b are fitted together with the medium
         (before contact the model's force is zero, so the baseline is fitted to the
         pre-contact deflection; see ``baseline_model`` for a tilted one). Depth control
-        only; no adhesion is modelled (give adhesive parts of a retract zero weight). The
+        only; without ``contact`` no adhesion is modelled (give adhesive parts of a retract
+        zero weight, or fit them with ``contact=mv.JKR(...)``). The
         first tenth of the approach (the samples up to the highest z, at least 5) must be
         before contact. Lengths in m: a piezo or deflection spanning more than 1 cm (um,
         nm or volts), a piezo that falls towards the sample, or a deflection that falls
@@ -285,6 +295,20 @@ def fit(indenter: Indenter, model: _Medium | type, t: ArrayLike, *, depth: Array
         b + m (z - z_c) in the piezo position ("tilt": tilt, drift or virtual deflection,
         continued through the contact), its slope m (m/m) fitted with the rest
         (``result.baseline_slope``).
+    contact : ContactLaw, optional
+        ``mv.JKR(work_of_adhesion=w)``: fit the work of adhesion w (J/m^2, initial guess w)
+        with the medium, so the retract's dip below the baseline is data
+        (``fixed=("work_of_adhesion",)`` holds it). JKR by MDR with the contact's edge
+        moving continuously between the elements: it grows as a hard contact on the approach
+        (the touch rule), stays at its largest radius on the retract until the edge's
+        elongation reaches sqrt(2 pi a w / E*), then recedes in JKR equilibrium to the
+        pull-off (depth control: JKR's unstable end; a raw curve: where the cantilever
+        snaps off). ``mv.DMT(work_of_adhesion=w)``: the hard contact plus the attraction
+        2 pi w R of a rounded tip (:class:`Sphere`, :class:`Paraboloid`) while the surfaces
+        touch; depth-controlled curves only (through a cantilever DMT's contact jumps in at
+        the touch, a jump of the force that moves with the contact point). An elastic medium
+        (:class:`Elastic`), depth control or a raw AFM curve; the result's ``forward`` is
+        "jkr" or "dmt". Default: hard contact (no adhesion).
 
     Returns
     -------
@@ -350,9 +374,15 @@ def fit(indenter: Indenter, model: _Medium | type, t: ArrayLike, *, depth: Array
     """
     start = time.perf_counter()
     max_iter = _integer("fit", "max_iter", max_iter, 1)
+    law = check_contact(contact, model, control, indenter, piezo is not None or deflection is not None)
+    held_law = law is not None and WORK_OF_ADHESION in fixed
+    if law is not None:
+        fixed = tuple(name for name in fixed if name != WORK_OF_ADHESION)
     problem, data, scale = _problem(indenter, model, t, depth, force, piezo, deflection, spring_constant,
                                     contact_point, baseline, control, weights, fixed, nu, terms, n, substeps,
                                     baseline_model)
+    if law is not None:
+        problem = AdhesiveProblem(problem, law, held_law, tip_radius(indenter))
     # residuals below this are round-off of the forward model's sums (noise-free data that
     # the model reproduces)
     floor = ROUND_OFF_RESIDUALS * float(np.linalg.norm(problem.root_w * data.measured))
@@ -513,7 +543,7 @@ def _result(problem: Problem, solution: Solution, data: _Data, control: str, sca
     dof = int(np.count_nonzero(w > 0)) - len(free) - len(free_raw)
     # the Jacobian in the parameters themselves: the coordinates are their logarithms (the
     # medium's) or scaled (the raw curve's), and the residuals were divided by scale
-    values_by_name = parameters(medium)
+    values_by_name = parameters(medium) | problem.contact_parameters(solution.x)
     units = [values_by_name[name] for name in free]
     if raw is not None:
         units += [dict(zip(raw.names, raw.scales()))[name] for name in free_raw]
@@ -548,4 +578,5 @@ def _result(problem: Problem, solution: Solution, data: _Data, control: str, sca
         rms=float(np.sqrt(np.sum(w * residual**2) / np.sum(w))), cost=0.5 * float(np.sum(w * residual**2)),
         jac=jac_parameters, success=solution.converged, status=solution.status, message=solution.message,
         nfev=problem.solves + 1, nit=solution.iterations, control=control, forward=forward,
-        wall_time=time.perf_counter() - start, warnings=messages, **afm)
+        wall_time=time.perf_counter() - start, warnings=messages, contact=problem.contact_at(solution.x),
+        **afm)

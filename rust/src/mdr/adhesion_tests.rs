@@ -13,6 +13,7 @@
 
 use super::*;
 use crate::model::loading::{DepthHistory, ForceHistory};
+use crate::stepping::{jumps_at_start, step_times};
 use crate::support::monitor::Silent;
 use std::f64::consts::PI;
 
@@ -349,4 +350,245 @@ fn jkr_needs_a_relaxed_modulus() {
     )
     .unwrap_err();
     assert!(e.to_string().contains("relaxed modulus"), "{e}");
+}
+
+/// Heß's rule stepped element by element at every step, as the stepping did before it
+/// visited only what changes: the reference of `run_jkr`. Depth, force and elements in
+/// contact at the output times.
+fn every_element(
+    g: &[f64],
+    dx: f64,
+    medium: &Rheology,
+    law: ContactLaw,
+    loading: &Loading,
+    times: &[f64],
+    dt: f64,
+) -> (Vec<f64>, Vec<f64>, Vec<usize>) {
+    let n = g.len();
+    let e_star = 4.0 * medium.g_inf;
+    let mut by_height: Vec<usize> = (0..n).collect();
+    by_height.sort_by(|&i, &j| g[j].total_cmp(&g[i]));
+    let mut by_surface: Vec<usize> = by_height.iter().rev().copied().collect();
+    let mut attached = vec![false; n];
+    let m = medium.internal();
+    let (mut w, mut q, mut surface) = (vec![0.0; n], vec![0.0; n * m], vec![0.0; n]);
+    let steps = step_times(times, dt, jumps_at_start(loading, medium)).unwrap();
+    let (mut depths, mut forces, mut counts) = (vec![], vec![], vec![]);
+    let mut t_prev = 0.0;
+    for &(t, output) in &steps {
+        let rule = medium.step(t - t_prev);
+        let c = 4.0 * dx * rule.g_eff;
+        for i in 0..n {
+            surface[i] = g[i] - rule.history(w[i], &q[i * m..(i + 1) * m]) / rule.g_eff;
+        }
+        // lets go from the outside in at depth(count, sum); whether any let go
+        let release = |attached: &mut Vec<bool>,
+                       count: &mut usize,
+                       sum: &mut f64,
+                       depth: &dyn Fn(usize, f64) -> f64| {
+            let mut any = false;
+            for &i in &by_height {
+                if !attached[i] {
+                    continue;
+                }
+                let d = depth(*count, *sum);
+                let a = 0.5 * *count as f64 * dx;
+                if g[i] - d <= law.detachment_elongation(a, e_star) {
+                    break;
+                }
+                attached[i] = false;
+                *count -= 1;
+                *sum -= surface[i];
+                any = true;
+                if *count == 0 {
+                    break;
+                }
+            }
+            any
+        };
+        let (depth, force) = match loading {
+            Loading::Depth(hist) => {
+                let d = hist.depth(t);
+                for i in 0..n {
+                    attached[i] |= surface[i] < d;
+                }
+                let mut count = attached.iter().filter(|&&a| a).count();
+                let mut sum: f64 = (0..n).filter(|&i| attached[i]).map(|i| surface[i]).sum();
+                release(&mut attached, &mut count, &mut sum, &|_, _| d);
+                (d, c * (count as f64 * d - sum))
+            }
+            Loading::Force(hist) => {
+                let f = hist.force(t);
+                let s = f / c;
+                let mut count = attached.iter().filter(|&&a| a).count();
+                let mut sum: f64 = (0..n).filter(|&i| attached[i]).map(|i| surface[i]).sum();
+                by_surface.sort_unstable_by(|&i, &j| surface[i].total_cmp(&surface[j]));
+                let depth = |count: usize, sum: f64| (s + sum) / count as f64;
+                let mut next = 0;
+                let d = loop {
+                    while next < n {
+                        let j = by_surface[next];
+                        if attached[j] {
+                            next += 1;
+                            continue;
+                        }
+                        let reaches = if count == 0 {
+                            s > 0.0
+                        } else {
+                            surface[j] < depth(count, sum)
+                        };
+                        if !reaches {
+                            break;
+                        }
+                        attached[j] = true;
+                        count += 1;
+                        sum += surface[j];
+                        next += 1;
+                    }
+                    let released =
+                        count > 0 && release(&mut attached, &mut count, &mut sum, &depth);
+                    if !released || count == 0 {
+                        break if count > 0 {
+                            depth(count, sum)
+                        } else if s >= 0.0 {
+                            surface[by_surface[0]]
+                        } else {
+                            f64::NAN
+                        };
+                    }
+                };
+                (d, f)
+            }
+        };
+        for i in 0..n {
+            let w_new = if attached[i] {
+                depth - g[i]
+            } else {
+                surface[i] - g[i]
+            };
+            rule.advance(w[i], w_new, &mut q[i * m..(i + 1) * m]);
+            w[i] = w_new;
+        }
+        if output {
+            depths.push(depth);
+            forces.push(force);
+            counts.push(attached.iter().filter(|&&a| a).count());
+        }
+        t_prev = t;
+    }
+    (depths, forces, counts)
+}
+
+/// The stepping that visits what changes gives the element-by-element stepping's depths,
+/// forces and contacts to round-off: elastic and viscoelastic bodies (two Prony terms and a
+/// dashpot), force and depth control, two load cycles whose second approach touches the
+/// elements released by the first.
+#[test]
+fn visiting_what_changes_matches_every_element() {
+    let (g, dx) = parabola(601, 2.5);
+    let media = [
+        elastic(),
+        Rheology::new(G, vec![(2.0 * G, 0.3), (G, 3.0)], 0.0).unwrap(),
+        Rheology::new(G, vec![(2.0 * G, 0.3)], 0.05).unwrap(),
+    ];
+    let cycles = [
+        Loading::Force(
+            ForceHistory::piecewise_linear(
+                vec![0.0, 1.0, 2.0, 3.0, 4.0],
+                vec![0.0, 8.0, -0.8, 6.0, -8.0],
+            )
+            .unwrap(),
+        ),
+        Loading::Depth(
+            DepthHistory::piecewise_linear(
+                vec![0.0, 1.0, 2.0, 3.0, 4.0],
+                vec![0.0, 1.5, -0.5, 1.0, -3.0],
+            )
+            .unwrap(),
+        ),
+    ];
+    let times: Vec<f64> = (1..=400).map(|k| 0.01 * k as f64).collect();
+    for medium in &media {
+        for loading in &cycles {
+            let request = Request {
+                times: &times,
+                dt: 0.01,
+                fields_at: &[],
+                field_rates: false,
+            };
+            let s = run_mdr_adhesive(&g, dx, medium, jkr(), 0.0, loading, &request, &mut Silent)
+                .unwrap();
+            let (depth, force, count) = every_element(&g, dx, medium, jkr(), loading, &times, 0.01);
+            let contact: Vec<usize> = s
+                .contact_length
+                .iter()
+                .map(|l| (l / dx).round() as usize)
+                .collect();
+            assert_eq!(contact, count, "{medium:?}");
+            // from a contact of many elements through a pull-off (under force control a
+            // dashpot holds the contact)
+            if matches!(loading, Loading::Depth(_)) || medium.eta == 0.0 {
+                assert_eq!(count.last(), Some(&0), "{medium:?}");
+            }
+            assert!(count.iter().any(|&c| c > 100));
+            for k in 0..times.len() {
+                let same = |a: f64, b: f64| (a.is_nan() && b.is_nan()) || (a - b).abs() < 1e-9;
+                assert!(
+                    same(s.depth[k], depth[k]),
+                    "{k}: {} vs {}",
+                    s.depth[k],
+                    depth[k]
+                );
+                assert!(
+                    same(s.force[k], force[k]),
+                    "{k}: {} vs {}",
+                    s.force[k],
+                    force[k]
+                );
+            }
+        }
+    }
+}
+
+/// Wall time of a force cycle (approach, retract through the pull-off) with the stepping
+/// that visits what changes and with the every-element reference, for 501 and 8001
+/// elements on an elastic and a standard solid body: `cargo test --release --lib
+/// jkr_stepping_time -- --ignored --nocapture`.
+#[test]
+#[ignore]
+fn jkr_stepping_time() {
+    let times: Vec<f64> = (1..=500).map(|k| 2.0 * k as f64 / 500.0).collect();
+    let loading = force_cycle(32.0 / 3.0, -3.0);
+    let media = [
+        ("elastic", elastic()),
+        (
+            "standard solid",
+            Rheology::new(G, vec![(3.0 * G, 0.5)], 0.0).unwrap(),
+        ),
+    ];
+    for n in [501, 8001] {
+        let (g, dx) = parabola(n, 2.5);
+        for (name, medium) in &media {
+            let request = Request {
+                times: &times,
+                dt: 4e-3,
+                fields_at: &[],
+                field_rates: false,
+            };
+            let clock = std::time::Instant::now();
+            let s = run_mdr_adhesive(&g, dx, medium, jkr(), 0.0, &loading, &request, &mut Silent)
+                .unwrap();
+            let fast = clock.elapsed().as_secs_f64();
+            let clock = std::time::Instant::now();
+            let (_, force, _) = every_element(&g, dx, medium, jkr(), &loading, &times, 4e-3);
+            let slow = clock.elapsed().as_secs_f64();
+            assert_eq!(s.force.len(), force.len());
+            println!(
+                "n = {n:5}, {name:14}: {:8.3} ms visiting what changes, {:8.3} ms every element ({:.0}x)",
+                1e3 * fast,
+                1e3 * slow,
+                slow / fast
+            );
+        }
+    }
 }

@@ -7,7 +7,7 @@
 //! reaches its freely relaxed surface and leaves where the contact law says so (hard
 //! contact: when its force would turn tensile). Elements out of contact relax freely.
 
-use crate::mdr::adhesion::Attachment;
+use crate::mdr::adhesion::run_jkr;
 use crate::mdr::foundation::Fields1D;
 use crate::model::contact_law::{ContactLaw, SortedSurface};
 use crate::model::loading::Loading;
@@ -60,17 +60,17 @@ pub fn run_mdr_adhesive(
     }
     request.check()?;
     law.validate()?;
-    let mut attachment = match law {
+    match law {
         ContactLaw::Jkr { .. } if medium.g_inf > 0.0 => {
-            Some(Attachment::new(g, dx, law, 4.0 * medium.g_inf))
+            return run_jkr(g, dx, medium, law, loading, request, monitor)
         }
         ContactLaw::Jkr { .. } => {
             return Err(Error::InvalidInput(
                 "contact 'jkr' needs a medium with a relaxed modulus (G_inf > 0): Heß's rule lets an element go at the elongation sqrt(2 pi a w / E*_inf), which has no bound without one".into(),
             ))
         }
-        _ => None,
-    };
+        _ => {}
+    }
     let steps = step_times(request.times, request.dt, jumps_at_start(loading, medium))?;
     let start = match loading {
         Loading::Depth(_) => 0.0,
@@ -100,24 +100,15 @@ pub fn run_mdr_adhesive(
             // where the indenter meets the element's freely relaxed surface
             surface[i] = g[i] - rule.history(w[i], &q[i * m..(i + 1) * m]) / rule.g_eff;
         }
-        let (depth, force) = match (&mut attachment, loading) {
-            (Some(at), Loading::Depth(hist)) => {
-                let d = hist.depth(t);
-                at.at_depth(g, &surface, d);
-                (d, c * at.compression(d))
-            }
-            (Some(at), Loading::Force(hist)) => {
-                let f = hist.force(t);
-                (at.under_load(g, &surface, f / c).unwrap_or(f64::NAN), f)
-            }
-            (None, Loading::Depth(hist)) => {
+        let (depth, force) = match loading {
+            Loading::Depth(hist) => {
                 let d = hist.depth(t);
                 sorted.refill(&surface);
                 let (compression, k) = law.compression_at(&sorted, d);
                 let pull = if k > 0 { attraction } else { 0.0 };
                 (d, c * compression - pull)
             }
-            (None, Loading::Force(hist)) => {
+            Loading::Force(hist) => {
                 let f = hist.force(t);
                 sorted.refill(&surface);
                 let load = f + attraction;
@@ -129,10 +120,7 @@ pub fn run_mdr_adhesive(
                 (d, f)
             }
         };
-        let touches = |i: usize| match &attachment {
-            Some(at) => at.is_attached(i),
-            None => law.compression(depth, surface[i]) > 0.0,
-        };
+        let touches = |i: usize| law.compression(depth, surface[i]) > 0.0;
         let mut count = 0;
         for i in 0..n {
             let w_new = if touches(i) {

@@ -5,7 +5,7 @@
 
 use super::convert::slice1;
 use super::monitor::{to_pyerr, PyMonitor};
-use crate::mdr::curve::{Control, Curve, Forward};
+use crate::mdr::curve::{AdhesiveEvaluation, Control, Curve, Forward};
 use crate::model::Medium;
 use crate::support::error::Error;
 use numpy::{IntoPyArray, PyArray1, PyArray2, PyReadonlyArray1};
@@ -19,6 +19,15 @@ type Evaluated<'py> = (
     Bound<'py, PyArray2<f64>>,
     Bound<'py, PyArray1<u64>>,
     &'static str,
+);
+
+/// An adhesive evaluation: force, contact radius and depth at the samples, and the elements
+/// in contact.
+type AdhesiveEvaluated<'py> = (
+    Bound<'py, PyArray1<f64>>,
+    Bound<'py, PyArray1<f64>>,
+    Bound<'py, PyArray1<f64>>,
+    Bound<'py, PyArray1<u64>>,
 );
 
 /// An indentation curve prepared once: the half MDR profile (m, at x = (i + 1/2) dx), the
@@ -136,4 +145,67 @@ impl PyCurve {
             })
             .collect()
     }
+    /// JKR contact (work of adhesion `work_of_adhesion`, J/m^2) of an elastic medium (JSON of a
+    /// scene's medium table) by MDR with a continuous contact edge, depth or spring control:
+    /// the force (N), contact radius (m), depth (m) and elements of the half profile in
+    /// contact at the samples, every prescribed depth or drive moved by `shift` (m).
+    #[pyo3(signature = (medium, work_of_adhesion, shift=0.0))]
+    fn evaluate_jkr<'py>(
+        &self,
+        py: Python<'py>,
+        medium: String,
+        work_of_adhesion: f64,
+        shift: f64,
+    ) -> PyResult<AdhesiveEvaluated<'py>> {
+        let e = self
+            .contact_modulus(&medium)
+            .and_then(|e_star| self.inner.evaluate_jkr(e_star, work_of_adhesion, shift))
+            .map_err(|e| to_pyerr(py, e))?;
+        Ok(adhesive_arrays(py, e))
+    }
+
+    /// `evaluate_jkr` for DMT: hard contact plus the `attraction` (N, 2 pi w R) while the
+    /// surfaces touch.
+    #[pyo3(signature = (medium, attraction, shift=0.0))]
+    fn evaluate_dmt<'py>(
+        &self,
+        py: Python<'py>,
+        medium: String,
+        attraction: f64,
+        shift: f64,
+    ) -> PyResult<AdhesiveEvaluated<'py>> {
+        let e = self
+            .contact_modulus(&medium)
+            .and_then(|e_star| self.inner.evaluate_dmt(e_star, attraction, shift))
+            .map_err(|e| to_pyerr(py, e))?;
+        Ok(adhesive_arrays(py, e))
+    }
+}
+
+impl PyCurve {
+    /// The contact modulus E* (Pa) of an elastic medium (JSON of a scene's medium table).
+    fn contact_modulus(&self, medium: &str) -> crate::Result<f64> {
+        let (t_lo, t_hi) = self.inner.time_range();
+        let m: Medium = serde_json::from_str(medium)
+            .map_err(|e| Error::InvalidInput(format!("medium: {e}")))?;
+        m.validate()?;
+        let (r, _) = m.rheology_tangents_of(&[], t_lo, t_hi)?;
+        if !r.terms.is_empty() || r.eta != 0.0 {
+            return Err(Error::InvalidInput(
+                "an adhesive curve is computed for an elastic medium".into(),
+            ));
+        }
+        Ok(4.0 * r.g_inf)
+    }
+}
+
+/// The arrays of an adhesive evaluation.
+fn adhesive_arrays(py: Python<'_>, e: AdhesiveEvaluation) -> AdhesiveEvaluated<'_> {
+    let contact: Vec<u64> = e.contact.iter().map(|&c| c as u64).collect();
+    (
+        e.values.into_pyarray(py),
+        e.contact_radius.into_pyarray(py),
+        e.depth.into_pyarray(py),
+        contact.into_pyarray(py),
+    )
 }

@@ -16,6 +16,9 @@ use crate::model::settings::MAX_STEPS;
 use crate::support::error::{check_finite, check_positive, Error, Result};
 use crate::support::monitor::Stop;
 
+pub use adhesive::AdhesiveEvaluation;
+
+mod adhesive;
 mod balance;
 mod depth_control;
 mod hereditary;

@@ -1,0 +1,290 @@
+"""Fits with adhesion (``mv.fit(..., contact=mv.JKR(...))``): approach and retract curves whose
+retract dips below the baseline, depth-controlled and raw AFM curves (a cantilever in series).
+
+The data are made independently of the fit's model (MDR with a contact edge moving between the
+elements): by JKR's closed form for a paraboloid of radius R (Johnson, Kendall & Roberts 1971;
+Maugis 2000, ch. 5) on an elastic body of contact modulus E* — Hertz on the approach, the
+contact held at its largest radius a_m on the retract (F = 2 E* (a_m d - a_m^3 / (3 R)), Hertz
+plus a flat punch) until the edge's elongation reaches sqrt(2 pi a w / E*), then the JKR branch
+d = a^2 / R - sqrt(2 pi w a / E*), F = 4 E* a^3 / (3 R) - sqrt(8 pi w E* a^3) to its unstable end
+(depth control: where dd/da = 0; through a cantilever of stiffness k: where d(d + F / k)/da = 0),
+then no force. Each curve is made by a ``MAKERS`` entry (name: a function of the depth or
+drive); a curve made by another method (the boundary elements with a cohesive zone of small
+range) enters as one more entry.
+
+Units: a sphere-like tip of R = 5 um on a soft gel (G = 1 kPa, E* = 4 kPa), w = 1 mJ/m^2:
+pi w R = 16 nN, a quarter of the Hertz force at 3 um.
+"""
+
+import contextlib
+import io
+import json
+import math
+
+import numpy as np
+import pytest
+from scipy.optimize import brentq
+
+import mdrvisc as mv
+from mdrvisc import cli, fitting
+from mdrvisc._fit_adhesion import AdhesiveProblem
+from mdrvisc.errors import InvalidInputError
+
+R, G, W = 5e-6, 1e3, 1e-3
+E_STAR = 4.0 * G  # nu = 0.5
+NOISE = 0.01
+
+
+def hertz(d):
+    return 4.0 / 3.0 * E_STAR * math.sqrt(R) * np.maximum(d, 0.0) ** 1.5
+
+
+def branch_depth(a, w=W, e=E_STAR):
+    """JKR: the depth (m) of contact radius a (m)."""
+    return a * a / R - np.sqrt(2.0 * math.pi * w * a / e)
+
+
+def branch_force(a, w=W, e=E_STAR):
+    """JKR: the force (N) of contact radius a (m)."""
+    return 4.0 * e * a**3 / (3.0 * R) - np.sqrt(8.0 * math.pi * w * e * a**3)
+
+
+def pinned_force(a_m, d):
+    """The contact held at radius a_m (m) at depth d (m): Hertz plus a flat punch."""
+    return 2.0 * E_STAR * (a_m * d - a_m**3 / (3.0 * R))
+
+
+def unstable_end(du_da, a_m):
+    """The largest radius below a_m where du_da changes sign (the branch's unstable end)."""
+    grid = np.geomspace(1e-4 * a_m, a_m, 4000)[::-1]
+    values = du_da(grid)
+    k = int(np.flatnonzero(values <= 0)[0])
+    return brentq(du_da, grid[k], grid[k - 1], xtol=1e-16 * a_m)
+
+
+def jkr_depth_control(d):
+    """The force (N) of JKR under the prescribed depths d (m): one approach and one retract."""
+    top = int(np.argmax(d))
+    a_m = math.sqrt(R * d[top])
+    d1 = branch_depth(a_m)
+    a_end = unstable_end(lambda a: 2.0 * a / R - 0.5 * np.sqrt(2.0 * math.pi * W / (E_STAR * a)), a_m)
+    force = hertz(d)
+    attached = True
+    for i in range(top + 1, d.size):
+        if d[i] >= d1:
+            force[i] = pinned_force(a_m, d[i])
+        elif attached and d[i] > branch_depth(a_end):
+            a = brentq(lambda a, di=d[i]: branch_depth(a) - di, a_end, a_m, xtol=1e-16 * a_m)
+            force[i] = branch_force(a)
+        else:
+            attached, force[i] = False, 0.0
+    return force
+
+
+def jkr_spring(u, k):
+    """The force (N) of JKR through a spring of stiffness k (N/m) driven by u (m, past the
+    contact point): k (u - d) = F at each sample, one approach and one retract."""
+    top = int(np.argmax(u))
+    force = np.zeros_like(u)
+    depth = u.copy()
+    for i in range(top + 1):
+        if u[i] > 0:
+            depth[i] = brentq(lambda d, ui=u[i]: k * (ui - d) - hertz(d), 0.0, u[i], xtol=1e-18)
+            force[i] = k * (u[i] - depth[i])
+    a_m = math.sqrt(R * depth[top])
+    d1 = branch_depth(a_m)
+    drive = lambda a: branch_depth(a) + branch_force(a) / k  # noqa: E731
+    da = lambda a: (2.0 * a / R - 0.5 * np.sqrt(2.0 * math.pi * W / (E_STAR * a))  # noqa: E731
+                    + (4.0 * E_STAR * a**2 / R - 1.5 * np.sqrt(8.0 * math.pi * W * E_STAR * a)) / k)
+    a_end = unstable_end(da, a_m)
+    attached = True
+    for i in range(top + 1, u.size):
+        pinned = (k * u[i] + 2.0 * E_STAR * a_m**3 / (3.0 * R)) / (k + 2.0 * E_STAR * a_m)
+        if pinned >= d1:
+            force[i] = k * (u[i] - pinned)
+        elif attached and u[i] > drive(a_end):
+            a = brentq(lambda a, ui=u[i]: drive(a) - ui, a_end, a_m, xtol=1e-16 * a_m)
+            force[i] = branch_force(a)
+        else:
+            attached, force[i] = False, 0.0
+    return force
+
+
+#: Makers of adhesive curves: (depth control, spring control) functions of the depths (m) and
+#: of the drive (m) and stiffness (N/m).
+MAKERS = {"jkr_closed_form": (jkr_depth_control, jkr_spring)}
+
+
+def depth_curve(samples=300):
+    """Approach to 3 um over 1 s, retract to -1.5 um over 1 s (the contact recedes from 0.53 um,
+    passes JKR's least force at a = 2.8 um and lets go at -1.09 um)."""
+    t = np.linspace(0.0, 2.0, 2 * samples + 1)
+    d = np.where(t <= 1.0, 3e-6 * t, 3e-6 - 4.5e-6 * (t - 1.0))
+    return t, d
+
+
+def noisy(values, scale, seed):
+    return values + NOISE * scale * np.random.default_rng(seed).standard_normal(values.size)
+
+
+@pytest.mark.parametrize("maker", sorted(MAKERS))
+def test_a_depth_controlled_retract_gives_the_medium_and_the_work_of_adhesion(maker):
+    t, d = depth_curve()
+    force = MAKERS[maker][0](d)
+    assert force.min() < -1.4 * math.pi * W * R  # the dip passes JKR's -3/2 pi w R
+    data = noisy(force, np.ptp(force), 1)
+    fit = mv.fit(mv.Paraboloid(c=0.5 / R), mv.Elastic, t, depth=d, force=data,
+                 contact=mv.JKR(work_of_adhesion=0.3 * W))
+    assert fit.success, fit.message
+    assert fit.forward == "jkr"
+    assert fit.parameters["G"] == pytest.approx(G, rel=0.03)
+    assert fit.parameters["work_of_adhesion"] == pytest.approx(W, rel=0.03)
+    assert fit.contact == mv.JKR(work_of_adhesion=fit.parameters["work_of_adhesion"])
+    # the fit's scatter is the noise's, and its standard errors cover the truth
+    assert fit.rms == pytest.approx(NOISE * np.ptp(force), rel=0.15)
+    for name, truth in (("G", G), ("work_of_adhesion", W)):
+        assert abs(fit.parameters[name] - truth) < 4.0 * fit.stderr[name]
+
+
+@pytest.mark.parametrize("maker", sorted(MAKERS))
+def test_a_raw_afm_retract_gives_the_medium_the_work_of_adhesion_and_the_contact_point(maker):
+    k, z_c, b = 0.05, 3e-6, 2e-8
+    t = np.linspace(0.0, 2.0, 801)
+    u = np.where(t <= 1.0, -1.5e-6 + 5.74e-6 * t, 4.24e-6 - 6.74e-6 * (t - 1.0))
+    force = MAKERS[maker][1](u, k)
+    assert force.min() < -1.4 * math.pi * W * R and force[-1] == 0.0
+    deflection = noisy(force / k + b, np.ptp(force / k), 2)
+    fit = mv.fit(mv.Paraboloid(c=0.5 / R), mv.Elastic, t, piezo=u + z_c, deflection=deflection,
+                 spring_constant=k, contact=mv.JKR(work_of_adhesion=0.3 * W))
+    assert fit.success, fit.message
+    assert fit.parameters["G"] == pytest.approx(G, rel=0.03)
+    assert fit.parameters["work_of_adhesion"] == pytest.approx(W, rel=0.03)
+    assert fit.contact_point == pytest.approx(z_c, abs=0.03 * 1e-6)
+    assert fit.baseline == pytest.approx(b, abs=3 * NOISE * np.ptp(force / k))
+
+
+@pytest.mark.parametrize("start", [0.03, 10.0])
+def test_a_poor_first_guess_still_finds_the_work_of_adhesion(start):
+    """From a work of adhesion 30 times too small or 10 times too large (which would hold the
+    contact through the whole retract, where the force does not depend on it) and a modulus
+    5 times too small."""
+    t, d = depth_curve(150)
+    force = jkr_depth_control(d)
+    data = noisy(force, np.ptp(force), 5)
+    fit = mv.fit(mv.Paraboloid(c=0.5 / R), mv.Elastic(G=G / 5), t, depth=d, force=data,
+                 contact=mv.JKR(work_of_adhesion=start * W))
+    assert fit.success, fit.message
+    assert fit.parameters["G"] == pytest.approx(G, rel=0.03)
+    assert fit.parameters["work_of_adhesion"] == pytest.approx(W, rel=0.03)
+
+
+def test_a_held_work_of_adhesion_stays():
+    t, d = depth_curve(100)
+    data = noisy(jkr_depth_control(d), np.ptp(jkr_depth_control(d)), 3)
+    fit = mv.fit(mv.Paraboloid(c=0.5 / R), mv.Elastic(G=500.0), t, depth=d, force=data,
+                 contact=mv.JKR(work_of_adhesion=W), fixed=("work_of_adhesion",))
+    assert fit.free == ["G"]
+    assert fit.parameters["work_of_adhesion"] == W and fit.stderr["work_of_adhesion"] == 0.0
+    assert fit.parameters["G"] == pytest.approx(G, rel=0.03)
+
+
+def branch_errors(n):
+    """The forward model's force and its finite-difference Jacobian on a half profile of n
+    elements against the closed form: the largest errors (in the force's range) of the force,
+    of the Jacobian on the approach and the held contact, and on the JKR branch (the number of
+    its samples last)."""
+    t, d = depth_curve(400)
+    force = jkr_depth_control(d)
+    base, _, _ = fitting._problem(mv.Paraboloid(c=0.5 / R), mv.Elastic(G=G), t, d, force, None, None, None,
+                                  None, None, "depth", None, (), None, 2, n, 1)
+    problem = AdhesiveProblem(base, mv.JKR(work_of_adhesion=W), held=False)
+    values, _ = problem._forward(np.log([G, W]), 0.0)
+    jac = problem.jacobian(np.log([G, W]), values)
+    scale = np.ptp(force)
+    top = int(np.argmax(d))
+    a_m = math.sqrt(R * d[top])
+    held = np.arange(d.size) <= top
+    held |= (np.arange(d.size) > top) & (d > branch_depth(a_m))
+    # d F / d log E* = F and d F / d log w = 0 where the radius does not move
+    held_error = max(np.max(np.abs(jac[held, 0] - values[held])), np.max(np.abs(jac[held, 1])))
+    on_branch = np.flatnonzero(~held & (force != 0.0))
+    a_end = unstable_end(lambda a: 2.0 * a / R - 0.5 * np.sqrt(2.0 * math.pi * W / (E_STAR * a)), a_m)
+    branch_error = 0.0
+    for i in on_branch:
+        a = brentq(lambda a, di=d[i]: branch_depth(a) - di, a_end, a_m, xtol=1e-16 * a_m)
+        root = math.sqrt(2.0 * math.pi * W * a / E_STAR)
+        phi_a = 2.0 * a / R - 0.5 * root / a
+        f_a = 4.0 * E_STAR * a**2 / R - 1.5 * math.sqrt(8.0 * math.pi * W * E_STAR * a)
+        half = 0.5 * math.sqrt(8.0 * math.pi * W * E_STAR * a**3)
+        # at the sample's depth, phi = a^2 / R - root(a, w, E*) - d = 0 moves a
+        d_log_e = (branch_force(a) + half) + f_a * (-0.5 * root / phi_a)
+        d_log_w = -half + f_a * (0.5 * root / phi_a)
+        branch_error = max(branch_error, abs(jac[i, 0] - d_log_e), abs(jac[i, 1] - d_log_w))
+    return (np.max(np.abs(values - force)) / scale, held_error / scale, branch_error / scale,
+            on_branch.size)
+
+
+def test_the_finite_difference_jacobian_matches_jkr_derivatives():
+    """d F / d log E* and d F / d log w: exact on the approach (F and 0) and on the held
+    contact (F and 0, its radius set by the approach); on the JKR branch those of the closed
+    form at the sample's depth (implicit in the radius), converging with the profile's
+    elements (the edge's slope is the piecewise-linear profile's: error ~dx / a)."""
+    coarse, fine = branch_errors(2000), branch_errors(8000)
+    assert fine[3] > 50
+    assert fine[0] < 1e-6 and fine[1] < 1e-8
+    assert fine[2] < 1e-3 and fine[2] < coarse[2] / 3
+
+
+def test_dmt_fits_of_depth_controlled_curves():
+    """DMT (``contact=mv.DMT(...)``): a depth-controlled curve (Hertz less 2 pi w R while
+    d > 0) gives G and w; raw curves and tips without a radius are refused."""
+    t, d = depth_curve()
+    force = np.where(d > 0.0, hertz(d) - 2.0 * math.pi * W * R, 0.0)
+    fit = mv.fit(mv.Paraboloid(c=0.5 / R), mv.Elastic, t, depth=d, force=noisy(force, np.ptp(force), 6),
+                 contact=mv.DMT(work_of_adhesion=0.3 * W))
+    assert fit.success and fit.forward == "dmt", fit.message
+    assert fit.contact == mv.DMT(work_of_adhesion=fit.parameters["work_of_adhesion"])
+    assert fit.parameters["G"] == pytest.approx(G, rel=0.03)
+    assert fit.parameters["work_of_adhesion"] == pytest.approx(W, rel=0.03)
+    with pytest.raises(InvalidInputError, match="depth-controlled"):
+        mv.fit(mv.Paraboloid(c=0.5 / R), mv.Elastic, t, piezo=d + 3e-6, deflection=force / 0.05,
+               spring_constant=0.05, contact=mv.DMT(work_of_adhesion=W))
+    with pytest.raises(InvalidInputError, match="rounded tip"):
+        mv.fit(mv.Cone(slope=0.5), mv.Elastic, t, depth=d, force=force,
+               contact=mv.DMT(work_of_adhesion=W))
+
+
+@pytest.mark.parametrize("kw, words", [
+    (dict(model=mv.StandardSolid), "elastic"),
+    (dict(control="force"), "depth-controlled"),
+    (dict(contact=mv.Hard), "mv.JKR"),
+])
+def test_what_an_adhesive_fit_refuses(kw, words):
+    t, d = depth_curve(50)
+    args = dict(model=mv.Elastic, contact=mv.JKR(work_of_adhesion=W), control="depth")
+    args.update(kw)
+    with pytest.raises(InvalidInputError, match=words):
+        mv.fit(mv.Paraboloid(c=0.5 / R), args.pop("model"), t, depth=d, force=jkr_depth_control(d) + 1e-9,
+               **args)
+
+
+def test_the_command_line_fits_the_work_of_adhesion(tmp_path):
+    """``mdrvisc fit ... --contact jkr:W``: the work of adhesion among the fitted parameters."""
+    t, d = depth_curve(150)
+    force = jkr_depth_control(d)
+    path = tmp_path / "retract.csv"
+    np.savetxt(path, np.c_[t, d, noisy(force, np.ptp(force), 4)], delimiter=",", header="t,depth,force",
+               comments="")
+    out, err = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        status = cli.main(["fit", str(path), "--indenter", f"paraboloid:c={0.5 / R}", "--model", "elastic",
+                           "--contact", f"jkr:{0.3 * W}", "--json"])
+    assert status == 0, err.getvalue()
+    document = json.loads(out.getvalue())
+    assert document["forward"] == "jkr" and "work_of_adhesion" in document["free"]
+    assert document["parameters"]["work_of_adhesion"] == pytest.approx(W, rel=0.03)
+    assert document["parameters"]["G"] == pytest.approx(G, rel=0.03)
+    with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(err := io.StringIO()):
+        status = cli.main(["fit", str(path), "--indenter", f"paraboloid:c={0.5 / R}", "--model", "elastic",
+                           "--contact", "sticky"])
+    assert status == 2 and "--contact" in err.getvalue()
