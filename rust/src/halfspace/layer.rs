@@ -132,7 +132,7 @@ pub const MAX_ELEMENT: f64 = 8.0;
 
 /// Gauss–Legendre nodes and weights of order `m` on [-1/2, 1/2] (weights summing to 1), by
 /// Newton's iteration on the Legendre polynomial.
-fn gauss_legendre(m: usize) -> Vec<(f64, f64)> {
+pub(crate) fn gauss_legendre(m: usize) -> Vec<(f64, f64)> {
     (0..m)
         .map(|i| {
             let mut x = (std::f64::consts::PI * (i as f64 + 0.75) / (m as f64 + 0.5)).cos();
