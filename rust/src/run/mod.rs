@@ -2,9 +2,9 @@
 //! viscous impulse engine, the paper's explicit loop, viscoelastic stepping) and the report.
 
 pub mod assemble;
+mod mdr_layer;
 pub mod report;
 pub mod sizing;
-mod mdr_layer;
 
 use crate::bem::contact::Target;
 use crate::bem::static_contact;
