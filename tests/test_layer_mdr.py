@@ -57,18 +57,20 @@ def test_mdr_on_a_layer_agrees_with_bem(tip, base, nu):
         mdr, _ = _factor(indenter, force, k, base, nu, "mdr", 4001)
         bem, _ = _factor(indenter, force, k, base, nu, "bem", 65)
         assert mdr > 1.0
+        print(tip, base, nu, chi, mdr / bem - 1)
         assert abs(mdr / bem - 1) < 5e-3, (chi, mdr, bem)
 
 
 def test_a_viscoelastic_layer_agrees_with_bem():
-    """A standard solid on a bonded incompressible layer under a depth ramp and hold: MDR's
-    force against BEM's (n = 65) within 1 % at every output time."""
+    """A standard solid on a bonded incompressible layer under a force ramp and hold (creep;
+    contact radius about 0.4 thicknesses): MDR's depth against BEM's (n = 65) within 1e-3 at
+    every output time (measured 2.1e-4; 1.1e-4 at n = 97: BEM's discretisation)."""
     scene = mv.Scene(indenter=mv.Paraboloid(c=0.5), medium=mv.StandardSolid(G_inf=1.0, G1=2.0, tau1=0.2),
-                     depth=([0.0, 0.5, 1.0], [0.0, 0.5, 0.5]), duration=1.0, body=mv.Layer(1.0),
+                     force=([0.0, 0.5, 1.0], [0.0, 1.0, 1.0]), duration=1.0, body=mv.Layer(1.0),
                      times=np.linspace(0.1, 1.0, 10))
     mdr = mv.solve(scene, "mdr", 2001)
     bem = mv.solve(scene, "bem", 65)
-    np.testing.assert_allclose(mdr.force, bem.force, rtol=1e-2)
+    np.testing.assert_allclose(mdr.depth, bem.depth, rtol=1e-3)
 
 
 def test_what_mdr_on_a_layer_does_not_solve_is_refused():
