@@ -39,13 +39,15 @@ def test_a_thick_layer_is_the_half_space_to_first_order():
     assert abs(layer.depth[-1] / half.depth[-1] - expected) < 1e-6
 
 
-@pytest.mark.parametrize("tip", ["paraboloid", "cone", "punch"])
-@pytest.mark.parametrize("base, nu", [("bonded", 0.5), ("bonded", 0.3), ("frictionless", 0.3)])
+@pytest.mark.parametrize("tip, base, nu", [("paraboloid", "bonded", 0.5), ("cone", "frictionless", 0.3),
+                                          ("punch", "bonded", 0.3)])
 def test_mdr_on_a_layer_agrees_with_bem(tip, base, nu):
-    """Bottom-effect factors of MDR (n = 4001) and BEM (n = 65) on a layer, each against its
+    """Bottom-effect factors of MDR (n = 2001) and BEM (n = 65) on a layer, each against its
     own half-space at the same n, for contact radii of about 0.3 and 1 thickness: within
-    0.5 % (the measured differences, bench_layer.py --mdr, are BEM's discretisation: they
-    shrink from n = 65 to 129)."""
+    1e-3 (bench_layer.py --mdr measures paraboloids and cones on both bases at nu = 0.3 and
+    0.5 up to a / h = 2.4: within 2e-4 at n = 65, 1e-4 at 129, BEM's discretisation); the
+    punch within 2e-3 (measured 1.3e-3: BEM's error at the punch's singular edge, which
+    the half-space's ratio does not cancel; MDR's punch is exact by construction)."""
     e_star = 2.0 / (1.0 - nu)
     for chi in (0.3, 1.0):
         if tip == "paraboloid":
@@ -54,11 +56,10 @@ def test_mdr_on_a_layer_agrees_with_bem(tip, base, nu):
             indenter, force, k = mv.Cone(slope=1.0), 0.5 * np.pi * e_star * chi**2, 2.0
         else:
             indenter, force, k = mv.Rod(radius=chi), e_star * chi, 1.0
-        mdr, _ = _factor(indenter, force, k, base, nu, "mdr", 4001)
+        mdr, _ = _factor(indenter, force, k, base, nu, "mdr", 2001)
         bem, _ = _factor(indenter, force, k, base, nu, "bem", 65)
         assert mdr > 1.0
-        print(tip, base, nu, chi, mdr / bem - 1)
-        assert abs(mdr / bem - 1) < 5e-3, (chi, mdr, bem)
+        assert abs(mdr / bem - 1) < (2e-3 if tip == "punch" else 1e-3), (chi, mdr, bem)
 
 
 def test_a_viscoelastic_layer_agrees_with_bem():

@@ -31,6 +31,7 @@ from ._guesses import estimate
 from ._least_squares import Solution, levenberg_marquardt
 from ._validate import _integer, _poisson_ratio
 from .errors import DataError, DomainError, IdentifiabilityWarning, InvalidInputError
+from .body import Layer
 from .geometry import Indenter
 from .media import PowerLaw, Prony, _Medium, _young
 
@@ -209,7 +210,8 @@ def fit(indenter: Indenter, model: _Medium | type, t: ArrayLike, *, depth: Array
         spring_constant: float | None = None, contact_point: float | None = None,
         baseline: float | None = None, control: str = "depth", weights: ArrayLike | None = None,
         fixed: tuple[str, ...] = (), nu: float | None = None, terms: int = 2, n: int = 500,
-        substeps: int = 1, max_iter: int = 100, baseline_model: str = "offset") -> FitResult:
+        substeps: int = 1, max_iter: int = 100, baseline_model: str = "offset",
+        body: Layer | None = None) -> FitResult:
     """Fit a medium to an indentation curve: depth and force, or a raw AFM curve, at times ``t``.
 
     Parameters
@@ -285,6 +287,12 @@ def fit(indenter: Indenter, model: _Medium | type, t: ArrayLike, *, depth: Array
         b + m (z - z_c) in the piezo position ("tilt": tilt, drift or virtual deflection,
         continued through the contact), its slope m (m/m) fitted with the rest
         (``result.baseline_slope``).
+    body : Layer, optional
+        A :class:`~mdrvisc.Layer` of known thickness in place of the half-space (default
+        None): the forward model is MDR on the layer (its flat-punch stiffness and exact
+        contact radius; ``docs/layers.md``) as a half-space's foundation in a stretched
+        coordinate, so Ting's solution and its millisecond path carry over. The contact
+        may reach 8 thicknesses.
 
     Returns
     -------
@@ -352,7 +360,7 @@ def fit(indenter: Indenter, model: _Medium | type, t: ArrayLike, *, depth: Array
     max_iter = _integer("fit", "max_iter", max_iter, 1)
     problem, data, scale = _problem(indenter, model, t, depth, force, piezo, deflection, spring_constant,
                                     contact_point, baseline, control, weights, fixed, nu, terms, n, substeps,
-                                    baseline_model)
+                                    baseline_model, body)
     # residuals below this are round-off of the forward model's sums (noise-free data that
     # the model reproduces)
     floor = ROUND_OFF_RESIDUALS * float(np.linalg.norm(problem.root_w * data.measured))
@@ -365,7 +373,7 @@ def fit(indenter: Indenter, model: _Medium | type, t: ArrayLike, *, depth: Array
 
 def _problem(indenter, model, t, depth, force, piezo, deflection, spring_constant, contact_point, baseline,
              control, weights, fixed, nu, terms, n, substeps,
-             baseline_model="offset") -> tuple[Problem, _Data, float]:
+             baseline_model="offset", body=None) -> tuple[Problem, _Data, float]:
     """The least-squares problem of :func:`fit`'s arguments (checked), its data and the
     scale its residuals were divided by (the largest measurement)."""
     if control not in ("depth", "force"):
@@ -374,6 +382,8 @@ def _problem(indenter, model, t, depth, force, piezo, deflection, spring_constan
         raise InvalidInputError(f"fit: indenter must be an mdrvisc indenter, got {indenter!r}")
     if baseline_model not in BASELINES:
         raise InvalidInputError(f"fit: baseline_model must be one of {BASELINES}, got {baseline_model!r}")
+    if body is not None and not isinstance(body, Layer):
+        raise InvalidInputError(f"fit: body must be an mdrvisc.Layer or None, got {body!r:.200}")
     n = _integer("fit", "n", n, 8)
     substeps = _integer("fit", "substeps", substeps, 1)
     data = _read_data(t, depth, force, piezo, deflection, spring_constant, contact_point, baseline, control,
@@ -392,7 +402,8 @@ def _problem(indenter, model, t, depth, force, piezo, deflection, spring_constan
     raw, t, w = data.raw, data.t, data.weights
     curve, (estimate_curve, some) = curves(
         indenter, t, data.depth, data.prescribed, "spring" if raw is not None else control,
-        "force" if raw is not None else control, n, substeps, raw.k if raw is not None else None)
+        "force" if raw is not None else control, n, substeps, raw.k if raw is not None else None,
+        layer=body, nu=nu)
     if guess is None:
         span = float(t[-1])
         step = float(np.min(np.diff(np.concatenate([[0.0], t[t > 0]])), initial=span))

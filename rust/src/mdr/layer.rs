@@ -316,6 +316,57 @@ pub fn layered_profile(
     Ok((0..n).map(|i| upper[i.max(n - 1 - i) - half]).collect())
 }
 
+/// MDR on a layer as a half-space's foundation: the layered foundation (`layered_profile`
+/// weighted by `element_weights`) in the coordinate xi = x phi(x / h), where its elements'
+/// weights are uniform. Returns the half profile at xi_j = (j + 1/2) dxi (j < n), the depth
+/// d(x(xi_j)) at which the contact reaches x, and dxi (m), for a half profile reaching
+/// `half` (m): any half-space MDR engine (elements 4 dxi G' each, counted twice) then gives
+/// the layer's forces and depths, its contact lengths in xi. Fails beyond `CHI_MAX`
+/// thicknesses.
+pub fn half_space_equivalent(
+    g1: &(dyn Fn(f64) -> Result<f64> + Sync),
+    n: usize,
+    half: f64,
+    layer: Layer,
+    nu: f64,
+) -> Result<(Vec<f64>, f64)> {
+    check_positive("half length", half)?;
+    let h = layer.thickness;
+    if half > CHI_MAX * h {
+        return Err(Error::Domain(format!(
+            "MDR on a layer reaches {CHI_MAX} thicknesses ({:e} m), got a profile {half:e} m long: the contact is too wide for the layer's punch table; fit a thicker layer or smaller depths",
+            CHI_MAX * h
+        )));
+    }
+    if n == 0 {
+        return Err(Error::InvalidInput("the 1D profile has no elements".into()));
+    }
+    let punch = PunchStiffness::new(nu, layer.base)?;
+    let stretch = |x: f64| x * punch.phi(x / h);
+    let dxi = stretch(half) / n as f64;
+    let profile = (0..n)
+        .into_par_iter()
+        .map(|j| {
+            let xi = (j as f64 + 0.5) * dxi;
+            // x phi(x / h) increases with x (the punch stiffens as it widens): bisection
+            let (mut lo, mut hi) = (0.0, half);
+            for _ in 0..100 {
+                let mid = 0.5 * (lo + hi);
+                if stretch(mid) < xi {
+                    lo = mid;
+                } else {
+                    hi = mid;
+                }
+                if hi - lo <= 1e-15 * half {
+                    break;
+                }
+            }
+            depth_at_radius(g1, 0.5 * (lo + hi), layer, nu)
+        })
+        .collect::<Result<Vec<f64>>>()?;
+    Ok((profile, dxi))
+}
+
 /// The stiffness weights of MDR elements of spacing `dx` (m) centred on
 /// x_i = (i - (n - 1) / 2) dx on `layer` of Poisson ratio `nu`: element i's stiffness over
 /// the half-space's, (K(x_hi) - K(x_lo)) / dx with K(x) = |x| phi(|x| / h) (both ends on one

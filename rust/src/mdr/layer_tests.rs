@@ -254,3 +254,25 @@ fn viscoelastic_layer_follows_lee_radok() {
         assert!((f / lee - 1.0).abs() < 1e-4, "t={t}: {f} vs {lee}");
     }
 }
+
+/// The half-space-equivalent profile gives the weighted foundation's force: the same
+/// contact by both (paraboloid and cone, both bases, h = 0.5), to the two grids'
+/// discretisation (dx / a)^2.
+#[test]
+fn half_space_equivalent_is_the_weighted_foundation() {
+    let (n, half) = (1001, 2.0);
+    let dx = 2.0 * half / n as f64;
+    let profiles: [Box<dyn Fn(f64) -> Result<f64> + Sync>; 2] =
+        [Box::new(|x: f64| Ok(x * x)), Box::new(|x: f64| Ok(x.abs()))];
+    for base in [Base::Bonded, Base::Frictionless] {
+        for g1 in &profiles {
+            let l = layer(0.5, base);
+            let (g, dxi) = half_space_equivalent(g1.as_ref(), n / 2, half, l, 0.3).unwrap();
+            let d = depth_at_radius(g1.as_ref(), 1.0, l, 0.3).unwrap();
+            let exact = force_at_radius(g1.as_ref(), 1.0, d, l, 0.3).unwrap();
+            let f: f64 = 2.0 * dxi * g.iter().filter(|&&v| v < d).map(|v| d - v).sum::<f64>();
+            assert!((f / exact - 1.0).abs() < (dx / 1.0).powi(2), "{base:?}: {f} vs {exact}");
+        }
+    }
+    assert!(half_space_equivalent(&|x: f64| Ok(x * x), 10, 9.0, layer(1.0, Base::Bonded), 0.3).is_err());
+}
