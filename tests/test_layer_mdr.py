@@ -86,3 +86,26 @@ def test_what_mdr_on_a_layer_does_not_solve_is_refused():
                  "mdr", 1001)
     with pytest.raises(InvalidInputError, match="purely viscous"):
         mv.solve(mv.Scene(medium=mv.Viscous(eta=1e3), duration=1.0, **kwargs), "mdr", 1001)
+
+
+def test_a_fit_on_a_layer_recovers_a_bem_curve():
+    """A standard solid on a bonded incompressible layer, crept by BEM (n = 65) under a
+    force ramp and hold to a contact of about 0.4 thicknesses: ``mv.fit`` with the layer
+    (depth prescribed, Ting's solution) recovers G_inf, G1 and tau1 within 1 %; the same
+    fit on the half-space reports moduli a bottom-effect factor too stiff."""
+    truth = dict(G_inf=1.0, G1=2.0, tau1=0.2)
+    times = np.linspace(0.05, 1.0, 20)
+    scene = mv.Scene(indenter=mv.Paraboloid(c=0.5), medium=mv.StandardSolid(**truth),
+                     force=([0.0, 0.5, 1.0], [0.0, 1.0, 1.0]), duration=1.0, body=mv.Layer(1.0),
+                     times=times)
+    bem = mv.solve(scene, "bem", 65)
+    layer = mv.fit(mv.Paraboloid(c=0.5), mv.StandardSolid, bem.t, depth=bem.depth, force=bem.force,
+                   body=mv.Layer(1.0), n=2000)
+    assert layer.success, layer.message
+    assert layer.forward == "hereditary"
+    for name, value in truth.items():
+        assert abs(layer.parameters[name] / value - 1) < 1e-2, (name, layer.parameters)
+    half = mv.fit(mv.Paraboloid(c=0.5), mv.StandardSolid, bem.t, depth=bem.depth, force=bem.force, n=2000)
+    assert half.parameters["G_inf"] > 1.1 * truth["G_inf"]
+    with pytest.raises(InvalidInputError, match="body"):
+        mv.fit(mv.Paraboloid(c=0.5), mv.StandardSolid, bem.t, depth=bem.depth, force=bem.force, body=1.0)

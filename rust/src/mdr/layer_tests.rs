@@ -2,6 +2,9 @@ use super::*;
 use crate::model::loading::{DepthHistory, ForceHistory};
 use crate::support::monitor::Silent;
 
+/// A thin layer's limit of phi as a function of chi.
+type Limit = Box<dyn Fn(f64) -> f64>;
+
 fn layer(h: f64, base: Base) -> Layer {
     Layer { thickness: h, base }
 }
@@ -80,7 +83,7 @@ fn punch_equation_converges_under_refinement() {
 /// is still 94 % at chi = 8).
 #[test]
 fn thin_layer_punch_tends_to_its_foundations() {
-    let cases: [(f64, Base, Box<dyn Fn(f64) -> f64>); 3] = [
+    let cases: [(f64, Base, Limit); 3] = [
         (
             0.3,
             Base::Frictionless,
@@ -271,8 +274,13 @@ fn half_space_equivalent_is_the_weighted_foundation() {
             let d = depth_at_radius(g1.as_ref(), 1.0, l, 0.3).unwrap();
             let exact = force_at_radius(g1.as_ref(), 1.0, d, l, 0.3).unwrap();
             let f: f64 = 2.0 * dxi * g.iter().filter(|&&v| v < d).map(|v| d - v).sum::<f64>();
-            assert!((f / exact - 1.0).abs() < (dx / 1.0).powi(2), "{base:?}: {f} vs {exact}");
+            assert!(
+                (f / exact - 1.0).abs() < (dx / 1.0).powi(2),
+                "{base:?}: {f} vs {exact}"
+            );
         }
     }
-    assert!(half_space_equivalent(&|x: f64| Ok(x * x), 10, 9.0, layer(1.0, Base::Bonded), 0.3).is_err());
+    assert!(
+        half_space_equivalent(&|x: f64| Ok(x * x), 10, 9.0, layer(1.0, Base::Bonded), 0.3).is_err()
+    );
 }
