@@ -1,8 +1,8 @@
 """A layer of the medium on a rigid base (``mv.Layer``) in scenes: a thick layer is the
 periodic half-space, a thin one a Winkler foundation, the scene key round-trips through
-TOML and JSON and runs alike from both command lines, and bad layers are refused by name
-(MDR on a layer: ``tests/test_layer_mdr.py``). The crate's tests check the layer's compliance itself (its boundary-value
-problem and limits) and a viscoelastic layer against Lee–Radok."""
+TOML and JSON and runs alike from both command lines, and bad layers are refused by
+name (MDR on a layer: ``tests/test_layer_mdr.py``). The crate's tests check the layer's
+compliance itself (its boundary-value problem and limits) and a viscoelastic layer against Lee–Radok."""
 
 import json
 import subprocess

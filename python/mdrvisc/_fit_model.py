@@ -88,7 +88,8 @@ def curves(indenter: Indenter, t: np.ndarray, depth: np.ndarray, prescribed: np.
         profile, dx = core.layer_profile_1d(half, n, layer.thickness, layer.base, nu)
         if profile[-1] <= deepest:
             raise DataError(f"fit: the contact at the deepest sample ({deepest} m) is wider than "
-                            f"{LAYER_REACH} thicknesses of the layer ({layer.thickness} m), the reach of MDR on a layer")
+                            f"{LAYER_REACH} thicknesses of the layer ({layer.thickness} m), "
+                            "the reach of MDR on a layer")
     curve = _core.Curve(profile, dx, t, prescribed, control, substeps, stiffness)
     some = np.unique(np.linspace(0, t.size - 1, min(t.size, ESTIMATE_SAMPLES)).round().astype(int))
     return curve, (_core.Curve(profile, dx, t[some], depth[some], "depth", 1), some)

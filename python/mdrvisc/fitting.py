@@ -30,8 +30,8 @@ from ._fit_model import Problem, curves, moduli, parameters
 from ._guesses import estimate
 from ._least_squares import Solution, levenberg_marquardt
 from ._validate import _integer, _poisson_ratio
-from .errors import DataError, DomainError, IdentifiabilityWarning, InvalidInputError
 from .body import Layer
+from .errors import DataError, DomainError, IdentifiabilityWarning, InvalidInputError
 from .geometry import Indenter
 from .media import PowerLaw, Prony, _Medium, _young
 
