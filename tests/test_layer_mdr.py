@@ -46,8 +46,9 @@ def test_mdr_on_a_layer_agrees_with_bem(tip, base, nu):
     own half-space at the same n, for contact radii of about 0.3 and 1 thickness: within
     1e-3 (bench_layer.py --mdr measures paraboloids and cones on both bases at nu = 0.3 and
     0.5 up to a / h = 2.4: within 2e-4 at n = 65, 1e-4 at 129, BEM's discretisation); the
-    punch within 2e-3 (measured 1.3e-3: BEM's error at the punch's singular edge, which
-    the half-space's ratio does not cancel; MDR's punch is exact by construction)."""
+    punch within 4e-3: BEM's error at the punch's singular edge, which the half-space's
+    ratio does not cancel, falls like 1 / n towards MDR's exact punch (a / h = 1, bonded,
+    nu = 0.3: 3.2e-3, 1.6e-3, 0.9e-3 at n = 65, 97, 129; 1.3e-3 at a / h = 0.3, n = 65)."""
     e_star = 2.0 / (1.0 - nu)
     for chi in (0.3, 1.0):
         if tip == "paraboloid":
@@ -59,7 +60,7 @@ def test_mdr_on_a_layer_agrees_with_bem(tip, base, nu):
         mdr, _ = _factor(indenter, force, k, base, nu, "mdr", 2001)
         bem, _ = _factor(indenter, force, k, base, nu, "bem", 65)
         assert mdr > 1.0
-        assert abs(mdr / bem - 1) < (2e-3 if tip == "punch" else 1e-3), (chi, mdr, bem)
+        assert abs(mdr / bem - 1) < (4e-3 if tip == "punch" else 1e-3), (chi, mdr, bem)
 
 
 def test_a_viscoelastic_layer_agrees_with_bem():
