@@ -259,12 +259,11 @@ fn viscoelastic_layer_follows_lee_radok() {
 }
 
 /// The half-space-equivalent profile gives the weighted foundation's force: the same
-/// contact by both (paraboloid and cone, both bases, h = 0.5), to the two grids'
-/// discretisation (dx / a)^2.
+/// contact by both (paraboloid and cone, both bases, h = 0.5), to the stretched grid's
+/// discretisation (dxi / xi(a))^2, xi(a) = a phi(a / h).
 #[test]
 fn half_space_equivalent_is_the_weighted_foundation() {
     let (n, half) = (1001, 2.0);
-    let dx = 2.0 * half / n as f64;
     let profiles: [Box<dyn Fn(f64) -> Result<f64> + Sync>; 2] =
         [Box::new(|x: f64| Ok(x * x)), Box::new(|x: f64| Ok(x.abs()))];
     for base in [Base::Bonded, Base::Frictionless] {
@@ -274,8 +273,10 @@ fn half_space_equivalent_is_the_weighted_foundation() {
             let d = depth_at_radius(g1.as_ref(), 1.0, l, 0.3).unwrap();
             let exact = force_at_radius(g1.as_ref(), 1.0, d, l, 0.3).unwrap();
             let f: f64 = 2.0 * dxi * g.iter().filter(|&&v| v < d).map(|v| d - v).sum::<f64>();
+            let xi_a = PunchStiffness::new(0.3, base).unwrap().phi(1.0 / 0.5);
+            let tolerance = (dxi / xi_a).powi(2);
             assert!(
-                (f / exact - 1.0).abs() < (dx / 1.0).powi(2),
+                (f / exact - 1.0).abs() < tolerance,
                 "{base:?}: {f} vs {exact}"
             );
         }
