@@ -16,7 +16,14 @@ on a window around the contact), and the iterations and wall time of a periodic 
 solve on a layer against the periodic half-space (the same operator cost per iteration: one
 FFT pair and a spectrum product).
 
-Run: ``python benchmarks/bench_layer.py [--n 129] [--chi 0.1 0.2 0.3 0.5 0.7 1.0]``.
+MDR on a layer against BEM (``--mdr``): a paraboloid (R = 1) and a cone (slope 1) on
+layers of both bases, nu = 0.3 and 0.5, under forces that give contact radii of about chi
+thicknesses; each method's bottom-effect factor F / F_half(d) at its own depth against its
+own half-space (so that each one's discretisation cancels), and the relative difference of
+the two factors, at two BEM grids to show BEM's share.
+
+Run: ``python benchmarks/bench_layer.py [--n 129] [--chi 0.1 0.2 0.3 0.5 0.7 1.0]
+[--mdr [--mdr-chi 0.1 0.3 1 3]]``.
 """
 
 from __future__ import annotations
@@ -91,12 +98,53 @@ def cost(n: int) -> None:
               f" {int(result.iterations):4d} iterations, {result.wall_time * 1e3:8.1f} ms")
 
 
+def mdr_factor(tip: str, base: str, nu: float, chi: float, method: str, n: int) -> tuple[float, float]:
+    """(a / h, the bottom-effect factor) of a paraboloid (R = 1) or a cone (slope 1) on a
+    layer h = 1 under the force that gives the half-space a contact radius chi (G = 1 Pa), by
+    `method` at size n; a / h from MDR's contact length."""
+    e_star = 2.0 / (1.0 - nu)
+    if tip == "paraboloid":
+        indenter, force, k = mv.Paraboloid(c=0.5), 4 / 3 * e_star * chi**3, 1.5
+    else:
+        indenter, force, k = mv.Cone(slope=1.0), 0.5 * np.pi * e_star * chi**2, 2.0
+    depth = {}
+    for body in (None, mv.Layer(1.0, base)):
+        scene = mv.Scene(indenter=indenter, medium=mv.Elastic(G=1.0, nu=nu), force=force, body=body)
+        result = mv.solve(scene, method, n)
+        depth[body is None] = result.depth[-1]
+        if body is not None:
+            radius = 0.5 * result.contact_length[-1] if method == "mdr" else np.sqrt(result.area[-1] / np.pi)
+    return radius, (depth[True] / depth[False]) ** k
+
+
+def mdr_against_bem(n: int, chis: list[float]) -> None:
+    """MDR's bottom-effect factor on a layer against BEM's at n and 2 n - 1."""
+    print(f"\nMDR on a layer (n = 4001) against BEM (n = {n} and {2 * n - 1}): bottom-effect "
+          "factors and MDR's relative difference")
+    print(f"{'tip':>10s} {'base':>12s} {'nu':>4s} {'a/h':>6s} {'MDR':>8s} {'BEM n':>8s} {'BEM 2n-1':>8s}"
+          f" {'diff n':>8s} {'diff 2n-1':>9s}")
+    for tip in ("paraboloid", "cone"):
+        for base in ("bonded", "frictionless"):
+            for nu in (0.3, 0.5):
+                for chi in chis:
+                    a, mdr = mdr_factor(tip, base, nu, chi, "mdr", 4001)
+                    _, coarse = mdr_factor(tip, base, nu, chi, "bem", n)
+                    _, fine = mdr_factor(tip, base, nu, chi, "bem", 2 * n - 1)
+                    print(f"{tip:>10s} {base:>12s} {nu:4.1f} {a:6.3f} {mdr:8.4f} {coarse:8.4f} {fine:8.4f}"
+                          f" {mdr / coarse - 1:+8.2%} {mdr / fine - 1:+9.2%}", flush=True)
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--n", type=int, default=129, help="BEM grid size (default 129)")
     parser.add_argument("--chi", type=float, nargs="+", default=[0.1, 0.2, 0.3, 0.5, 0.7, 1.0])
+    parser.add_argument("--mdr", action="store_true", help="MDR on a layer against BEM only")
+    parser.add_argument("--mdr-chi", type=float, nargs="+", default=[0.1, 0.3, 1.0, 3.0])
     args = parser.parse_args()
     print(__doc__.splitlines()[0])
+    if args.mdr:
+        mdr_against_bem(args.n, args.mdr_chi)
+        return
     print(f"bottom-effect factor F / F_half at the layer's depth (nu = 0.5, BEM n = {args.n}) and the "
           "corrections' relative errors")
     for (tip, base), names in APPLIES.items():

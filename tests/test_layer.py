@@ -1,8 +1,8 @@
 """A layer of the medium on a rigid base (``mv.Layer``) in scenes: a thick layer is the
 periodic half-space, a thin one a Winkler foundation, the scene key round-trips through
-TOML and JSON and runs alike from both command lines, and what has no layer solver is
-refused by name. The crate's tests check the layer's compliance itself (its boundary-value
-problem and limits) and a viscoelastic layer against Lee–Radok."""
+TOML and JSON and runs alike from both command lines, and bad layers are refused by
+name (MDR on a layer: ``tests/test_layer_mdr.py``). The crate's tests check the layer's
+compliance itself (its boundary-value problem and limits) and a viscoelastic layer against Lee–Radok."""
 
 import json
 import subprocess
@@ -142,13 +142,9 @@ def test_a_bonded_layer_stiffens_as_dimitriadis_published(indenter, exponent, to
         assert abs(published / force - 1) < tolerance, (chi, published / force - 1)
 
 
-def test_what_has_no_layer_solver_is_refused():
-    """MDR on a layer, bad thicknesses and bases, elements far larger than the layer is
-    thick: errors that say so."""
-    sphere = mv.Scene(indenter=mv.Sphere(radius=1e-3), medium=mv.Elastic(G=1e3), force=1e-6,
-                      body=mv.Layer(1e-4))
-    with pytest.raises(InvalidInputError, match="MDR has no layer"):
-        mv.solve(sphere, "mdr", 1001)
+def test_bad_layers_are_refused():
+    """Bad thicknesses and bases, elements far larger than the layer is thick: errors that
+    say so."""
     coarse = mv.Scene(indenter=mv.Sphere(radius=1e-3), medium=mv.Elastic(G=1e3), force=1e-6,
                       body=mv.Layer(1e-9))
     with pytest.raises(InvalidInputError, match="at most 8 thicknesses"):

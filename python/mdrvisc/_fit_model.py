@@ -59,12 +59,18 @@ def with_derived(values: np.ndarray, jac: np.ndarray, free: list[str], asked: li
     return np.column_stack([jac[:, :at], column, jac[:, at:]])
 
 
+#: Contact radius, in thicknesses, that MDR on a layer reaches (its punch table's).
+LAYER_REACH = 8.0
+
+
 def curves(indenter: Indenter, t: np.ndarray, depth: np.ndarray, prescribed: np.ndarray, control: str,
-           margin: str, n: int, substeps: int, stiffness: float | None = None):
+           margin: str, n: int, substeps: int, stiffness: float | None = None, layer=None, nu: float = 0.5):
     """The forward model of the fit (control as given; "spring" with ``stiffness``) and a
     depth-controlled one at the measured depths on at most :data:`ESTIMATE_SAMPLES` of the
     samples (for the initial estimate, with their indices), on the half 1D profile of n
-    elements reaching ``MARGIN[margin]`` times the largest contact radius of the depths."""
+    elements reaching ``MARGIN[margin]`` times the largest contact radius of the depths; on
+    a ``layer`` (Poisson ratio ``nu``) twice that (a layer's contact is wider at a depth),
+    up to 8 thicknesses, as the half-space-equivalent profile."""
     deepest = float(np.max(depth))
     try:
         a = indenter.contact_radius_at_depth(deepest)
@@ -75,7 +81,15 @@ def curves(indenter: Indenter, t: np.ndarray, depth: np.ndarray, prescribed: np.
         half = a if indenter.is_flat else min(half, indenter.mdr_half_length)
     dx = half / n
     core = _core.Indenter.from_json(json.dumps(indenter._model(half)))
-    profile = core.profile_1d((np.arange(n) + 0.5) * dx)
+    if layer is None:
+        profile = core.profile_1d((np.arange(n) + 0.5) * dx)
+    else:
+        half = min(2.0 * half, LAYER_REACH * layer.thickness) if not indenter.is_flat else half
+        profile, dx = core.layer_profile_1d(half, n, layer.thickness, layer.base, nu)
+        if profile[-1] <= deepest:
+            raise DataError(f"fit: the contact at the deepest sample ({deepest} m) is wider than "
+                            f"{LAYER_REACH} thicknesses of the layer ({layer.thickness} m), "
+                            "the reach of MDR on a layer")
     curve = _core.Curve(profile, dx, t, prescribed, control, substeps, stiffness)
     some = np.unique(np.linspace(0, t.size - 1, min(t.size, ESTIMATE_SAMPLES)).round().astype(int))
     return curve, (_core.Curve(profile, dx, t[some], depth[some], "depth", 1), some)

@@ -24,7 +24,10 @@ class Layer:
     its surface compliance scales with 1 / G(t) as the half-space's does and every medium
     steps on it. It is solved by BEM, on free grids (the layer's influence coefficients,
     elements at most 8 thicknesses wide) and periodic cells (a periodic
-    :class:`~mdrvisc.HeightMap`: the layer's spectral compliance); MDR refuses it.
+    :class:`~mdrvisc.HeightMap`: the layer's spectral compliance), and by MDR for
+    axisymmetric indenters under hard contact (elastic and viscoelastic media, no fields:
+    the layer's flat-punch stiffness and exact contact radius from the punch's integral
+    equation, a contact radius up to 8 thicknesses).
 
     Parameters
     ----------

@@ -31,6 +31,7 @@ from ._fit_model import Problem, curves, moduli, parameters
 from ._guesses import estimate
 from ._least_squares import Solution, levenberg_marquardt
 from ._validate import _integer, _poisson_ratio
+from .body import Layer
 from .contact import ContactLaw
 from .errors import DataError, DomainError, IdentifiabilityWarning, InvalidInputError
 from .geometry import Indenter
@@ -218,7 +219,7 @@ def fit(indenter: Indenter, model: _Medium | type, t: ArrayLike, *, depth: Array
         baseline: float | None = None, control: str = "depth", weights: ArrayLike | None = None,
         fixed: tuple[str, ...] = (), nu: float | None = None, terms: int = 2, n: int = 500,
         substeps: int = 1, max_iter: int = 100, baseline_model: str = "offset",
-        contact: ContactLaw | None = None) -> FitResult:
+        contact: ContactLaw | None = None, body: Layer | None = None) -> FitResult:
     """Fit a medium to an indentation curve: depth and force, or a raw AFM curve, at times ``t``.
 
     Parameters
@@ -309,6 +310,12 @@ def fit(indenter: Indenter, model: _Medium | type, t: ArrayLike, *, depth: Array
         the touch, a jump of the force that moves with the contact point). An elastic medium
         (:class:`Elastic`), depth control or a raw AFM curve; the result's ``forward`` is
         "jkr" or "dmt". Default: hard contact (no adhesion).
+    body : Layer, optional
+        A :class:`~mdrvisc.Layer` of known thickness in place of the half-space (default
+        None): the forward model is MDR on the layer (its flat-punch stiffness and exact
+        contact radius; ``docs/layers.md``) as a half-space's foundation in a stretched
+        coordinate, so Ting's solution and its millisecond path carry over. The contact
+        may reach 8 thicknesses.
 
     Returns
     -------
@@ -376,11 +383,14 @@ def fit(indenter: Indenter, model: _Medium | type, t: ArrayLike, *, depth: Array
     max_iter = _integer("fit", "max_iter", max_iter, 1)
     law = check_contact(contact, model, control, indenter, piezo is not None or deflection is not None)
     held_law = law is not None and WORK_OF_ADHESION in fixed
+    if law is not None and body is not None:
+        raise InvalidInputError("fit: an adhesive fit (contact=) on a layer (body=) is not available: "
+                                "the adhesive forward model is JKR/DMT on a half-space")
     if law is not None:
         fixed = tuple(name for name in fixed if name != WORK_OF_ADHESION)
     problem, data, scale = _problem(indenter, model, t, depth, force, piezo, deflection, spring_constant,
                                     contact_point, baseline, control, weights, fixed, nu, terms, n, substeps,
-                                    baseline_model)
+                                    baseline_model, body)
     if law is not None:
         problem = AdhesiveProblem(problem, law, held_law, tip_radius(indenter))
     # residuals below this are round-off of the forward model's sums (noise-free data that
@@ -395,7 +405,7 @@ def fit(indenter: Indenter, model: _Medium | type, t: ArrayLike, *, depth: Array
 
 def _problem(indenter, model, t, depth, force, piezo, deflection, spring_constant, contact_point, baseline,
              control, weights, fixed, nu, terms, n, substeps,
-             baseline_model="offset") -> tuple[Problem, _Data, float]:
+             baseline_model="offset", body=None) -> tuple[Problem, _Data, float]:
     """The least-squares problem of :func:`fit`'s arguments (checked), its data and the
     scale its residuals were divided by (the largest measurement)."""
     if control not in ("depth", "force"):
@@ -404,6 +414,8 @@ def _problem(indenter, model, t, depth, force, piezo, deflection, spring_constan
         raise InvalidInputError(f"fit: indenter must be an mdrvisc indenter, got {indenter!r}")
     if baseline_model not in BASELINES:
         raise InvalidInputError(f"fit: baseline_model must be one of {BASELINES}, got {baseline_model!r}")
+    if body is not None and not isinstance(body, Layer):
+        raise InvalidInputError(f"fit: body must be an mdrvisc.Layer or None, got {body!r:.200}")
     n = _integer("fit", "n", n, 8)
     substeps = _integer("fit", "substeps", substeps, 1)
     data = _read_data(t, depth, force, piezo, deflection, spring_constant, contact_point, baseline, control,
@@ -422,7 +434,8 @@ def _problem(indenter, model, t, depth, force, piezo, deflection, spring_constan
     raw, t, w = data.raw, data.t, data.weights
     curve, (estimate_curve, some) = curves(
         indenter, t, data.depth, data.prescribed, "spring" if raw is not None else control,
-        "force" if raw is not None else control, n, substeps, raw.k if raw is not None else None)
+        "force" if raw is not None else control, n, substeps, raw.k if raw is not None else None,
+        layer=body, nu=nu)
     if guess is None:
         span = float(t[-1])
         step = float(np.min(np.diff(np.concatenate([[0.0], t[t > 0]])), initial=span))

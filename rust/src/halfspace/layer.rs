@@ -16,7 +16,7 @@
 //!
 //! with t = |q| h, kappa = 3 - 4 nu and the half-space's u_half = p (1 - nu) / (G |q|). These
 //! are the rigid-substrate case of the layered half-space's kernels (Li & Chou, Int. J.
-//! Solids Struct. 34, 1997; Persson, J. Phys.: Condens. Matter 24, 2012, Eq. 8 for a
+//! Solids Struct. 34, 1997; Persson, J. Phys.: Condens. Matter 24, 2012, for a
 //! bonded layer). The tests below solve the four boundary conditions numerically and check
 //! the limits: the half-space for t -> infinity, and for t -> 0 confined compression
 //! u = p h (1 - 2 nu) / (2 G (1 - nu)) (bonded, nu < 1/2), u = p q^2 h^3 / (3 G) (bonded,
@@ -132,7 +132,7 @@ pub const MAX_ELEMENT: f64 = 8.0;
 
 /// Gauss–Legendre nodes and weights of order `m` on [-1/2, 1/2] (weights summing to 1), by
 /// Newton's iteration on the Legendre polynomial.
-fn gauss_legendre(m: usize) -> Vec<(f64, f64)> {
+pub(crate) fn gauss_legendre(m: usize) -> Vec<(f64, f64)> {
     (0..m)
         .map(|i| {
             let mut x = (std::f64::consts::PI * (i as f64 + 0.75) / (m as f64 + 0.5)).cos();

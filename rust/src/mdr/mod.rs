@@ -6,5 +6,6 @@
 pub mod adhesion;
 pub mod curve;
 pub mod foundation;
+pub mod layer;
 pub mod transforms;
 pub mod viscoelastic;

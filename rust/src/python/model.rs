@@ -12,8 +12,8 @@ use crate::model::{Footprint, Indenter, Medium, Profile};
 use crate::support::error::Error;
 use numpy::ndarray::{ArrayD, IxDyn};
 use numpy::{
-    IntoPyArray, PyArray2, PyArrayDyn, PyArrayMethods, PyReadonlyArray1, PyReadonlyArrayDyn,
-    PyUntypedArrayMethods,
+    IntoPyArray, PyArray1, PyArray2, PyArrayDyn, PyArrayMethods, PyReadonlyArray1,
+    PyReadonlyArrayDyn, PyUntypedArrayMethods,
 };
 use pyo3::prelude::*;
 use rayon::prelude::*;
@@ -277,6 +277,48 @@ impl PyIndenter {
                 .call1((x.as_array().to_owned().into_pyarray(py),))?
                 .extract()?),
         }
+    }
+
+    /// The half MDR profile (m) of n elements on a layer of `thickness` (m) on `base`
+    /// ("bonded" or "frictionless") for Poisson ratio `nu`, reaching `half` (m), as a
+    /// half-space's, and its element spacing (m): `crate::mdr::layer::half_space_equivalent`.
+    fn layer_profile_1d<'py>(
+        &self,
+        py: Python<'py>,
+        half: f64,
+        n: usize,
+        thickness: f64,
+        base: &str,
+        nu: f64,
+    ) -> PyResult<(Bound<'py, PyArray1<f64>>, f64)> {
+        use crate::model::body::{Base, Layer};
+        let base = match base {
+            "bonded" => Base::Bonded,
+            "frictionless" => Base::Frictionless,
+            other => {
+                return Err(to_pyerr(
+                    py,
+                    Error::InvalidInput(format!(
+                        "base must be \"bonded\" or \"frictionless\", got {other:?}"
+                    )),
+                ))
+            }
+        };
+        let layer = Layer { thickness, base };
+        layer.validate().map_err(|e| to_pyerr(py, e))?;
+        let Shape::Crate(indenter) = &self.shape else {
+            return Err(to_pyerr(
+                py,
+                Error::InvalidInput(
+                    "a layer needs an indenter of the crate's shapes (a profile given by Python functions has none)".into(),
+                ),
+            ));
+        };
+        let profile = |x: f64| indenter.profile_1d(x);
+        let (g, dx) = py
+            .detach(|| crate::mdr::layer::half_space_equivalent(&profile, n, half, layer, nu))
+            .map_err(|e| to_pyerr(py, e))?;
+        Ok((g.into_pyarray(py), dx))
     }
 
     /// (h, mask) over the element centres `x` (nx) by `y` (ny) (m): heights above the tip

@@ -2,6 +2,7 @@
 //! viscous impulse engine, the paper's explicit loop, viscoelastic stepping) and the report.
 
 pub mod assemble;
+mod mdr_layer;
 pub mod report;
 pub mod sizing;
 
@@ -119,7 +120,6 @@ fn run_from(
             "for an axisymmetric indenter, only for a height map",
         )?;
     }
-    check_layer(scene, settings.method)?;
     crate::support::memory::check(
         &format!(
             "{} n = {}",
@@ -139,7 +139,9 @@ fn run_from(
             "the explicit integrator needs a viscous medium under a force".into(),
         ));
     }
-    let (mut report, pressure) = if scene.is_static() {
+    let (mut report, pressure) = if scene.layer.is_some() && settings.method == Method::Mdr {
+        (mdr_layer::run(scene, settings, monitor)?, None)
+    } else if scene.is_static() {
         run_static(scene, settings, start_pressure, monitor)?
     } else if viscous_force {
         (run_viscous(scene, settings, monitor)?, None)
@@ -160,18 +162,6 @@ fn run_from(
     }
     report.wall_time = start.elapsed().as_secs_f64();
     Ok((report, pressure))
-}
-
-/// Fails unless a run by `method` can solve the scene's layer: BEM, whose operators take
-/// the layer's compliance (`crate::halfspace::layer`); MDR has no layer.
-fn check_layer(scene: &Scene, method: Method) -> Result<()> {
-    match scene.layer {
-        Some(layer) if method == Method::Mdr => Err(Error::InvalidInput(format!(
-            "MDR has no layer ({:e} m thick): a layer is solved by BEM (method \"bem\")",
-            layer.thickness
-        ))),
-        _ => Ok(()),
-    }
 }
 
 /// Bytes per BEM grid element of a run (buffers of the operator, the contact solver and the
