@@ -258,6 +258,7 @@ def test_dmt_fits_of_depth_controlled_curves():
     (dict(model=mv.StandardSolid), "elastic"),
     (dict(control="force"), "depth-controlled"),
     (dict(contact=mv.Hard), "mv.JKR"),
+    (dict(body=mv.Layer(thickness=50 * R)), "on a layer"),
 ])
 def test_what_an_adhesive_fit_refuses(kw, words):
     t, d = depth_curve(50)
