@@ -12,8 +12,11 @@
 //! linear in d, and the balance is solved by walking to the interval of rising ends that
 //! holds t1. Once the contact lets go the indenter follows the drive.
 //!
-//! A dashpot (eta delta(t) in G(t)) adds eta dA/dt = eta a dd/h at the step's end while
-//! the contact grows (the balance stays monotone in d), nothing to the force once t1 lies
+//! A dashpot (eta delta(t) in G(t)) adds eta dA/dt while the contact grows, taken as its
+//! mean over the step, eta (A - A_prev) / h (first order in the step, as the elements'
+//! dashpots; the rate at the step's end, eta a dd/h, would jump with a as the contact
+//! forms, the profile being flat over the first half element, and the balance's root with
+//! it), so the balance stays continuous and monotone in d; nothing to the force once t1 lies
 //! before the step (it acts at s = t only), and eta dd/h to every phi: on retraction t1
 //! moves back at once, the contact shrinking with the drive's speed.
 //!
@@ -131,11 +134,14 @@ impl Curve {
             let damping = damping_of(r.eta, h);
             let gains = sum(&c.gain);
             let decayed = dot(&c.decay, integrals.q(last));
+            // the dashpot's eta dA/dt as the step's mean, eta (A - A_prev) / h: continuous in
+            // d as the contact forms (a jumps there, the profile flat over the first half
+            // element)
             let force = |d: f64, node: &mut usize| {
-                let (a, radius, slope) = area.at(d, node);
+                let (a, radius, _) = area.at(d, node);
                 (
-                    r.g_inf * a + decayed + gains * (a - a_prev) + damping * radius * (d - d_prev),
-                    (r.g_inf + gains) * radius + damping * (slope * (d - d_prev) + radius),
+                    r.g_inf * a + decayed + (gains + damping) * (a - a_prev),
+                    (r.g_inf + gains + damping) * radius,
                 )
             };
             let u = step.depth;
@@ -182,8 +188,8 @@ impl Curve {
             let along = step.along;
             integrals.push(c, (a_new - a_prev, dd), &d_delta, |j, s| {
                 let t = &tangents[j];
-                let x = t.g_inf * a_new + damping_of(t.eta, h) * radius * dd
-                    - damping * radius * dd_prev[j]
+                let x = t.g_inf * a_new + damping_of(t.eta, h) * (a_new - a_prev)
+                    - damping * radius_prev * dd_prev[j]
                     + s;
                 let now = (kw * rates[j] * along - x) / (kw + slope_f);
                 d_now[j] = now;

@@ -367,3 +367,36 @@ fn dashpots_under_a_spring_converge_to_tings_solution() {
         }
     }
 }
+
+/// A dashpot's force is continuous in the drive as the contact forms: F = k (u - d) with
+/// the depth d non-decreasing in the drive u at unit rate at most, so moving the whole drive
+/// by delta moves no sample's force by more than k delta. Swept over one sampling step of
+/// the drive (the first contact crossing every point of a step), with a dashpot whose force
+/// at the first contact dwarfs k delta (eta / h a (d - d_prev) with a = dx / 2 there).
+#[test]
+fn dashpot_force_is_continuous_as_the_contact_forms() {
+    let (g, dx) = half_parabola(300);
+    let (_, times, u) = protocols(80).remove(0);
+    let k = 0.5;
+    let curve = Curve::new(g, dx, times.clone(), u, Control::Spring(k), 1).unwrap();
+    let voigt = Rheology::new(1.0, vec![], 3.0).unwrap();
+    let step = 0.25 * times[0];
+    let count = 2000;
+    let delta = step / count as f64;
+    let mut before = curve.evaluate_shifted(&voigt, &[], 0.0).unwrap();
+    for i in 1..=count {
+        let e = curve
+            .evaluate_shifted(&voigt, &[], i as f64 * delta)
+            .unwrap();
+        assert_eq!(e.forward, Forward::Hereditary);
+        for (s, (a, b)) in e.values.iter().zip(&before.values).enumerate() {
+            assert!(
+                (a - b).abs() <= k * delta * (1.0 + 1e-6),
+                "shift {i}, sample {s}: {b} -> {a} ({:e} > k delta {:e})",
+                (a - b).abs(),
+                k * delta
+            );
+        }
+        before = e;
+    }
+}
