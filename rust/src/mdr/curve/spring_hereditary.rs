@@ -3,7 +3,7 @@
 //! d solves the scalar balance k (u - d) = F[d](t), F Ting's force of the depth history so
 //! far with d as its newest value.
 //!
-//! While the contact grows, F = 8 (G_inf A(d) + sum_k Q_k + eta a dd/h), the Prony integrals
+//! While the contact grows, F = 8 (G_inf A(d) + sum_k Q_k + eta dA/h), the Prony integrals
 //! Q_k updated exactly over the step for A linear in time (an O(1) update per term), so the
 //! balance is a monotone equation in d (A piecewise quadratic), solved by Newton's method
 //! inside a bracket. Once the depth falls with the contact, F is the force of Ting's t1
@@ -13,23 +13,23 @@
 //! holds t1. Once the contact lets go the indenter follows the drive.
 //!
 //! A dashpot (eta delta(t) in G(t)) adds eta dA/dt while the contact grows, taken as its
-//! mean over the step, eta (A - A_prev) / h (first order in the step, as the elements'
-//! dashpots; the rate at the step's end, eta a dd/h, would jump with a as the contact
-//! forms, the profile being flat over the first half element, and the balance's root with
-//! it), so the balance stays continuous and monotone in d; nothing to the force once t1 lies
-//! before the step (it acts at s = t only), and eta dd/h to every phi: on retraction t1
-//! moves back at once, the contact shrinking with the drive's speed.
+//! mean over the step, eta (A - A_prev) / h (what the elements' dashpots sum to; first
+//! order in the step; the rate at the step's end, eta a dd/h, would jump with a as the
+//! contact forms, the profile being flat over the first half element, and the balance's
+//! root with it), so the balance stays continuous and monotone in d; it adds nothing to
+//! the force once t1 lies before the step (it acts at s = t only), and eta dd/h to every
+//! phi: on retraction t1 moves back at once, the contact shrinking with the drive's speed.
 //!
 //! Before contact nothing is stored: the rest state moves along with the drive, and the
 //! integrals count from there (the falling steps read their differences since the
 //! contact's start only). The integrals sit one row per rising end (`Integrals`), each
 //! step's row written in one pass per tangent from the one before.
 //!
-//! Covered: any medium, a depth that may wander before
-//! contact and rises (within round-off) while the contact grows, then a contact that only
-//! shrinks (t1 never moves later; the depth itself may rise as the cantilever unbends)
-//! until it lets go, and afterwards a drive that stays below its lowest value since, or
-//! below the profile: otherwise `None` (the elements are stepped instead).
+//! Covered: any medium, a depth that may wander before contact and rises (within
+//! round-off) while the contact grows, then a contact that only shrinks (t1 never moves
+//! later; the depth itself may rise as the cantilever unbends) until it lets go, and
+//! afterwards a drive that stays below its lowest value since, or below the profile:
+//! otherwise `None` (the elements are stepped instead).
 //!
 //! Derivatives: forward mode through the same arithmetic, each step's depth derivative
 //! from the implicit-function theorem on the balance, dd = (k du - 8 dF|_d) / (k + 8 dF/dd).
