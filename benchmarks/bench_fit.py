@@ -29,7 +29,8 @@ A third table fits raw AFM curves (piezo, deflection, spring constant k = 0.5 N/
 contact point and the baseline fitted with the medium): an 8,000-sample approach and retract
 (0.5 s before contact, then the triangle above, 1 % deflection noise, seed 0; data from
 ``mv.solve`` as above, z = z_c + indentation + F / k), a standard solid and a power law,
-each from its class alone; targets <= 50 ms a fit. The forward model is Ting's solution with
+each from its class alone; targets <= 50 ms a fit; and a Kelvin-Voigt solid (G = 1 kPa, eta =
+200 Pa s: its dashpot on the same path). The forward model is Ting's solution with
 the cantilever in series (row "hereditary"); the same fit with the MDR elements stepped one
 by one under the spring (row "elements", one run) shows what it replaces. Beside them the
 same curve's contact part fitted by depth control (the indentation and force at the true
@@ -203,7 +204,8 @@ def elements_stepped():
 
 def raw_table(python, repeats) -> None:
     cases = [("standard solid", mv.StandardSolid(G_inf=1e3, G1=2e3, tau1=0.2)),
-             ("power law", mv.PowerLaw(G0=1e3, beta=0.2, t0=1.0))]
+             ("power law", mv.PowerLaw(G0=1e3, beta=0.2, t0=1.0)),
+             ("Kelvin-Voigt", mv.KelvinVoigt(G=1e3, eta=200.0))]
     header(f"Raw AFM curves: {RAW_SAMPLES} samples (approach + retract), k = {RAW_K} N/m, 1 % noise, "
            f"MDR n = {N}, best of {repeats}; target <= 0.050 s a fit")
     tip = mv.Paraboloid(c=1 / (2 * RADIUS))

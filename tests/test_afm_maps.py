@@ -100,3 +100,42 @@ def test_fit_map_refuses_bad_input():
     fitted = mv.afm.fit_map(curves[:1], SPHERE, mv.Elastic, progress=False, n=300)
     with pytest.raises(mv.InvalidInputError, match="no column"):
         fitted.image("tau1")
+
+
+def test_fit_map_fits_tilted_baselines_of_a_map_file(tmp_path):
+    """A 3 x 2 map (QI data read by afmformats are force-distance curves on a grid, as here)
+    written through afmformats' HDF5 export and read back, each curve's
+    baseline tilted along the piezo by its own slope (a drift of 1-5 % of the piezo travel:
+    over the approach up to 2.5 times the largest deflection), noise-free:
+    ``fit_map(..., baseline_model="tilt")`` recovers every modulus (1e-3, as the untilted map),
+    contact point (2 nm) and slope (1e-3 of it), and the table has the slopes' column; the
+    offset baseline refuses these curves by name."""
+    from test_afm_io import _write_hdf5
+
+    t, z, segment = mv.afm.piezo_ramp(1.5e-6, speed=1e-5, rate=1000.0, start=-0.5e-6, retract=False)
+    written, truth = [], {}
+    for iy in range(2):
+        for ix in range(3):
+            G, z_c, slope = 400.0 * (ix + 1), 1e-7 * iy, 0.01 * (1 + ix + 2 * iy) * (-1) ** ix
+            sim = mv.afm.simulate(SPHERE, mv.Elastic(G=G), t, z, K, contact_point=z_c, baseline=1e-9, n=300)
+            deflection = sim.curve.deflection + slope * (z - z_c)
+            written.append((t, z, deflection, segment,
+                            {"grid index x": ix, "grid index y": iy,
+                             "grid shape x": 3, "grid shape y": 2, "position x": 1e-6 * ix,
+                             "position y": 1e-6 * iy}))
+            truth[(ix, iy)] = (G, z_c, slope)
+    curves = mv.afm.load(_write_hdf5(tmp_path / "qi.h5", written))
+    fitted = mv.afm.fit_map(curves, SPHERE, mv.Elastic, workers=1, progress=False, n=300,
+                            baseline_model="tilt")
+    table = fitted.table
+    assert fitted.shape == (2, 3) and not fitted.failures
+    for _, row in table.iterrows():
+        G, z_c, slope = truth[(row["grid_x"], row["grid_y"])]
+        assert row["success"], row["message"]
+        assert row["G"] == pytest.approx(G, rel=1e-3)
+        assert row["contact_point"] == pytest.approx(z_c, abs=2e-9)
+        assert row["baseline_slope"] == pytest.approx(slope, rel=1e-3)
+        assert row["baseline_slope_stderr"] >= 0
+    assert fitted.image("baseline_slope")[1, 2] == pytest.approx(truth[(2, 1)][2], rel=1e-3)
+    offset = mv.afm.fit_map(curves[:1], SPHERE, mv.Elastic, workers=1, progress=False, n=300)
+    assert not offset.table["success"][0] and 'baseline_model="tilt"' in offset.table["reason"][0]

@@ -196,6 +196,8 @@ class AdhesiveProblem(Problem):
         return self.root_w * r, self.root_w[:, None] * jac
 
     def solution(self, x: np.ndarray):
-        """The forward model at ``x``: (medium, force, elements in contact, "jkr" or "dmt")."""
+        """The forward model at ``x``: (medium, force, elements in contact, "jkr" or "dmt");
+        one forward solve more."""
+        self.solves += 1
         values, contact = self._forward(x, self._shift(x))
         return self.medium_at(x), values, contact, self.law.__name__.lower()

@@ -24,9 +24,11 @@ cost's decrease is one: a damped step makes both small far from the minimum):
   coordinates' units.
 * residuals at round-off: |r| <= ``residual_floor`` (noise-free data that the model
   reproduces exactly, where rho measures round-off).
-* a minimum to round-off: no step lowers the cost (the damping grows without bound) while
-  the Gauss-Newton step would lower it by less than the cost's own round-off
-  (rho^2 p / (m - p) <= :data:`ROUND_OFF`).
+* a minimum to round-off: the Gauss-Newton step would lower the cost by less than the
+  cost's own round-off (rho^2 p / (m - p) <= :data:`ROUND_OFF`), so no step's gain could
+  be told from round-off. With many residuals this comes before ``offset_tol``: at m =
+  8,000 and p = 4, at rho <= 1.4e-5 (the point within 3e-5 standard errors of the
+  linearised minimum); trying steps there would only be refused, one evaluation each.
 * a minimum at a kink: no step lowers the cost, and the linearised minimum lies within
   ``kink_tol`` standard errors (rho sqrt(p) <= ``kink_tol``). The fits' discrete forward
   models are piecewise smooth (an element enters the contact, the root of Ting's retract
@@ -48,8 +50,8 @@ Residuals = Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]]
 
 #: Why Levenberg-Marquardt stopped, numbered as scipy.optimize.least_squares numbers its
 #: successes (> 0) and failures (<= 0): 1 the stationarity (relative offset) test, 2 a
-#: minimum to round-off (residuals at round-off, or no step lowers a cost that the
-#: Gauss-Newton step could lower by less than its round-off), 3 a minimum at a kink; 0 the
+#: minimum to round-off (residuals at round-off, or a cost that the Gauss-Newton step
+#: would lower by less than its round-off), 3 a minimum at a kink; 0 the
 #: iteration limit, -2 no step lowers the cost at a point that is not stationary (or the
 #: start is outside the residuals' domain).
 MAX_ITER, STATIONARY, ROUND_OFF_MINIMUM, KINK, STALLED = 0, 1, 2, 3, -2
@@ -109,6 +111,12 @@ def relative_offset(r: np.ndarray, u: np.ndarray, samples: int) -> float:
     return float(np.linalg.norm(u.T @ r)) / np.sqrt(p) / (norm / np.sqrt(samples - p))
 
 
+def _gain(offset: float, p: int, samples: int) -> float:
+    """The relative decrease of the cost that the Gauss-Newton step would bring, rho^2 p /
+    (m - p), at relative offset ``offset`` with ``p`` coordinates and ``samples`` residuals."""
+    return offset**2 * p / max(samples - p, 1)
+
+
 def levenberg_marquardt(fun: Residuals, x0: np.ndarray, *, max_iter: int = 100, offset_tol: float = 1e-6,
                         kink_tol: float = 0.05, residual_floor: float = 0.0,
                         max_step: float = 2.0) -> Solution:
@@ -116,8 +124,9 @@ def levenberg_marquardt(fun: Residuals, x0: np.ndarray, *, max_iter: int = 100, 
     residuals: outside the domain, a step there is refused).
 
     Stops converged when the relative offset is at most ``offset_tol``, when
-    |r| <= ``residual_floor``, or when no step lowers a cost that is at a minimum to
-    round-off or at a kink within ``kink_tol`` standard errors of its linearised minimum;
+    |r| <= ``residual_floor``, when the Gauss-Newton step would lower the cost by less than
+    its round-off, or when no step lowers a cost that is at a kink within ``kink_tol``
+    standard errors of its linearised minimum;
     unconverged after ``max_iter`` iterations or when no step lowers the cost
     elsewhere (the module's notes). Rows of r and J that are zero together (samples of
     weight zero) do not count as residuals.
@@ -143,6 +152,10 @@ def levenberg_marquardt(fun: Residuals, x0: np.ndarray, *, max_iter: int = 100, 
         if offset <= offset_tol:
             return finish(iteration - 1, STATIONARY,
                           f"stationary: relative offset {offset:.1e} <= {offset_tol:.0e}", offset)
+        if _gain(offset, s.size, samples) <= ROUND_OFF:
+            return finish(iteration - 1, ROUND_OFF_MINIMUM,
+                          f"a minimum to round-off: the Gauss-Newton step would lower the cost by less than "
+                          f"its round-off (relative offset {offset:.1e})", offset)
         if damping is None:
             damping = 1e-3 * float(s[0]) ** 2
         while True:
@@ -168,11 +181,6 @@ def levenberg_marquardt(fun: Residuals, x0: np.ndarray, *, max_iter: int = 100, 
             grow *= 2.0
             if damping > 1e16 * float(s[0]) ** 2:
                 p = s.size
-                gain = offset**2 * p / max(samples - p, 1)
-                if gain <= ROUND_OFF:
-                    return finish(iteration, ROUND_OFF_MINIMUM,
-                                  f"a minimum to round-off: no step lowers the cost, relative offset "
-                                  f"{offset:.1e}", offset)
                 if offset * np.sqrt(p) <= kink_tol:
                     return finish(iteration, KINK,
                                   "a minimum at a kink of the model: no step lowers the cost, the linearised "
@@ -184,6 +192,9 @@ def levenberg_marquardt(fun: Residuals, x0: np.ndarray, *, max_iter: int = 100, 
     offset = relative_offset(r, u, samples)
     if offset <= offset_tol:
         return finish(max_iter, STATIONARY, f"stationary: relative offset {offset:.1e} <= {offset_tol:.0e}",
+                      offset)
+    if _gain(offset, s.size, samples) <= ROUND_OFF:
+        return finish(max_iter, ROUND_OFF_MINIMUM, f"a minimum to round-off (relative offset {offset:.1e})",
                       offset)
     return finish(max_iter, MAX_ITER, f"stopped after {max_iter} iterations (relative offset {offset:.1e})",
                   offset)

@@ -352,8 +352,11 @@ def fit(indenter: Indenter, model: _Medium | type, t: ArrayLike, *, depth: Array
       residuals, p parameters), is at most 1e-6: the undamped Gauss-Newton step to the
       linearised minimum is shorter than 1e-6 sqrt(p) standard errors, and the cost exceeds
       the minimum's by about rho^2 p / (m - p) of itself;
-    * a minimum to round-off: residuals below 1e-11 of the data, or no step lowers a cost
-      that the Gauss-Newton step would lower by less than 1e-13 of itself;
+    * a minimum to round-off: residuals below 1e-11 of the data, or a cost that the
+      Gauss-Newton step would lower by less than 1e-13 of itself (rho^2 p / (m - p) <=
+      1e-13: with many samples this comes before rho <= 1e-6, e.g. at rho <= 1.4e-5 for
+      8,000 samples and 4 parameters, the point within 3e-5 standard errors of the
+      linearised minimum);
     * a minimum at a kink: no step lowers the cost, and the linearised minimum lies within
       0.05 standard errors. The discrete forward model is piecewise smooth (an element
       enters the contact, the root of Ting's retract crosses a step), so its cost has
@@ -590,6 +593,6 @@ def _result(problem: Problem, solution: Solution, data: _Data, control: str, sca
         correlation=correlation, t=data.t, data=measured, model=values, residuals=residual,
         rms=float(np.sqrt(np.sum(w * residual**2) / np.sum(w))), cost=0.5 * float(np.sum(w * residual**2)),
         jac=jac_parameters, success=solution.converged, status=solution.status, message=solution.message,
-        nfev=problem.solves + 1, nit=solution.iterations, control=control, forward=forward,
+        nfev=problem.solves, nit=solution.iterations, control=control, forward=forward,
         wall_time=time.perf_counter() - start, warnings=messages, contact=problem.contact_at(solution.x),
         **afm)

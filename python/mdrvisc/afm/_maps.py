@@ -35,7 +35,7 @@ __all__ = ["fit_map", "MapFit", "CurveFailure", "draw_maps"]
 
 #: Options of :func:`mdrvisc.fit` that :func:`fit_map` passes on to every fit (the data and
 #: the first guesses of one curve are not among them).
-FIT_OPTIONS = ("fixed", "nu", "terms", "n", "substeps", "max_iter")
+FIT_OPTIONS = ("fixed", "nu", "terms", "n", "substeps", "max_iter", "baseline_model")
 
 
 @dataclasses.dataclass(frozen=True)
@@ -106,6 +106,9 @@ def _row(result) -> dict:
         row[name], row[f"{name}_stderr"] = float(value), float(result.young_stderr[name])
     row["contact_point"], row["contact_point_stderr"] = result.contact_point, result.stderr["contact_point"]
     row["baseline"], row["baseline_stderr"] = result.baseline, result.stderr["baseline"]
+    if result.baseline_slope is not None:
+        row["baseline_slope"] = result.baseline_slope
+        row["baseline_slope_stderr"] = result.stderr["baseline_slope"]
     row.update(rms=float(result.rms), success=bool(result.success), status=int(result.status),
                message=result.message, nfev=int(result.nfev), fit_time=float(result.wall_time),
                reason=None, warnings="; ".join(result.warnings) or None)
@@ -229,7 +232,8 @@ def draw_maps(fitted: MapFit, columns: Sequence[str] | None = None, path=None, c
     except ImportError as exc:
         raise ImportError("MapFit.draw needs matplotlib: pip install matplotlib") from exc
     columns = list(columns) if columns is not None else fitted.default_columns()
-    units = {"contact_point": "m", "baseline": "m", "rms": "N", "beta": "", "tau1": "s", "tau": "s"}
+    units = {"contact_point": "m", "baseline": "m", "baseline_slope": "m/m", "rms": "N", "beta": "",
+             "tau1": "s", "tau": "s"}
     figure, axes = plt.subplots(1, len(columns), figsize=(3.2 * len(columns), 3.0), squeeze=False,
                                 layout="constrained")
     table = fitted.table
@@ -277,7 +281,9 @@ def fit_map(curves: Sequence[Curve], indenter: Indenter, model: _Medium | type, 
     progress : bool
         A progress bar and a closing summary on stderr.
     **fit_options :
-        ``fixed``, ``nu``, ``terms``, ``n``, ``substeps``, ``max_iter`` of :func:`mdrvisc.fit`.
+        ``fixed``, ``nu``, ``terms``, ``n``, ``substeps``, ``max_iter`` and
+        ``baseline_model`` of :func:`mdrvisc.fit` (``"tilt"``: each curve's baseline a line
+        in the piezo position, its slope in the table's ``baseline_slope`` column, m/m).
 
     Returns
     -------

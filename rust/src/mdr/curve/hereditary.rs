@@ -115,88 +115,119 @@ struct Rising {
 }
 
 /// Per-term integrals at the ends of the rising steps and their derivatives: Q_k =
-/// G_k int exp(-(t - s) / tau_k) dA(s) and P_k = the same of the depth, one row of m per
-/// end, and the derivatives' rows tangent by tangent after it.
+/// G_k int exp(-(t - s) / tau_k) dA(s) and P_k = the same of the depth, one row per end,
+/// [Q | P | dQ along each tangent | dP along each tangent], m values each.
 pub(super) struct Integrals {
     m: usize,
     p: usize,
-    q: Vec<f64>,
-    pk: Vec<f64>,
-    dq: Vec<f64>,
-    dp: Vec<f64>,
+    rows: Vec<f64>,
+}
+
+/// Rows of the integrals kept for the next evaluation on the same thread are at most this
+/// long (f64 values): reusing them spares the pages' faults and zeroing.
+const SPARE_LIMIT: usize = 1 << 23;
+
+thread_local! {
+    /// The last evaluation's rows, for the next one on this thread.
+    static SPARE: std::cell::Cell<Vec<f64>> = const { std::cell::Cell::new(Vec::new()) };
 }
 
 impl Integrals {
     /// The rest state before the first step, with room for `ends` more.
     pub(super) fn new(m: usize, p: usize, ends: usize) -> Self {
-        let with = |len: usize| {
-            let mut v = Vec::with_capacity(len * (ends + 1));
-            v.resize(len, 0.0);
-            v
-        };
-        Integrals {
-            m,
-            p,
-            q: with(m),
-            pk: with(m),
-            dq: with(m * p),
-            dp: with(m * p),
-        }
+        let stride = m * (2 + 2 * p);
+        let mut rows = SPARE.with(|spare| spare.take());
+        rows.clear();
+        rows.reserve(stride * (ends + 1));
+        rows.resize(stride, 0.0);
+        Integrals { m, p, rows }
     }
 
-    /// Appends the state after a step of coefficients `c` that changes A and d by
-    /// `delta` = (dA, dd) with derivatives `d_delta` (per tangent, (d dA, d dd)).
-    pub(super) fn push(&mut self, c: &StepCoefficients, delta: (f64, f64), d_delta: &[(f64, f64)]) {
-        let m = self.m;
-        let (q_old, q_new) = grow(&mut self.q, m);
-        let (p_old, p_new) = grow(&mut self.pk, m);
-        let (dq_old, dq_new) = grow(&mut self.dq, m * self.p);
-        let (dp_old, dp_new) = grow(&mut self.dp, m * self.p);
-        for (j, &(da, dd)) in d_delta.iter().enumerate() {
-            let rows = j * m..(j + 1) * m;
-            let (d_decay, d_gain) = (&c.d_decay[rows.clone()], &c.d_gain[rows.clone()]);
+    fn stride(&self) -> usize {
+        self.m * (2 + 2 * self.p)
+    }
+
+    /// Appends the state after a step of coefficients `c` that changes A and d by `delta` =
+    /// (dA, dd). Their derivatives along tangent j are `known[j]` plus what `rest(j, s_j)`
+    /// returns, s_j = sum_k dQ_k with `known[j]` alone (both as (d dA, d dd)): a depth that
+    /// balances a load finds its own derivatives from s_j.
+    pub(super) fn push(
+        &mut self,
+        c: &StepCoefficients,
+        delta: (f64, f64),
+        known: &[(f64, f64)],
+        mut rest: impl FnMut(usize, f64) -> (f64, f64),
+    ) {
+        let (m, stride) = (self.m, self.stride());
+        let at = self.rows.len();
+        self.rows.resize(at + stride, 0.0);
+        let (old, new) = self.rows.split_at_mut(at);
+        let old = &old[at - stride..];
+        let (q_old, rest_old) = old.split_at(m);
+        let (p_old, rest_old) = rest_old.split_at(m);
+        let (dq_old, dp_old) = rest_old.split_at(m * self.p);
+        let (q_new, rest_new) = new.split_at_mut(m);
+        let (p_new, rest_new) = rest_new.split_at_mut(m);
+        let (dq_new, dp_new) = rest_new.split_at_mut(m * self.p);
+        let (decay, gain) = (&c.decay[..m], &c.gain[..m]);
+        let (q_old, p_old) = (&q_old[..m], &p_old[..m]);
+        for (j, &(da, dd)) in known.iter().enumerate() {
+            // the slices cut to one length: the loops run without bounds checks
+            let row = j * m..(j + 1) * m;
+            let (dq, dp) = (&mut dq_new[row.clone()], &mut dp_new[row.clone()]);
+            let (dq0, dp0) = (&dq_old[row.clone()], &dp_old[row.clone()]);
+            let (d_decay, d_gain) = (&c.d_decay[row.clone()], &c.d_gain[row]);
             for k in 0..m {
-                dq_new[j * m + k] = d_decay[k] * q_old[k]
-                    + c.decay[k] * dq_old[j * m + k]
-                    + d_gain[k] * delta.0
-                    + c.gain[k] * da;
-                dp_new[j * m + k] = d_decay[k] * p_old[k]
-                    + c.decay[k] * dp_old[j * m + k]
-                    + d_gain[k] * delta.1
-                    + c.gain[k] * dd;
+                dq[k] =
+                    d_decay[k] * q_old[k] + decay[k] * dq0[k] + d_gain[k] * delta.0 + gain[k] * da;
+            }
+            let (da_rest, dd_rest) = rest(j, sum(dq));
+            if da_rest != 0.0 {
+                for (y, &g) in dq.iter_mut().zip(gain) {
+                    *y += g * da_rest;
+                }
+            }
+            let dd = dd + dd_rest;
+            for k in 0..m {
+                dp[k] =
+                    d_decay[k] * p_old[k] + decay[k] * dp0[k] + d_gain[k] * delta.1 + gain[k] * dd;
             }
         }
+        let (q_new, p_new) = (&mut q_new[..m], &mut p_new[..m]);
         for k in 0..m {
-            q_new[k] = c.decay[k] * q_old[k] + c.gain[k] * delta.0;
-            p_new[k] = c.decay[k] * p_old[k] + c.gain[k] * delta.1;
+            q_new[k] = decay[k] * q_old[k] + gain[k] * delta.0;
+            p_new[k] = decay[k] * p_old[k] + gain[k] * delta.1;
         }
     }
 
     pub(super) fn q(&self, i: usize) -> &[f64] {
-        &self.q[i * self.m..(i + 1) * self.m]
+        let at = i * self.stride();
+        &self.rows[at..at + self.m]
     }
 
     pub(super) fn p(&self, i: usize) -> &[f64] {
-        &self.pk[i * self.m..(i + 1) * self.m]
+        let at = i * self.stride() + self.m;
+        &self.rows[at..at + self.m]
     }
 
     pub(super) fn dq(&self, i: usize, j: usize) -> &[f64] {
-        let at = (i * self.p + j) * self.m;
-        &self.dq[at..at + self.m]
+        let at = i * self.stride() + (2 + j) * self.m;
+        &self.rows[at..at + self.m]
     }
 
     pub(super) fn dp(&self, i: usize, j: usize) -> &[f64] {
-        let at = (i * self.p + j) * self.m;
-        &self.dp[at..at + self.m]
+        let at = i * self.stride() + (2 + self.p + j) * self.m;
+        &self.rows[at..at + self.m]
     }
 }
 
-/// `v` grown by `len` zeros: (its last `len` before, the new `len`).
-fn grow(v: &mut Vec<f64>, len: usize) -> (&[f64], &mut [f64]) {
-    let at = v.len();
-    v.resize(at + len, 0.0);
-    let (old, new) = v.split_at_mut(at);
-    (&old[at - len..], new)
+impl Drop for Integrals {
+    fn drop(&mut self) {
+        let rows = std::mem::take(&mut self.rows);
+        if rows.capacity() <= SPARE_LIMIT {
+            SPARE.with(|spare| spare.set(rows));
+        }
+    }
 }
 
 /// The evaluation, filled sample by sample.
@@ -296,7 +327,7 @@ impl Curve {
                     rate * (step.along - before.along),
                 );
             }
-            integrals.push(c, delta, &d_delta);
+            integrals.push(c, delta, &d_delta, |_, _| (0.0, 0.0));
             // the dashpot's force: eta dA/dt at the step's end, exact for a depth linear in t
             let damping = if r.eta == 0.0 { 0.0 } else { r.eta / h };
             let q = integrals.q(i + 1);

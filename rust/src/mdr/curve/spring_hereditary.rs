@@ -3,7 +3,7 @@
 //! d solves the scalar balance k (u - d) = F[d](t), F Ting's force of the depth history so
 //! far with d as its newest value.
 //!
-//! While the contact grows, F = 8 (G_inf A(d) + sum_k Q_k + eta a dd/h), the Prony integrals
+//! While the contact grows, F = 8 (G_inf A(d) + sum_k Q_k + eta dA/h), the Prony integrals
 //! Q_k updated exactly over the step for A linear in time (an O(1) update per term), so the
 //! balance is a monotone equation in d (A piecewise quadratic), solved by Newton's method
 //! inside a bracket. Once the depth falls with the contact, F is the force of Ting's t1
@@ -12,12 +12,24 @@
 //! linear in d, and the balance is solved by walking to the interval of rising ends that
 //! holds t1. Once the contact lets go the indenter follows the drive.
 //!
-//! Covered: a medium without a dashpot (a dashpot's force jumps with the drive's speed,
-//! and the contact with it: the elements follow that), a depth that may wander before
-//! contact and rises (within round-off) while the contact grows, then a contact that only
-//! shrinks (t1 never moves later; the depth itself may rise as the cantilever unbends)
-//! until it lets go, and afterwards a drive that stays below its lowest value since, or
-//! below the profile: otherwise `None` (the elements are stepped instead).
+//! A dashpot (eta delta(t) in G(t)) adds eta dA/dt while the contact grows, taken as its
+//! mean over the step, eta (A - A_prev) / h (what the elements' dashpots sum to; first
+//! order in the step; the rate at the step's end, eta a dd/h, would jump with a as the
+//! contact forms, the profile being flat over the first half element, and the balance's
+//! root with it), so the balance stays continuous and monotone in d; it adds nothing to
+//! the force once t1 lies before the step (it acts at s = t only), and eta dd/h to every
+//! phi: on retraction t1 moves back at once, the contact shrinking with the drive's speed.
+//!
+//! Before contact nothing is stored: the rest state moves along with the drive, and the
+//! integrals count from there (the falling steps read their differences since the
+//! contact's start only). The integrals sit one row per rising end (`Integrals`), each
+//! step's row written in one pass per tangent from the one before.
+//!
+//! Covered: any medium, a depth that may wander before contact and rises (within
+//! round-off) while the contact grows, then a contact that only shrinks (t1 never moves
+//! later; the depth itself may rise as the cantilever unbends) until it lets go, and
+//! afterwards a drive that stays below its lowest value since, or below the profile:
+//! otherwise `None` (the elements are stepped instead).
 //!
 //! Derivatives: forward mode through the same arithmetic, each step's depth derivative
 //! from the implicit-function theorem on the balance, dd = (k du - 8 dF|_d) / (k + 8 dF/dd).
@@ -70,9 +82,6 @@ impl Curve {
         stiffness: f64,
         stop: &Stop,
     ) -> Result<Option<Evaluation>> {
-        if r.eta != 0.0 {
-            return Ok(None);
-        }
         let Some(area) = AreaFunction::new(&self.g, self.dx) else {
             return Ok(None);
         };
@@ -125,11 +134,14 @@ impl Curve {
             let damping = damping_of(r.eta, h);
             let gains = sum(&c.gain);
             let decayed = dot(&c.decay, integrals.q(last));
+            // the dashpot's eta dA/dt as the step's mean, eta (A - A_prev) / h: continuous in
+            // d as the contact forms (a jumps there, the profile flat over the first half
+            // element)
             let force = |d: f64, node: &mut usize| {
-                let (a, radius, slope) = area.at(d, node);
+                let (a, radius, _) = area.at(d, node);
                 (
-                    r.g_inf * a + decayed + gains * (a - a_prev) + damping * radius * (d - d_prev),
-                    (r.g_inf + gains) * radius + damping * (slope * (d - d_prev) + radius),
+                    r.g_inf * a + decayed + (gains + damping) * (a - a_prev),
+                    (r.g_inf + gains + damping) * radius,
                 )
             };
             let u = step.depth;
@@ -138,31 +150,55 @@ impl Curve {
                 break;
             }
             let (a_new, radius, _) = area.at(d, &mut node);
-            let slope_f = force(d, &mut node).1;
+            let (f_new, slope_f) = force(d, &mut node);
             let dd = d - d_prev;
-            for (j, t) in tangents.iter().enumerate() {
-                let dq = integrals.dq(last, j);
-                let rows = j * m..(j + 1) * m;
-                let (d_decay, d_gain) = (&c.d_decay[rows.clone()], &c.d_gain[rows]);
-                let mut x = t.g_inf * a_new + damping_of(t.eta, h) * radius * dd
-                    - damping * radius * dd_prev[j];
-                for k in 0..m {
-                    x += d_decay[k] * integrals.q(last)[k]
-                        + c.decay[k] * dq[k]
-                        + d_gain[k] * (a_new - a_prev)
-                        - c.gain[k] * radius_prev * dd_prev[j];
+            if a_new == 0.0 && a_prev == 0.0 {
+                // before contact the indenter follows the drive, and nothing is stored: the
+                // rest state moves along (Ting's integrals counted from there; the falling
+                // steps read only their differences since the contact's start)
+                for (x, &rate) in d_now.iter_mut().zip(rates) {
+                    *x = rate * step.along;
                 }
-                d_now[j] = (kw * rates[j] * step.along - x) / (kw + slope_f);
-                d_delta[j] = (
-                    radius * d_now[j] - radius_prev * dd_prev[j],
-                    d_now[j] - dd_prev[j],
+                ends[0] = End {
+                    time: step.time,
+                    depth: d,
+                    area: 0.0,
+                    radius: 0.0,
+                    coefficients: step.coefficients,
+                };
+                ends_d.copy_from_slice(&d_now);
+                put(
+                    &mut e,
+                    step.sample,
+                    0.0,
+                    stiffness,
+                    rates,
+                    step.along,
+                    &d_now,
+                    || 0,
                 );
+                d_prev = d;
+                dd_prev.copy_from_slice(&d_now);
+                at += 1;
+                continue;
             }
-            integrals.push(c, (a_new - a_prev, dd), &d_delta);
+            for (known, &before) in d_delta.iter_mut().zip(&dd_prev) {
+                *known = (-radius_prev * before, -before);
+            }
+            let along = step.along;
+            integrals.push(c, (a_new - a_prev, dd), &d_delta, |j, s| {
+                let t = &tangents[j];
+                let x = t.g_inf * a_new + damping_of(t.eta, h) * (a_new - a_prev)
+                    - damping * radius_prev * dd_prev[j]
+                    + s;
+                let now = (kw * rates[j] * along - x) / (kw + slope_f);
+                d_now[j] = now;
+                (radius * now, now)
+            });
             put(
                 &mut e,
                 step.sample,
-                WEIGHT * force(d, &mut node).0,
+                WEIGHT * f_new,
                 stiffness,
                 rates,
                 step.along,
@@ -221,6 +257,9 @@ impl Curve {
             let damping = damping_of(r.eta, h);
             // sum_k P_k at d = d_prev (it moves by gains (d - d_prev))
             let p_ref = dot(&c.decay, &p_now);
+            // Between: phi at d = d_prev and the force were t1 at the bracket's two ends
+            // (lower, upper)
+            let mut bracket = (0.0, 0.0, 0.0, 0.0);
             let (d, found, theta, force) = if let Some(lowest) = released {
                 if u > lowest_g && u > lowest + tol {
                     return Ok(None);
@@ -307,6 +346,7 @@ impl Curve {
                         continue;
                     }
                     let theta = theta.clamp(0.0, 1.0);
+                    bracket = (lo_phi, hi_phi, lo_force, hi_force);
                     break (
                         d,
                         Found::Between,
@@ -328,16 +368,18 @@ impl Curve {
             t1_before = t1;
             let dd = d - d_prev;
             // P_k's derivatives at this step with the depth's own derivative left out
-            for j in 0..p {
-                let rows = j * m..(j + 1) * m;
-                let (d_decay, d_gain) = (&c.d_decay[rows.clone()], &c.d_gain[rows.clone()]);
-                for (k, out) in dp_new[rows.clone()].iter_mut().enumerate() {
-                    *out = d_decay[k] * p_now[k] + c.decay[k] * dp_now[j * m + k] + d_gain[k] * dd
-                        - c.gain[k] * dd_prev[j];
-                }
-            }
+            let (decay, gain, p_old) = (&c.decay[..m], &c.gain[..m], &p_now[..m]);
             for (j, total) in sum_dp.iter_mut().enumerate() {
-                *total = sum(&dp_new[j * m..(j + 1) * m]);
+                // the slices cut to one length: the loop runs without bounds checks
+                let row = j * m..(j + 1) * m;
+                let (out, old) = (&mut dp_new[row.clone()], &dp_now[row.clone()]);
+                let (d_decay, d_gain) = (&c.d_decay[row.clone()], &c.d_gain[row]);
+                let before = dd_prev[j];
+                for k in 0..m {
+                    out[k] = d_decay[k] * p_old[k] + decay[k] * old[k] + d_gain[k] * dd
+                        - gain[k] * before;
+                }
+                *total = sum(out);
             }
             let now = Now {
                 time: step.time,
@@ -383,15 +425,11 @@ impl Curve {
                         &mut lo_dphi,
                         &mut lo_df,
                     );
-                    let phi_at = |j: usize, decay: &[f64]| {
-                        p_ref + sum(&c.gain) * dd + damping * dd - dot(decay, integrals.p(j))
-                            + r.g_inf * (d - ends[j].depth)
-                    };
-                    let (lo_phi, hi_phi) =
-                        (phi_at(upper - 1, &decay_lower), phi_at(upper, &decay_upper));
+                    // phi at the step's depth: it moves by g_eff (d - d_prev)
+                    let (lo_phi, hi_phi, lo_force, hi_force) = bracket;
+                    let (lo_phi, hi_phi) = (lo_phi + c.g_eff * dd, hi_phi + c.g_eff * dd);
                     let span = lo_phi - hi_phi;
-                    let jump =
-                        falling.force(upper, &decay_upper) - falling.force(upper - 1, &decay_lower);
+                    let jump = hi_force - lo_force;
                     let (lo, hi) = (&ends[upper - 1], &ends[upper]);
                     let shape = Shape::new(lo, hi);
                     let (w, dw) = shape.weight(theta, &area, &mut node);
@@ -415,9 +453,13 @@ impl Curve {
                     radius
                 }
             };
-            for j in 0..p {
-                for k in 0..m {
-                    dp_now[j * m + k] = dp_new[j * m + k] + c.gain[k] * d_now[j];
+            for ((now, new), &step_d) in dp_now
+                .chunks_exact_mut(m.max(1))
+                .zip(dp_new.chunks_exact(m.max(1)))
+                .zip(&d_now)
+            {
+                for ((x, &y), &g) in now.iter_mut().zip(new).zip(&c.gain) {
+                    *x = y + g * step_d;
                 }
             }
             for (pk, (decay, gain)) in p_now.iter_mut().zip(c.decay.iter().zip(&c.gain)) {
@@ -604,12 +646,6 @@ struct Now<'a> {
 }
 
 impl Falling<'_> {
-    /// The curve's force (per unit weight) were t1 at the rising end `j` (`decay` the
-    /// factors exp(-(t - t_j) / tau_k)).
-    fn force(&self, j: usize, decay: &[f64]) -> f64 {
-        dot(decay, self.integrals.q(j)) + self.r.g_inf * self.ends[j].area
-    }
-
     /// phi at the rising end `j` and the force were t1 there: their derivatives along each
     /// tangent with the step's depth held (the depth's own derivative left out), into
     /// `d_phi` and `d_force`.
