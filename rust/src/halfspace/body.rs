@@ -1,7 +1,7 @@
 //! The surface operators of each body: the one place that builds operators, kernel tables
 //! and preconditioners. A free half-space is solved by Love's coefficients through the
-//! DC-FFT (`FftOperator`, preconditioned by the inverse-kernel stencil) on windows that share
-//! one kernel table; a periodic cell by its spectral kernel (`PeriodicOperator`,
+//! DC-FFT (`FftOperator`, preconditioned by the spectral inverse 2 |q| dx, or on small grids
+//! the inverse-kernel stencil) on windows that share one kernel table; a periodic cell by its spectral kernel (`PeriodicOperator`,
 //! preconditioned by the exact spectral inverse) on the whole cell, a periodic layer the
 //! same way with the layer's spectral compliance (`crate::halfspace::layer`), and a free
 //! grid on a layer by the DC-FFT of the layer's influence coefficients on the whole grid.
