@@ -46,6 +46,19 @@ impl Body {
         })
     }
 
+    /// Memory (bytes) the operator of a whole `nx` x `ny` grid holds while a solve runs.
+    pub fn operator_bytes(self, nx: usize, ny: usize) -> f64 {
+        match self {
+            Body::HalfSpace
+            | Body::Layer {
+                periodic: false, ..
+            } => crate::halfspace::operator::held_bytes(nx, ny),
+            Body::Periodic | Body::Layer { periodic: true, .. } => {
+                crate::halfspace::periodic::BYTES_PER_ELEMENT * (nx * ny) as f64
+            }
+        }
+    }
+
     /// The kernel table the windows of an `nx` x `ny` grid of side `dx` (m) share, for a
     /// body solved on windows (`Body::windows`); None otherwise.
     pub fn window_kernel(self, nx: usize, ny: usize, dx: f64) -> Option<KernelTable> {

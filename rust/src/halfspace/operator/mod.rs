@@ -96,9 +96,10 @@ impl Default for FftPlans {
     }
 }
 
-/// Largest grid (elements) of an FFT operator: 4096 x 4096, whose zero-padded spectra and
-/// buffers take a few GB.
-pub const MAX_FFT_ELEMENTS: usize = 1 << 24;
+/// Largest grid (elements) of an FFT operator: 8192 x 8192, whose zero-padded spectra and
+/// buffers take about 4 GB (a whole free solve about 11 GB; `crate::support::memory` checks
+/// what the machine has first).
+pub const MAX_FFT_ELEMENTS: usize = 1 << 26;
 /// Largest grid (elements) of a dense operator: its matrix of 8 n^2 bytes is 2 GB.
 pub const MAX_DENSE_ELEMENTS: usize = 1 << 14;
 
@@ -168,6 +169,19 @@ impl SpectralInverse {
     fn apply(&mut self, g: &[f64], z: &mut [f64]) {
         self.fft.convolve_with(&mut self.spectrum, g, z);
     }
+}
+
+/// Memory (bytes) an FFT operator of an `nx` x `ny` grid holds while it solves: its kernel
+/// spectrum and column buffer (12 per padded element) and, on grids of at least
+/// `SPECTRAL_MIN_ELEMENTS`, the spectral preconditioner (16 per element of its grid).
+pub fn held_bytes(nx: usize, ny: usize) -> f64 {
+    let padded = (padded_size(nx) * padded_size(ny)) as f64;
+    let inverse = if nx * ny >= SPECTRAL_MIN_ELEMENTS {
+        16.0 * (fast_size(nx) * fast_size(ny)) as f64
+    } else {
+        0.0
+    };
+    12.0 * padded + inverse
 }
 
 /// Smallest free grid (elements) preconditioned by the spectral inverse (`SpectralInverse`,
