@@ -1,7 +1,7 @@
 //! The surface operators of each body: the one place that builds operators, kernel tables
 //! and preconditioners. A free half-space is solved by Love's coefficients through the
-//! DC-FFT (`FftOperator`, preconditioned by the inverse-kernel stencil) on windows that share
-//! one kernel table; a periodic cell by its spectral kernel (`PeriodicOperator`,
+//! DC-FFT (`FftOperator`, preconditioned by the spectral inverse 2 |q| dx, or on small grids
+//! the inverse-kernel stencil) on windows that share one kernel table; a periodic cell by its spectral kernel (`PeriodicOperator`,
 //! preconditioned by the exact spectral inverse) on the whole cell, a periodic layer the
 //! same way with the layer's spectral compliance (`crate::halfspace::layer`), and a free
 //! grid on a layer by the DC-FFT of the layer's influence coefficients on the whole grid.
@@ -44,6 +44,19 @@ impl Body {
                 periodic: false,
             } => Operator::FreeLayer(FreeLayerOperator::new(nx, ny, dx, layer, nu)?),
         })
+    }
+
+    /// Memory (bytes) the operator of a whole `nx` x `ny` grid holds while a solve runs.
+    pub fn operator_bytes(self, nx: usize, ny: usize) -> f64 {
+        match self {
+            Body::HalfSpace
+            | Body::Layer {
+                periodic: false, ..
+            } => crate::halfspace::operator::held_bytes(nx, ny),
+            Body::Periodic | Body::Layer { periodic: true, .. } => {
+                crate::halfspace::periodic::BYTES_PER_ELEMENT * (nx * ny) as f64
+            }
+        }
     }
 
     /// The kernel table the windows of an `nx` x `ny` grid of side `dx` (m) share, for a

@@ -53,7 +53,7 @@ pub struct PeriodicOperator {
 
 /// Memory of a periodic operator per element (bytes): spectrum, preconditioner spectrum and
 /// column buffer (16 per element of the half spectrum), the unit response, the workers' rows.
-const BYTES_PER_ELEMENT: f64 = 28.0;
+pub const BYTES_PER_ELEMENT: f64 = 28.0;
 
 impl PeriodicOperator {
     /// The operator of a periodic half-space cell of `nx` x `ny` elements of side `dx` (m).

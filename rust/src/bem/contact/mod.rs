@@ -196,6 +196,10 @@ impl ContactSolver<Operator> {
 }
 
 impl<O: SurfaceOperator> ContactSolver<O> {
+    /// Memory of the solver's work buffers per element (bytes): seven of f64 and the flat
+    /// punch's index capacity.
+    pub const BYTES_PER_ELEMENT: f64 = 64.0;
+
     /// Wraps `op` with the default `Tuning`; buffers are sized to its grid.
     pub fn new(op: O) -> Self {
         Self::with_tuning(op, Tuning::default())

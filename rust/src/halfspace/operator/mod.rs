@@ -96,9 +96,10 @@ impl Default for FftPlans {
     }
 }
 
-/// Largest grid (elements) of an FFT operator: 4096 x 4096, whose zero-padded spectra and
-/// buffers take a few GB.
-pub const MAX_FFT_ELEMENTS: usize = 1 << 24;
+/// Largest grid (elements) of an FFT operator: 8192 x 8192, whose zero-padded spectra and
+/// buffers take about 4 GB (a whole free solve about 11 GB; `crate::support::memory` checks
+/// what the machine has first).
+pub const MAX_FFT_ELEMENTS: usize = 1 << 26;
 /// Largest grid (elements) of a dense operator: its matrix of 8 n^2 bytes is 2 GB.
 pub const MAX_DENSE_ELEMENTS: usize = 1 << 14;
 
@@ -132,7 +133,60 @@ pub struct FftOperator {
     covered: (usize, usize),
     cols: Vec<Complex<f64>>,
     workers: Vec<Worker>,
+    /// The spectral preconditioner (`SpectralInverse`), made on the first `precondition`
+    /// of a grid of at least `SPECTRAL_MIN_ELEMENTS`.
+    inverse: Option<Box<SpectralInverse>>,
 }
+
+/// The free grids' spectral preconditioner: dx / K(q) = 2 |q| dx, the inverse of the
+/// half-space's continuum kernel 1 / (2 |q|) (G = 1), applied as a circular convolution on
+/// the grid padded to fast FFT lengths (the residual zero beyond it; its mean mode at the
+/// longest wave's value).
+struct SpectralInverse {
+    fft: FftOperator,
+    spectrum: Vec<f64>,
+}
+
+impl SpectralInverse {
+    /// The preconditioner of an `nx` x `ny` grid of elements of side `dx` (m).
+    fn new(nx: usize, ny: usize, dx: f64, plans: &mut FftPlans) -> Self {
+        let period = (fast_size(nx), fast_size(ny));
+        let wave = |k: usize, m: usize| {
+            let k = if k <= m / 2 { k } else { m - k };
+            2.0 * std::f64::consts::PI * k as f64 / (m as f64 * dx)
+        };
+        let q = |kx, ky| wave(kx, period.0).hypot(wave(ky, period.1));
+        let longest = q(1, 0).min(q(0, 1));
+        let fft = FftOperator::with_symbol(nx, ny, dx, period, |_, _| 0.0, plans);
+        let spectrum = fft.spectrum_of(|kx, ky| {
+            let q = q(kx, ky);
+            2.0 * dx * if q > 0.0 { q } else { longest }
+        });
+        SpectralInverse { fft, spectrum }
+    }
+
+    /// z = dx K^-1 g.
+    fn apply(&mut self, g: &[f64], z: &mut [f64]) {
+        self.fft.convolve_with(&mut self.spectrum, g, z);
+    }
+}
+
+/// Memory (bytes) an FFT operator of an `nx` x `ny` grid holds while it solves: its kernel
+/// spectrum and column buffer (12 per padded element) and, on grids of at least
+/// `SPECTRAL_MIN_ELEMENTS`, the spectral preconditioner (16 per element of its grid).
+pub fn held_bytes(nx: usize, ny: usize) -> f64 {
+    let padded = (padded_size(nx) * padded_size(ny)) as f64;
+    let inverse = if nx * ny >= SPECTRAL_MIN_ELEMENTS {
+        16.0 * (fast_size(nx) * fast_size(ny)) as f64
+    } else {
+        0.0
+    };
+    12.0 * padded + inverse
+}
+
+/// Smallest free grid (elements) preconditioned by the spectral inverse (`SpectralInverse`,
+/// an FFT pair on the grid per iteration) instead of the inverse-kernel stencil.
+pub const SPECTRAL_MIN_ELEMENTS: usize = 128 * 128;
 
 /// Memory of an FFT operator per element of its padded grid (bytes): the kernel's spectrum
 /// and the column buffer (12), the kernel table and its transform on the way (12).
@@ -266,6 +320,7 @@ impl FftOperator {
             covered: (nx, ny),
             cols: vec![Complex::default(); half * my],
             workers,
+            inverse: None,
         }
     }
 
@@ -285,6 +340,9 @@ impl FftOperator {
                 "a {nx} x {ny} grid does not pad to {} x {} or exceeds the kernel table ({:?})",
                 self.mx, self.my, self.covered
             )));
+        }
+        if (self.nx, self.ny) != (nx, ny) {
+            self.inverse = None;
         }
         self.nx = nx;
         self.ny = ny;
@@ -495,6 +553,22 @@ impl SurfaceOperator for FftOperator {
     /// built by `with_symbol`, the caller's type supplies its own.
     fn submatrix(&mut self, idx: &[usize]) -> Result<Mat<f64>> {
         DenseOperator::subset_matrix(self.nx, self.dx, idx)
+    }
+
+    /// The spectral inverse (`SpectralInverse`) on grids of at least
+    /// `SPECTRAL_MIN_ELEMENTS`, else the inverse-kernel stencil.
+    fn precondition(&mut self, g: &[f64], z: &mut [f64]) {
+        let (nx, ny) = (self.nx, self.ny);
+        if nx * ny < SPECTRAL_MIN_ELEMENTS {
+            precondition::apply(nx, ny, g, z);
+            return;
+        }
+        let dx = self.dx;
+        self.inverse
+            .get_or_insert_with(|| {
+                Box::new(SpectralInverse::new(nx, ny, dx, &mut FftPlans::default()))
+            })
+            .apply(g, z);
     }
 }
 

@@ -7,7 +7,9 @@
 //! the high wavenumbers that slow CG down, costs (2R+1)^2 multiply-adds per element (no
 //! FFT), and stays positive definite (its symbol is smallest at k = 0, where it is the sum
 //! of the coefficients, > 0). On the paper's viscous runs it cuts Polonsky–Keer iterations
-//! 2.5–3x (`benchmarks/bench_bem.py`).
+//! 2.5–3x (`benchmarks/bench_bem.py`). Free grids of at least `SPECTRAL_MIN_ELEMENTS` are
+//! preconditioned by the spectral inverse instead (`FftOperator`'s `precondition`), whose
+//! symbol also goes like |q| at long wavelengths, where the stencil's is flat.
 
 use crate::halfspace::operator::FftOperator;
 use rayon::prelude::*;
