@@ -493,34 +493,4 @@ mod tests {
             }
         }
     }
-
-    /// Wall time of a 2000-sample approach and retract on 500 elements:
-    /// `cargo test --release --lib adhesive_curve_time -- --ignored --nocapture`.
-    #[test]
-    #[ignore]
-    fn adhesive_curve_time() {
-        let k = 2000;
-        let values: Vec<f64> = (0..k)
-            .map(|i| {
-                let s = i as f64 / (k - 1) as f64;
-                if s < 0.5 {
-                    0.08 * s
-                } else {
-                    0.04 - 0.12 * (s - 0.5)
-                }
-            })
-            .collect();
-        let times: Vec<f64> = (1..=k).map(|i| i as f64).collect();
-        for control in [Control::Depth, Control::Spring(1.0)] {
-            let curve = paraboloid(500, 0.25, 1.0, times.clone(), values.clone(), control);
-            let clock = std::time::Instant::now();
-            for _ in 0..100 {
-                curve.evaluate_jkr(1.0, 0.001, 0.0).unwrap();
-            }
-            println!(
-                "{control:?}: {:.3} ms per curve",
-                1e3 * clock.elapsed().as_secs_f64() / 100.0
-            );
-        }
-    }
 }
