@@ -154,6 +154,23 @@ impl ContactLaw {
         }
     }
 
+    /// The interaction energy per unit area (J/m^2, <= 0) of a cohesive law at gap `g` (m,
+    /// >= 0), whose derivative is the traction: -sigma0 (h0 - g) for g <= h0 under
+    /// Maugis–Dugdale, -w exp(-g / rho) under the exponential law; 0 for the other laws.
+    pub fn potential(self, g: f64) -> f64 {
+        match self {
+            ContactLaw::MaugisDugdale {
+                work_of_adhesion,
+                stress,
+            } => -stress * (work_of_adhesion / stress - g).max(0.0),
+            ContactLaw::Exponential {
+                work_of_adhesion,
+                range,
+            } => -work_of_adhesion * (-g.max(0.0) / range).exp(),
+            _ => 0.0,
+        }
+    }
+
     /// The range (m) of a cohesive law: h0 = w / sigma0 (Maugis–Dugdale) or rho
     /// (exponential); 0 for the other laws.
     pub fn range(self) -> f64 {
