@@ -163,8 +163,8 @@ impl CohesiveSolver {
         let mut started = warm;
         for sweep in 1..=SWEEPS {
             hard.operator().apply(&self.q, &mut self.kq);
-            for i in 0..n {
-                self.lifted[i] = h[i] + compliance * self.kq[i];
+            for ((lifted, &h), &kq) in self.lifted.iter_mut().zip(h).zip(&self.kq) {
+                *lifted = h + compliance * kq;
             }
             if !started && by_force {
                 let mean_sep = self.lifted.iter().sum::<f64>() / n as f64 - depth;
@@ -317,6 +317,9 @@ pub struct PullOff {
     pub solves: usize,
 }
 
+/// The state a cohesive solve restarts from: the traction and the hard pressure (Pa).
+type Snapshot = (Vec<f64>, Vec<f64>);
+
 /// Steps of each refinement of [`pull_off`] over the two steps around the least force.
 const REFINE_STEPS: usize = 8;
 
@@ -384,7 +387,7 @@ pub fn pull_off(
     };
     let (mut lo, mut hi, mut count) = (d_max, d_min, steps);
     let mut before = (snapshot(&solver, &hard), d_max);
-    let mut best: Option<(CohesiveSummary, (Vec<f64>, Vec<f64>), f64)> = None;
+    let mut best: Option<(CohesiveSummary, Snapshot, f64)> = None;
     let mut level = 0;
     loop {
         let mut previous = before.clone();
@@ -457,10 +460,9 @@ mod tests {
 
     /// Maugis's (1992) parametric solution in Johnson & Greenwood's (1997) reduced variables
     /// A = a (4 E* / (3 pi w R^2))^(1/3), P = F / (pi w R): for a contact radius A, the ratio
-    /// m = c / a of zone to contact radius solves
-    /// lambda A^2 / 2 [sqrt(m^2-1) + (m^2-2) atan sqrt(m^2-1)]
-    ///   + 4 lambda^2 A / 3 [sqrt(m^2-1) atan sqrt(m^2-1) - m + 1] = 1,
-    /// and P = A^3 - lambda A^2 [sqrt(m^2-1) + m^2 atan sqrt(m^2-1)].
+    /// m = c / a of zone to contact radius solves (mu = sqrt(m^2 - 1))
+    /// lambda A^2 / 2 (mu + (m^2 - 2) atan mu) + 4 lambda^2 A / 3 (mu atan mu - m + 1) = 1,
+    /// and P = A^3 - lambda A^2 (mu + m^2 atan mu).
     /// Returns P at A (bisection on m; the left side grows with m).
     fn maugis_force(lambda: f64, a: f64) -> f64 {
         let lhs = |m: f64| {
@@ -516,7 +518,16 @@ mod tests {
         let w = 0.01;
         let grid = md_sphere(n, side);
         let opts = SolverOptions::default();
-        let r = pull_off(&grid, 1.0, md_law(w, lambda), 0.02, d_min, 30, &opts, &mut Silent);
+        let r = pull_off(
+            &grid,
+            1.0,
+            md_law(w, lambda),
+            0.02,
+            d_min,
+            30,
+            &opts,
+            &mut Silent,
+        );
         r.unwrap().force / (PI * w)
     }
 
@@ -532,7 +543,6 @@ mod tests {
                 .iter()
                 .map(|&n| (-md_pull_off(lambda, n, side, d_min) - reference).abs())
                 .collect();
-            eprintln!("{lambda}: {errors:?}");
             assert!(errors[1] < 0.5 * errors[0], "{lambda}: {errors:?}");
             assert!(errors[1] < bound * reference, "{lambda}: {errors:?}");
         }
@@ -571,8 +581,7 @@ mod tests {
                 let same = |a: &CohesiveSummary| {
                     (a.contact_count, a.zone_count) == (c[1].contact_count, c[1].zone_count)
                 };
-                if matches!(law, ContactLaw::MaugisDugdale { .. })
-                    && !(same(&c[0]) && same(&c[2]))
+                if matches!(law, ContactLaw::MaugisDugdale { .. }) && !(same(&c[0]) && same(&c[2]))
                 {
                     continue;
                 }
@@ -591,8 +600,9 @@ mod tests {
     }
 
     /// A periodic cell holding one sphere, its period twice the free grid's side, lets go
-    /// at the free sphere's pull-off (the images' pull changes the force by the cell's
-    /// mean-plane offset only): within 1 % at 32 x 32 and 64 x 64 elements of the same size.
+    /// at the free sphere's pull-off (the images change the depth by the cell's mean-plane
+    /// offset, the force hardly): within 1e-3 (measured 1.1e-4) at 32 x 32 and 64 x 64
+    /// elements of the same size.
     #[test]
     fn periodic_cell_of_one_sphere_lets_go_as_the_free_sphere() {
         let opts = SolverOptions::default();
@@ -604,8 +614,12 @@ mod tests {
         };
         let a = pull_off(&free, 1.0, law, 0.02, -0.1, 30, &opts, &mut Silent).unwrap();
         let b = pull_off(&cell, 1.0, law, 0.02, -0.1, 30, &opts, &mut Silent).unwrap();
-        eprintln!("{} {} {} {}", a.force, b.force, a.depth, b.depth);
-        assert!((b.force / a.force - 1.0).abs() < 0.01, "{} vs {}", b.force, a.force);
+        assert!(
+            (b.force / a.force - 1.0).abs() < 1e-3,
+            "{} vs {}",
+            b.force,
+            a.force
+        );
     }
 
     /// The reduced pull-off tends to JKR's 3/2 at large lambda and DMT's 2 at small lambda

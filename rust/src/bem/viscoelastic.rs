@@ -36,7 +36,15 @@ pub fn run_bem(
     opts: &SolverOptions,
     monitor: &mut dyn Monitor,
 ) -> Result<Series<Fields>> {
-    run_bem_with(grid, medium, ContactLaw::Hard, loading, request, opts, monitor)
+    run_bem_with(
+        grid,
+        medium,
+        ContactLaw::Hard,
+        loading,
+        request,
+        opts,
+        monitor,
+    )
 }
 
 /// [`run_bem`] under the contact law `law`: hard, or a cohesive zone (Maugis–Dugdale,

@@ -139,13 +139,7 @@ impl ContactLaw {
             ContactLaw::MaugisDugdale {
                 work_of_adhesion,
                 stress,
-            } => {
-                if g <= work_of_adhesion / stress {
-                    stress
-                } else {
-                    0.0
-                }
-            }
+            } if g <= work_of_adhesion / stress => stress,
             ContactLaw::Exponential {
                 work_of_adhesion,
                 range,
@@ -154,8 +148,8 @@ impl ContactLaw {
         }
     }
 
-    /// The interaction energy per unit area (J/m^2, <= 0) of a cohesive law at gap `g` (m,
-    /// >= 0), whose derivative is the traction: -sigma0 (h0 - g) for g <= h0 under
+    /// The interaction energy per unit area (J/m^2, at most 0) of a cohesive law at gap `g`
+    /// (m, at least 0), whose derivative is the traction: -sigma0 (h0 - g) for g <= h0 under
     /// Maugis–Dugdale, -w exp(-g / rho) under the exponential law; 0 for the other laws.
     pub fn potential(self, g: f64) -> f64 {
         match self {

@@ -71,7 +71,10 @@ pub(crate) fn cohesive_curve<'py>(
         PyArray1::from_vec(py, column(&|s| s.zone_count as f64)),
     )?;
     out.set_item("energy", PyArray1::from_vec(py, column(&|s| s.energy)))?;
-    out.set_item("sweeps", PyArray1::from_vec(py, column(&|s| s.sweeps as f64)))?;
+    out.set_item(
+        "sweeps",
+        PyArray1::from_vec(py, column(&|s| s.sweeps as f64)),
+    )?;
     out.set_item(
         "iterations",
         PyArray1::from_vec(py, column(&|s| s.iterations as f64)),
