@@ -19,7 +19,7 @@ hard wall, same grid, same potential, same depths), when it is importable (insta
 a separate environment and pass its site-packages with ``--adhesion-path``).
 
 Run: ``python benchmarks/bench_adhesion.py [--sizes 501 2001 8001 32001] [--repeats 5]
-[--bem-sizes 32 64 128] [--lambdas 0.3 1 3] [--adhesion-path DIR]``.
+[--bem-sizes 32 64 128] [--lambdas 0.3 1 3] [--adhesion-sizes 32] [--adhesion-path DIR]``.
 """
 
 from __future__ import annotations
@@ -130,11 +130,11 @@ def adhesion_package_curve(h, dx, w, rho, depths):
                                   options=dict(gtol=1e-9 * w / rho * dx * dx, ftol=0, maxcor=3,
                                                maxiter=100000))
         disp = r.x.reshape(system.substrate.nb_subdomain_grid_pts)
-        forces.append(-system.compute_normal_force())
+        forces.append(system.compute_normal_force())
     return np.array(forces), time.perf_counter() - t0
 
 
-def exponential_rows(sizes, adhesion_path):
+def exponential_rows(sizes, adhesion_sizes, adhesion_path):
     """The exponential law's approach-retract curve by mdrvisc and by the Adhesion package."""
     w, rho = 0.01, 0.02
     law = mv.Exponential(work_of_adhesion=w, range=rho)
@@ -153,7 +153,7 @@ def exponential_rows(sizes, adhesion_path):
         c = mv.arrays.adhesive_curve(h, dx, 1.0, law, depths)
         ours = time.perf_counter() - t0
         theirs, seconds, diff = float("nan"), float("nan"), float("nan")
-        if have_package:
+        if have_package and n in adhesion_sizes:
             try:
                 forces, seconds = adhesion_package_curve(h, dx, w, rho, depths)
                 theirs = -forces.min() / (math.pi * w)
@@ -170,6 +170,8 @@ def main(argv=None) -> None:
     parser.add_argument("--repeats", type=int, default=5)
     parser.add_argument("--bem-sizes", type=int, nargs="+", default=[32, 64, 128])
     parser.add_argument("--lambdas", type=float, nargs="+", default=[0.3, 1.0, 3.0])
+    parser.add_argument("--adhesion-sizes", type=int, nargs="+", default=[32],
+                        help="grids on which the Adhesion package runs too (it is slow)")
     parser.add_argument("--adhesion-path", default=None,
                         help="site-packages holding the Adhesion package (optional)")
     args = parser.parse_args(argv)
@@ -177,7 +179,7 @@ def main(argv=None) -> None:
     table(["lambda", "n", "BEM", "Maugis", "rel. error", "zone width (dx)", "solves", "s"],
           md_rows(args.lambdas, args.bem_sizes),
           ["{:g}", "{}", "{:.4f}", "{:.4f}", "{:+.2e}", "{:.1f}", "{}", "{:.2f}"])
-    rows, have_package = exponential_rows(args.bem_sizes, args.adhesion_path)
+    rows, have_package = exponential_rows(args.bem_sizes, args.adhesion_sizes, args.adhesion_path)
     header("Exponential law by BEM (w = 0.01 J/m^2, rho = 0.02 m) against the Adhesion package"
            + ("" if have_package else " (not importable: its columns are NaN)"))
     table(["n", "mdrvisc pull-off", "Adhesion pull-off", "max |dF| (pi w R)", "mdrvisc s",
