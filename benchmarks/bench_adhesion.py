@@ -100,7 +100,11 @@ def md_rows(lambdas, sizes):
         for n in sizes:
             h, dx = sphere(n, side)
             t0 = time.perf_counter()
-            r = mv.arrays.adhesive_pull_off(h, dx, 1.0, law, 0.02, -0.1, steps=30)
+            try:
+                r = mv.arrays.adhesive_pull_off(h, dx, 1.0, law, 0.02, -0.1, steps=30)
+            except mv.InvalidInputError:  # an element coarser than the law: refused
+                rows.append((lam, n, math.nan, reference, math.nan, math.nan, 0, math.nan))
+                continue
             seconds = time.perf_counter() - t0
             p = -r["force"] / (math.pi * w)
             # elements across the zone: c - a, radii of the areas it and the contact cover
