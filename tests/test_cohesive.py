@@ -84,14 +84,13 @@ def test_laws_and_round_trips(tmp_path):
 
 
 def test_array_pull_off_near_maugis():
-    """lambda = 0.3 at 32 x 32 elements over 1.4 m: within 5 % of Maugis's 1.8156 pi w R
-    (3.8 % measured; the convergence under refinement is the crate's test) and between JKR's
-    3/2 and DMT's 2."""
+    """lambda = 0.3 at 32 x 32 elements over 1.4 m: within 2.5 % of Maugis's 1.8156 pi w R
+    (0.22 % measured; finer grids are the crate's test) and between JKR's 3/2 and DMT's 2."""
     h, dx = sphere(32, 1.4)
     r = mv.arrays.adhesive_pull_off(h, dx, 1.0, md(0.3), 0.02, -0.12)
     p = -r["force"] / (math.pi * W)
     assert 1.5 < p < 2.0
-    assert p == pytest.approx(maugis_pull_off(0.3), rel=0.05)
+    assert p == pytest.approx(maugis_pull_off(0.3), rel=0.025)
     assert r["contact"] > 0 and r["zone"] > r["contact"]
 
 
