@@ -102,7 +102,7 @@ def md_rows(lambdas, sizes):
             t0 = time.perf_counter()
             try:
                 r = mv.arrays.adhesive_pull_off(h, dx, 1.0, law, 0.02, -0.1, steps=30)
-            except mv.InvalidInputError:  # an element coarser than the law: refused
+            except (mv.InvalidInputError, mv.ConvergenceError):  # refused, or stalled
                 rows.append((lam, n, math.nan, reference, math.nan, math.nan, 0, math.nan))
                 continue
             seconds = time.perf_counter() - t0

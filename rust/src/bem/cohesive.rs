@@ -34,6 +34,9 @@ use crate::support::monitor::Monitor;
 /// Most fixed-point sweeps of one cohesive solve.
 pub const SWEEPS: usize = 400;
 
+/// Sweeps with full Newton steps before they are halved.
+const UNDAMPED: usize = 50;
+
 /// The law as an element applies it: the exponential law as it is; Maugis–Dugdale's step at
 /// h0 as a ramp from sigma0 at h0 - delta / 2 to 0 at h0 + delta / 2, delta twice the gap an
 /// element's own traction closes (2 sigma0 s, s its self-compliance), the work of adhesion
@@ -264,6 +267,9 @@ impl CohesiveSolver {
             residual = r.residual;
             let (pc, u) = (hard.pressure(), hard.deflection());
             let mut change = 0.0f64;
+            // full Newton steps first; halved after `UNDAMPED` sweeps, which ends the
+            // two-cycles an element crossing the ramp's end can fall into
+            let relax = if sweep <= UNDAMPED { 1.0 } else { 0.5 };
             for i in 0..n {
                 if !allowed[i] {
                     self.gap[i] = 0.0;
@@ -281,7 +287,7 @@ impl CohesiveSolver {
                     // one Newton step on q + t(g(q)) = 0, g moving by s per unit q
                     let t = element.traction(g);
                     let slope = 1.0 - self_compliance * element.stiffness(g);
-                    self.q[i] - (self.q[i] + t) / slope.max(0.5)
+                    self.q[i] - relax * (self.q[i] + t) / slope.max(0.5)
                 };
                 change = change.max((next - self.q[i]).abs());
                 self.q[i] = next;
@@ -616,6 +622,15 @@ mod tests {
             a.force,
             b.force
         );
+    }
+
+    /// A retract whose sweeps once fell into a two-cycle (lambda = 0.3, 32 x 32 over
+    /// 1.2213 m, retract to -0.1 m) converges, within 3 % of Maugis's (measured 2.3 %).
+    #[test]
+    fn sweeps_converge_where_an_element_cycled() {
+        let p = -md_pull_off(0.3, 32, 1.2213, -0.1);
+        let reference = maugis_pull_off(0.3);
+        assert!((p / reference - 1.0).abs() < 0.03, "{p} vs {reference}");
     }
 
     /// Force balance: the force is the derivative of the total energy (elastic plus
