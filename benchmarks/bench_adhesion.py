@@ -9,16 +9,25 @@ solid (sphere R = 10 um, 2100 steps), the case a fit evaluates.
 Columns: n (MDR elements over 5 R), the pull-off force's relative error against -3/2 pi w R,
 and the wall time of one curve (best of N, ``mv.solve`` end to end).
 
-BEM with a cohesive-zone law is not available yet, so there is no BEM row and no comparison
-with the ContactEngineering Adhesion package.
+BEM with a cohesive-zone law (``mv.arrays.adhesive_pull_off``): a sphere R = 1 m on E* = 4 Pa
+(G = 1 Pa), w = 0.01 J/m^2. Maugis–Dugdale's pull-off against Maugis's (1992) parametric
+solution at transition parameters lambda (Johnson & Greenwood's 1997 form, solved here) as
+the grid is refined, with the elements across the cohesive zone at the pull-off and the wall
+time; and the exponential law (potential -w exp(-g / rho)) against the ContactEngineering
+Adhesion package (``BoundedSmoothContactSystem``: L-BFGS-B on the displacements with the
+hard wall, same grid, same potential, same depths), when it is importable (install it into
+a separate environment and pass its site-packages with ``--adhesion-path``).
 
-Run: ``python benchmarks/bench_adhesion.py [--sizes 501 2001 8001 32001] [--repeats 5]``.
+Run: ``python benchmarks/bench_adhesion.py [--sizes 501 2001 8001 32001] [--repeats 5]
+[--bem-sizes 32 64 128] [--lambdas 0.3 1 3] [--adhesion-sizes 32] [--adhesion-path DIR]``.
 """
 
 from __future__ import annotations
 
 import argparse
 import math
+import sys
+import time
 
 import numpy as np
 
@@ -45,11 +54,140 @@ def afm_scene() -> mv.Scene:
                     depth=([0.0, t_in, t_end], [0.0, 1.6e-6, -1.6e-6]), duration=t_end, times=times)
 
 
+def maugis_pull_off(lam: float) -> float:
+    """Maugis's pull-off (units of pi w R) at transition parameter ``lam``: the least
+    P = A^3 - lam A^2 (mu + m^2 atan mu) over A, m = c / a solving the zone equation."""
+    def load(a):
+        def zone(m):
+            mu = math.sqrt(m * m - 1.0)
+            t = math.atan(mu)
+            return lam * a * a / 2 * (mu + (m * m - 2) * t) + 4 * lam * lam * a / 3 * (mu * t - m + 1) - 1
+        lo, hi = 1.0, 2.0
+        while zone(hi) < 0:
+            lo, hi = hi, 2 * hi
+        for _ in range(100):
+            mid = 0.5 * (lo + hi)
+            lo, hi = (mid, hi) if zone(mid) < 0 else (lo, mid)
+        mu = math.sqrt(0.25 * (lo + hi) ** 2 - 1.0)
+        return a**3 - lam * a * a * (mu + (mu * mu + 1) * math.atan(mu))
+    grid = np.linspace(0.01, 2.0, 200)
+    for _ in range(3):
+        best = grid[int(np.argmin([load(a) for a in grid]))]
+        step = grid[1] - grid[0]
+        grid = np.linspace(max(best - step, 1e-6), best + step, 41)
+    return -min(load(a) for a in grid)
+
+
+def sphere(n: int, side: float) -> tuple[np.ndarray, float]:
+    """The separation of a sphere R = 1 m on an n x n grid spanning ``side`` (m), and dx."""
+    dx = side / n
+    x = (np.arange(n) - (n - 1) / 2) * dx
+    return (x[:, None] ** 2 + x[None, :] ** 2) / 2.0, dx
+
+
+def md_rows(lambdas, sizes):
+    """Maugis–Dugdale pull-off by BEM against Maugis, per lambda and grid."""
+    w, e_star = 0.01, 4.0
+    k = 4.0 * e_star / 3.0
+    rows = []
+    for lam in lambdas:
+        stress = lam / 2 * (math.pi * w * k * k) ** (1 / 3)
+        law = mv.MaugisDugdale(work_of_adhesion=w, stress=stress)
+        h0 = w / stress
+        # the zone ends near the rigid gap h0 + |pull-off depth|; the grid spans 2.5 times it
+        side = max(1.2, 2.5 * math.sqrt(2 * (h0 + 0.05)))
+        reference = maugis_pull_off(lam)
+        for n in sizes:
+            h, dx = sphere(n, side)
+            t0 = time.perf_counter()
+            try:
+                r = mv.arrays.adhesive_pull_off(h, dx, 1.0, law, 0.02, -0.1, steps=30)
+            except (mv.InvalidInputError, mv.ConvergenceError):  # refused, or stalled
+                rows.append((lam, n, math.nan, reference, math.nan, math.nan, 0, math.nan))
+                continue
+            seconds = time.perf_counter() - t0
+            p = -r["force"] / (math.pi * w)
+            # elements across the zone: c - a, radii of the areas it and the contact cover
+            across = math.sqrt((r["contact"] + r["zone"]) / math.pi) - math.sqrt(r["contact"] / math.pi)
+            rows.append((lam, n, p, reference, p / reference - 1.0, across, r["solves"], seconds))
+    return rows
+
+
+def adhesion_package_curve(h, dx, w, rho, depths):
+    """Forces (N) of the Adhesion package's bounded smooth system with the exponential
+    potential at ``depths``, each solve started from the last displacements; and the time."""
+    from Adhesion.Interactions import Exponential
+    from Adhesion.System import BoundedSmoothContactSystem, make_system
+    from ContactMechanics import FreeFFTElasticHalfSpace
+    from SurfaceTopography import Topography
+
+    n = h.shape[0]
+    size = (n * dx, n * dx)
+    substrate = FreeFFTElasticHalfSpace((n, n), 4.0, size)
+    system = make_system(substrate=substrate, interaction=Exponential(w, rho),
+                         surface=Topography(-h, size), system_class=BoundedSmoothContactSystem)
+    disp = None
+    forces = []
+    t0 = time.perf_counter()
+    for d in depths:
+        r = system.minimize_proxy(offset=d, initial_displacements=disp,
+                                  options=dict(gtol=1e-9 * w / rho * dx * dx, ftol=0, maxcor=3,
+                                               maxiter=100000))
+        disp = r.x.reshape(system.substrate.nb_subdomain_grid_pts)
+        forces.append(system.compute_normal_force())
+    return np.array(forces), time.perf_counter() - t0
+
+
+def exponential_rows(sizes, adhesion_sizes, adhesion_path):
+    """The exponential law's approach-retract curve by mdrvisc and by the Adhesion package."""
+    w, rho = 0.01, 0.02
+    law = mv.Exponential(work_of_adhesion=w, range=rho)
+    depths = np.concatenate([np.linspace(-0.05, 0.02, 15), np.linspace(0.02, -0.1, 49)[1:]])
+    if adhesion_path:
+        sys.path.insert(0, adhesion_path)
+    try:
+        import Adhesion  # noqa: F401
+        have_package = True
+    except ImportError:
+        have_package = False
+    rows = []
+    for n in sizes:
+        h, dx = sphere(n, 1.6)
+        t0 = time.perf_counter()
+        c = mv.arrays.adhesive_curve(h, dx, 1.0, law, depths)
+        ours = time.perf_counter() - t0
+        theirs, seconds, diff = float("nan"), float("nan"), float("nan")
+        if have_package and n in adhesion_sizes:
+            try:
+                forces, seconds = adhesion_package_curve(h, dx, w, rho, depths)
+                theirs = -forces.min() / (math.pi * w)
+                diff = np.max(np.abs(forces - c["force"])) / (math.pi * w)
+            except Exception as exc:  # the package's own failure is reported, not fatal
+                print(f"Adhesion package failed at n = {n}: {exc}")
+        rows.append((n, -c["force"].min() / (math.pi * w), theirs, diff, ours, seconds))
+    return rows, have_package
+
+
 def main(argv=None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--sizes", type=int, nargs="+", default=[501, 2001, 8001, 32001])
     parser.add_argument("--repeats", type=int, default=5)
+    parser.add_argument("--bem-sizes", type=int, nargs="+", default=[32, 64, 128])
+    parser.add_argument("--lambdas", type=float, nargs="+", default=[0.3, 1.0, 3.0])
+    parser.add_argument("--adhesion-sizes", type=int, nargs="+", default=[32],
+                        help="grids on which the Adhesion package runs too (it is slow)")
+    parser.add_argument("--adhesion-path", default=None,
+                        help="site-packages holding the Adhesion package (optional)")
     args = parser.parse_args(argv)
+    header("Maugis-Dugdale by BEM: sphere, pull-off against Maugis (units of pi w R)")
+    table(["lambda", "n", "BEM", "Maugis", "rel. error", "zone width (dx)", "solves", "s"],
+          md_rows(args.lambdas, args.bem_sizes),
+          ["{:g}", "{}", "{:.4f}", "{:.4f}", "{:+.2e}", "{:.1f}", "{}", "{:.2f}"])
+    rows, have_package = exponential_rows(args.bem_sizes, args.adhesion_sizes, args.adhesion_path)
+    header("Exponential law by BEM (w = 0.01 J/m^2, rho = 0.02 m) against the Adhesion package"
+           + ("" if have_package else " (not importable: its columns are NaN)"))
+    table(["n", "mdrvisc pull-off", "Adhesion pull-off", "max |dF| (pi w R)", "mdrvisc s",
+           "Adhesion s"], rows, ["{}", "{:.4f}", "{:.4f}", "{:.2e}", "{:.2f}", "{:.2f}"])
     header(f"JKR by MDR: paraboloid under force control, pull-off vs -3/2 pi w R "
            f"(best of {args.repeats})")
     scene = force_scene()

@@ -38,6 +38,8 @@ EXAMPLES = {
     "Hard": (lambda: mv.Hard(), []),
     "JKR": (lambda: mv.JKR(work_of_adhesion=0.05), ["0.05"]),
     "DMT": (lambda: mv.DMT(work_of_adhesion=0.07), ["0.07"]),
+    "MaugisDugdale": (lambda: mv.MaugisDugdale(work_of_adhesion=0.05, stress=2e7), ["0.05", "20000000.0"]),
+    "Exponential": (lambda: mv.Exponential(work_of_adhesion=0.05, range=3e-9), ["0.05", "3e-09"]),
     "Elastic": (lambda: mv.Elastic(G=7.0), ["7"]),
     "KelvinVoigt": (lambda: mv.KelvinVoigt(G=1.5, eta=0.4), ["1.5", "0.4"]),
     "Maxwell": (lambda: mv.Maxwell(G=1.5, eta=0.4), ["1.5", "0.4"]),

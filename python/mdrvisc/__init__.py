@@ -17,7 +17,7 @@ import logging
 from . import afm, analytic, arrays, scenefile, store, surfaces
 from ._core import num_threads, set_num_threads
 from .body import Layer
-from .contact import DMT, JKR, Hard
+from .contact import DMT, JKR, Exponential, Hard, MaugisDugdale
 from .errors import (
     ConvergenceError,
     DataError,
@@ -45,7 +45,7 @@ logging.getLogger("mdrvisc").addHandler(logging.NullHandler())
 
 __all__ = ["Scene", "Result", "Fields", "OUTPUTS", "solve", "load_curve", "set_num_threads", "num_threads",
            "Rod", "Paraboloid", "Cone", "Sphere", "Pyramid", "Axisymmetric", "Profile", "Indenter",
-           "HeightMap", "Layer", "Hard", "JKR", "DMT",
+           "HeightMap", "Layer", "Hard", "JKR", "DMT", "MaugisDugdale", "Exponential",
            "Viscous", "Elastic", "KelvinVoigt", "Maxwell", "StandardSolid", "Prony", "PowerLaw", "fit",
            "FitResult", "afm", "analytic", "arrays", "scenefile", "store", "surfaces", "solve_many", "Sweep",
            "SceneFailure", "sweep_scenes", "zip_scenes", "load_sweep", "MdrviscError", "InvalidInputError",

@@ -24,6 +24,8 @@ __all__ = [
     "SurfaceOperator",
     "bem_punch",
     "bem_viscous",
+    "cohesive_curve",
+    "cohesive_pull_off",
     "contact_solve",
     "load_scene_file",
     "mdr_deflection",
@@ -336,6 +338,34 @@ def contact_solve(
     deflection: bool = True,
     periodic: bool = False,
 ) -> Report: ...
+def cohesive_curve(
+    height: _F64,
+    allowed: NDArray[np.bool_],
+    dx: float,
+    compliance: float,
+    contact: str,
+    depths: _F64,
+    tol: float = 1e-10,
+    max_iter: int = 5000,
+    progress: _Progress = None,
+    periodic: bool = False,
+) -> dict[str, _F64]:
+    """Depth-controlled static adhesive contact under a cohesive law (JSON table)."""
+def cohesive_pull_off(
+    height: _F64,
+    allowed: NDArray[np.bool_],
+    dx: float,
+    compliance: float,
+    contact: str,
+    d_max: float,
+    d_min: float,
+    steps: int = 30,
+    tol: float = 1e-10,
+    max_iter: int = 5000,
+    progress: _Progress = None,
+    periodic: bool = False,
+) -> dict[str, float]:
+    """The pull-off of a depth-controlled approach and retract under a cohesive law."""
 def bem_viscous(
     height: _F64,
     allowed: NDArray[np.bool_],

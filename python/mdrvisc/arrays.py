@@ -7,6 +7,7 @@ layout are accepted (copied to contiguous float64); complex, object or non-finit
 are errors.
 """
 
+import json
 from collections.abc import Callable
 
 import numpy as np
@@ -17,7 +18,7 @@ from ._validate import _array, _callback, _flag, _integer, _number, _positive
 from .errors import DomainError, InvalidInputError
 from .result import Result
 
-__all__ = ["contact", "viscous", "SurfaceOperator"]
+__all__ = ["contact", "adhesive_curve", "adhesive_pull_off", "viscous", "SurfaceOperator"]
 
 
 def _grid(name, a):
@@ -186,6 +187,77 @@ def contact(height: ArrayLike, dx: float, G: float, force: float | None = None,
                             depth_bound=depth_bound, deflection=_flag("contact", "deflection", deflection),
                             periodic=periodic)
     return Result._from_report(r)
+
+
+def _cohesive(owner, law):
+    """The JSON table of a cohesive law for the core; InvalidInputError for other laws."""
+    from .contact import Exponential, MaugisDugdale
+
+    if not isinstance(law, (MaugisDugdale, Exponential)):
+        raise InvalidInputError(f"{owner}: contact must be mv.MaugisDugdale or mv.Exponential, "
+                                f"got {law!r}")
+    return json.dumps(law._model())
+
+
+def adhesive_curve(height: ArrayLike, dx: float, G: float, contact, depths: ArrayLike,
+                   mask: ArrayLike | None = None, periodic: bool = False, tol: float = 1e-10,
+                   max_iter: int = 5000) -> dict[str, np.ndarray]:
+    """Static adhesive contact under a cohesive-zone law (``mv.MaugisDugdale`` or
+    ``mv.Exponential``) of a rigid indenter on an incompressible half-space of shear modulus
+    ``G`` (Pa; E* = 4 G), at each approach of ``depths`` (m) in turn, each solve started from
+    the last (a depth-controlled approach and retract follows its history: the zone a
+    retract keeps is the one it had). ``height`` is the separation before loading (m), on
+    elements of side ``dx`` (m); ``periodic=True`` makes it one period of a periodic cell,
+    the depth then the approach from the deflected surface's mean plane.
+
+    Returns a dict of arrays per depth: ``depth`` (m), ``force`` (N, tensile: negative),
+    ``contact`` and ``zone`` (elements at zero gap, and out of contact within the law's
+    range), ``energy`` (J, elastic plus interaction), ``sweeps`` and ``iterations``.
+
+    >>> import numpy as np, mdrvisc as mv
+    >>> x = (np.arange(32) - 15.5) * 0.04
+    >>> h = (x[:, None] ** 2 + x[None, :] ** 2) / 2          # a sphere of radius 1 m
+    >>> law = mv.MaugisDugdale(work_of_adhesion=0.01, stress=0.2)
+    >>> c = mv.arrays.adhesive_curve(h, 0.04, 1.0, law, [0.01, 0.0, -0.02])  # doctest: +SKIP
+    """
+    h = _grid("height", height)
+    d = np.ascontiguousarray(np.atleast_1d(_array("adhesive_curve", "depths", depths)).ravel())
+    r = _core.cohesive_curve(h, _mask(mask, h.shape), _positive("adhesive_curve", "dx", dx),
+                             1.0 / _positive("adhesive_curve", "G", G),
+                             _cohesive("adhesive_curve", contact), d,
+                             tol=_positive("adhesive_curve", "tol", tol),
+                             max_iter=_integer("adhesive_curve", "max_iter", max_iter, 1),
+                             periodic=_flag("adhesive_curve", "periodic", periodic))
+    return dict(r)
+
+
+def adhesive_pull_off(height: ArrayLike, dx: float, G: float, contact, d_max: float,
+                      d_min: float, steps: int = 30, mask: ArrayLike | None = None,
+                      periodic: bool = False, tol: float = 1e-10,
+                      max_iter: int = 5000) -> dict[str, float]:
+    """The pull-off of :func:`adhesive_curve`'s contact: approach to ``d_max`` and retract
+    to ``d_min`` (m) in ``steps`` steps each, and the least force along the retract, its
+    depth refined three times over the two steps around it (the force a force-controlled
+    retract lets go at). Returns a dict: ``force`` (N, negative), ``depth`` (m), ``contact``
+    and ``zone`` (elements there), ``solves``.
+
+    >>> import numpy as np, mdrvisc as mv
+    >>> x = (np.arange(32) - 15.5) * 0.04
+    >>> h = (x[:, None] ** 2 + x[None, :] ** 2) / 2
+    >>> law = mv.MaugisDugdale(work_of_adhesion=0.01, stress=0.2)
+    >>> mv.arrays.adhesive_pull_off(h, 0.04, 1.0, law, 0.02, -0.1)["force"]  # doctest: +SKIP
+    """
+    h = _grid("height", height)
+    r = _core.cohesive_pull_off(h, _mask(mask, h.shape), _positive("adhesive_pull_off", "dx", dx),
+                                1.0 / _positive("adhesive_pull_off", "G", G),
+                                _cohesive("adhesive_pull_off", contact),
+                                _number("adhesive_pull_off", "d_max", d_max),
+                                _number("adhesive_pull_off", "d_min", d_min),
+                                steps=_integer("adhesive_pull_off", "steps", steps, 1),
+                                tol=_positive("adhesive_pull_off", "tol", tol),
+                                max_iter=_integer("adhesive_pull_off", "max_iter", max_iter, 1),
+                                periodic=_flag("adhesive_pull_off", "periodic", periodic))
+    return dict(r)
 
 
 def viscous(height: ArrayLike, dx: float, eta: float,

@@ -9,8 +9,10 @@ means for the solvers (``ContactLaw`` in the crate).
 >>> r = mv.solve(scene, "mdr", 2001)       # doctest: +SKIP
 >>> r.pull_off_force                       # doctest: +SKIP  (-3/2 pi w R = -0.2356 N)
 
-Adhesive laws are solved by MDR; an adhesive scene on an elastic medium follows its loading
-history (its pull-off depends on it), so it takes a duration like a time-dependent one.
+JKR and DMT are solved by MDR, the cohesive-zone laws :class:`MaugisDugdale` and
+:class:`Exponential` by BEM under depth control; an adhesive scene on an elastic medium follows
+its loading history (its pull-off depends on it), so it takes a duration like a
+time-dependent one.
 """
 
 from __future__ import annotations
@@ -19,8 +21,10 @@ import abc
 from dataclasses import dataclass
 
 from ._validate import _positive
+from .errors import InvalidInputError
 
-__all__ = ["ContactLaw", "Hard", "JKR", "DMT", "contact_from_model"]
+__all__ = ["ContactLaw", "Hard", "JKR", "DMT", "MaugisDugdale", "Exponential",
+           "contact_from_model"]
 
 
 class ContactLaw(abc.ABC):
@@ -77,9 +81,72 @@ class DMT(ContactLaw):
         return {"type": "dmt", "work_of_adhesion": self.work_of_adhesion}
 
 
+@dataclass(frozen=True, init=False)
+class MaugisDugdale(ContactLaw):
+    """Maugis–Dugdale cohesive zone (Maugis 1992), solved by BEM under depth control: a
+    tensile traction ``stress`` sigma0 (Pa) acts wherever the gap is at most
+    h0 = w / sigma0 (m), in the contact too, with work of adhesion ``work_of_adhesion`` w
+    (J/m^2). Give the stress or the ``range`` h0. For a sphere of radius R on a body of
+    contact modulus E*, the transition parameter lambda = 2 sigma0 (R / (pi w E*^2))^(1/3)
+    takes the pull-off from DMT's 2 pi w R (lambda -> 0) to JKR's 3/2 pi w R (large lambda).
+
+    >>> import mdrvisc as mv
+    >>> mv.MaugisDugdale(work_of_adhesion=0.05, range=1e-9).stress
+    50000000.0
+    """
+
+    work_of_adhesion: float
+    stress: float
+
+    def __init__(self, work_of_adhesion: float, stress: float | None = None,
+                 range: float | None = None) -> None:
+        w = _positive("MaugisDugdale", "work_of_adhesion", work_of_adhesion)
+        if (stress is None) == (range is None):
+            raise InvalidInputError("MaugisDugdale: give one of stress (Pa) or range (m)")
+        if stress is None:
+            stress = w / _positive("MaugisDugdale", "range", range)
+        object.__setattr__(self, "work_of_adhesion", w)
+        object.__setattr__(self, "stress", _positive("MaugisDugdale", "stress", stress))
+
+    @property
+    def range(self) -> float:
+        """The range h0 = w / sigma0 (m)."""
+        return self.work_of_adhesion / self.stress
+
+    def _model(self):
+        return {"type": "maugis_dugdale", "work_of_adhesion": self.work_of_adhesion,
+                "stress": self.stress}
+
+
+@dataclass(frozen=True)
+class Exponential(ContactLaw):
+    """Exponential cohesive law, solved by BEM under depth control: the interaction energy
+    -w exp(-g / rho) per unit area (the Adhesion package's ``Exponential(gamma0, rho)``), so a
+    tensile traction (w / rho) exp(-g / rho) at gap g >= 0, with work of adhesion
+    ``work_of_adhesion`` w (J/m^2) and decay length ``range`` rho (m).
+
+    >>> import mdrvisc as mv
+    >>> mv.Exponential(work_of_adhesion=0.05, range=1e-9).range
+    1e-09
+    """
+
+    work_of_adhesion: float
+    range: float
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "work_of_adhesion",
+                           _positive("Exponential", "work_of_adhesion", self.work_of_adhesion))
+        object.__setattr__(self, "range", _positive("Exponential", "range", self.range))
+
+    def _model(self):
+        return {"type": "exponential", "work_of_adhesion": self.work_of_adhesion,
+                "range": self.range}
+
+
 def contact_from_model(model) -> ContactLaw:
     """The law of a scene model's ``contact`` entry (absent: hard)."""
     if model is None or model == "hard":
         return Hard()
-    classes = {"jkr": JKR, "dmt": DMT}
+    classes = {"jkr": JKR, "dmt": DMT, "maugis_dugdale": MaugisDugdale,
+               "exponential": Exponential}
     return classes[model["type"]](**{k: v for k, v in model.items() if k != "type"})

@@ -1,8 +1,10 @@
 //! The boundary element method on a grid: the static contact solvers (`contact`:
 //! Polonsky–Keer, the dense active set, the flat punch), the windows of the elements that
 //! can touch (`window`), static contact (`static_contact`), and time stepping of viscous
-//! (`viscous`) and viscoelastic (`viscoelastic`) bodies.
+//! (`viscous`) and viscoelastic (`viscoelastic`) bodies; adhesive contact with a cohesive-zone
+//! law (`cohesive`).
 
+pub mod cohesive;
 pub mod contact;
 pub mod static_contact;
 pub mod viscoelastic;

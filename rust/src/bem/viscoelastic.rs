@@ -4,18 +4,22 @@
 //! u = K[x]). The stress follows the hereditary law s = integral G(t - s) dx(s), advanced by
 //! `Rheology`'s exact exponential update: s_{n+1} = G_eff x_{n+1} + r_n. Each step is then
 //! an elastic contact problem with compliance 1/G_eff and separation h - K[r] / G_eff, on
-//! the body's operator. Points out of contact relax freely (s = 0).
+//! the body's operator. Points out of contact relax freely (s = 0), or, under a
+//! cohesive-zone law (`run_bem_with`), carry the law's traction at their gap: each step is
+//! then the elastic cohesive solve (`crate::bem::cohesive`) at compliance 1/G_eff.
 
+use crate::bem::cohesive::CohesiveSolver;
 use crate::bem::contact::{ContactSolver, Target};
 use crate::bem::static_contact::load_to_separation;
 use crate::bem::viscous::Fields;
 use crate::halfspace::operator::SurfaceOperator;
+use crate::model::contact_law::ContactLaw;
 use crate::model::grid::Grid;
 use crate::model::loading::Loading;
 use crate::model::medium::rheology::Rheology;
 use crate::model::settings::SolverOptions;
-use crate::stepping::{jumps_at_start, step_times, Request, Series, Trail};
-use crate::support::error::Result;
+use crate::stepping::{jumps_at_start, step_times, Jumps, Request, Series, Trail};
+use crate::support::error::{Error, Result};
 use crate::support::monitor::Monitor;
 
 /// BEM: a viscoelastic body under an indenter on `grid`, output as `request` says; also
@@ -32,7 +36,53 @@ pub fn run_bem(
     opts: &SolverOptions,
     monitor: &mut dyn Monitor,
 ) -> Result<Series<Fields>> {
+    run_bem_with(
+        grid,
+        medium,
+        ContactLaw::Hard,
+        loading,
+        request,
+        opts,
+        monitor,
+    )
+}
+
+/// [`run_bem`] under the contact law `law`: hard, or a cohesive zone (Maugis–Dugdale,
+/// exponential) under depth control, whose steps are cohesive solves warm-started from the
+/// last step's traction (the zone follows the history), whose pressure field includes the
+/// tension, whose contact counts the elements at zero gap, and which reports its jumps and
+/// pull-off (`Series::jumps`). Other laws and force control under a cohesive law are
+/// refused.
+pub fn run_bem_with(
+    grid: &Grid,
+    medium: &Rheology,
+    law: ContactLaw,
+    loading: &Loading,
+    request: &Request,
+    opts: &SolverOptions,
+    monitor: &mut dyn Monitor,
+) -> Result<Series<Fields>> {
     request.check()?;
+    let mut cohesive = match (law, loading) {
+        (ContactLaw::Hard, _) => None,
+        (_, Loading::Depth(_)) if law.is_cohesive() => {
+            Some(CohesiveSolver::new(law, grid.nx * grid.ny)?)
+        }
+        (_, Loading::Force(_)) if law.is_cohesive() => {
+            return Err(Error::InvalidInput(format!(
+                "BEM solves contact '{}' under depth control only: prescribe the depth",
+                law.name()
+            )))
+        }
+        _ => {
+            return Err(Error::InvalidInput(format!(
+                "BEM solves hard contact only, or a cohesive law ('maugis_dugdale', 'exponential'); contact '{}' is solved by MDR (method \"mdr\")",
+                law.name()
+            )))
+        }
+    };
+    let mut jumps = cohesive.is_some().then(Jumps::default);
+    let mut before = (0.0, 0.0, 0.0, 0usize);
     let steps = step_times(request.times, request.dt, jumps_at_start(loading, medium))?;
     let n = grid.nx * grid.ny;
     let start = match loading {
@@ -81,6 +131,24 @@ pub fn run_bem(
                 solver.clear_pressure();
                 (warm, extrapolate) = (false, false);
                 (lowest, 0.0)
+            }
+            Target::Depth(d) if cohesive.is_some() => {
+                let c = cohesive.as_mut().expect("matched: a cohesive law");
+                let r = c.solve(
+                    &mut solver,
+                    &sep,
+                    &grid.allowed,
+                    1.0 / rule.g_eff,
+                    d,
+                    warm,
+                    grid.body.loads_depth_by_force(),
+                    opts,
+                    monitor,
+                )?;
+                iterations += r.iterations;
+                residual = residual.max(r.residual);
+                warm = true;
+                (d, r.force)
             }
             _ => {
                 if warm {
@@ -133,13 +201,22 @@ pub fn run_bem(
                 (r.depth, r.force)
             }
         };
-        let p = solver.pressure();
+        let compression = solver.pressure();
+        let p = match &cohesive {
+            Some(c) => c.pressure(),
+            None => compression,
+        };
         let mut count = 0;
         for i in 0..n {
             let x_new = (p[i] - hist[i]) / rule.g_eff;
             rule.advance(x[i], x_new, &mut q[i * m..(i + 1) * m]);
             x[i] = x_new;
-            count += usize::from(p[i] > 0.0);
+            count += usize::from(compression[i] > 0.0);
+        }
+        if let Some(j) = &mut jumps {
+            let now = (t, depth, force, count);
+            j.record(before, now);
+            before = now;
         }
         if t == t_prev {
             // the jump at t = 0: rates start from the state just after it
@@ -159,8 +236,17 @@ pub fn run_bem(
             out.velocity.push(rate[0]);
             out.iterations.push(iterations);
             out.residual.push(residual);
-            let contact: Vec<bool> = p.iter().map(|&v| v > 0.0).collect();
-            out.at_edge.push(grid.touches_edge(&contact));
+            let contact: Vec<bool> = compression.iter().map(|&v| v > 0.0).collect();
+            // a cohesive zone cut by the grid's edge is as wrong as a cut contact
+            let reach: Vec<bool> = match &cohesive {
+                Some(c) => contact
+                    .iter()
+                    .zip(c.gap())
+                    .map(|(&k, &g)| k || g <= law.range())
+                    .collect(),
+                None => contact.clone(),
+            };
+            out.at_edge.push(grid.touches_edge(&reach));
             out.area.push(area);
             out.saturated
                 .push(grid.covers(0.25 * std::f64::consts::PI * length * length));
@@ -197,5 +283,6 @@ pub fn run_bem(
         t_prev = t;
     }
     out.solves = out.steps;
+    out.jumps = jumps;
     Ok(out)
 }

@@ -10,6 +10,11 @@
 //! sqrt(2 pi a w / E*) at contact radius a. DMT (Derjaguin, Muller & Toporov 1975): the
 //! non-adhesive (hard) contact plus the constant attraction 2 pi w R of a tip of radius R
 //! acting while the surfaces touch.
+//!
+//! Cohesive-zone laws (BEM) give the traction as a function of the gap: Maugis–Dugdale
+//! (Maugis 1992) pulls with a constant stress sigma0 wherever 0 <= g <= h0 = w / sigma0; the
+//! exponential law pulls with (w / rho) exp(-g / rho) at every gap (the potential
+//! -w exp(-g / rho) of the Adhesion package). Both keep the hard wall g >= 0.
 
 use crate::support::error::{check_positive, Error, Result};
 use serde::de::{self, Deserializer, MapAccess, Visitor};
@@ -42,6 +47,24 @@ pub enum ContactLaw {
         /// Work of adhesion w (J/m^2), > 0.
         work_of_adhesion: f64,
     },
+    /// Maugis–Dugdale cohesive zone (BEM): a tensile traction `stress` sigma0 (Pa) acts
+    /// wherever the gap is at most h0 = w / sigma0, in contact included (TOML
+    /// `type = "maugis_dugdale"`).
+    #[serde(rename = "maugis_dugdale")]
+    MaugisDugdale {
+        /// Work of adhesion w = sigma0 h0 (J/m^2), > 0.
+        work_of_adhesion: f64,
+        /// Cohesive stress sigma0 (Pa), > 0.
+        stress: f64,
+    },
+    /// Exponential cohesive law (BEM): the potential -w exp(-g / rho) per unit area, a
+    /// tensile traction (w / rho) exp(-g / rho) at gap g >= 0.
+    Exponential {
+        /// Work of adhesion w (J/m^2), > 0.
+        work_of_adhesion: f64,
+        /// Decay length rho (m), > 0.
+        range: f64,
+    },
 }
 
 impl Serialize for ContactLaw {
@@ -59,15 +82,18 @@ impl<'de> Deserialize<'de> for ContactLaw {
         impl<'de> Visitor<'de> for Law {
             type Value = ContactLaw;
             fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
-                f.write_str("\"hard\" or a table { type = \"jkr\" | \"dmt\", work_of_adhesion }")
+                f.write_str("\"hard\" or a table { type = \"jkr\" | \"dmt\" | \"maugis_dugdale\" | \"exponential\", work_of_adhesion, ... }")
             }
             fn visit_str<E: de::Error>(self, v: &str) -> std::result::Result<ContactLaw, E> {
                 match v {
                     "hard" => Ok(ContactLaw::Hard),
-                    "jkr" | "dmt" => Err(E::custom(format!(
+                    "jkr" | "dmt" | "maugis_dugdale" | "exponential" => Err(E::custom(format!(
                         "contact '{v}' needs its work of adhesion: {{ type = \"{v}\", work_of_adhesion = ... }}"
                     ))),
-                    other => Err(E::unknown_variant(other, &["hard", "jkr", "dmt"])),
+                    other => Err(E::unknown_variant(
+                        other,
+                        &["hard", "jkr", "dmt", "maugis_dugdale", "exponential"],
+                    )),
                 }
             }
             fn visit_map<M: MapAccess<'de>>(
@@ -85,12 +111,70 @@ impl<'de> Deserialize<'de> for ContactLaw {
 }
 
 impl ContactLaw {
-    /// The law's name in scene files ("hard", "jkr" or "dmt").
+    /// The law's name in scene files ("hard", "jkr", "dmt", "maugis_dugdale" or
+    /// "exponential").
     pub fn name(self) -> &'static str {
         match self {
             ContactLaw::Hard => "hard",
             ContactLaw::Jkr { .. } => "jkr",
             ContactLaw::Dmt { .. } => "dmt",
+            ContactLaw::MaugisDugdale { .. } => "maugis_dugdale",
+            ContactLaw::Exponential { .. } => "exponential",
+        }
+    }
+
+    /// Whether the law is a cohesive zone (traction a function of the gap; solved by BEM).
+    pub fn is_cohesive(self) -> bool {
+        matches!(
+            self,
+            ContactLaw::MaugisDugdale { .. } | ContactLaw::Exponential { .. }
+        )
+    }
+
+    /// The tensile traction (Pa, >= 0) a cohesive law exerts at gap `g` (m, >= 0): sigma0
+    /// for g <= h0 under Maugis–Dugdale, (w / rho) exp(-g / rho) under the exponential law;
+    /// 0 for the other laws.
+    pub fn traction(self, g: f64) -> f64 {
+        match self {
+            ContactLaw::MaugisDugdale {
+                work_of_adhesion,
+                stress,
+            } if g <= work_of_adhesion / stress => stress,
+            ContactLaw::Exponential {
+                work_of_adhesion,
+                range,
+            } => work_of_adhesion / range * (-g.max(0.0) / range).exp(),
+            _ => 0.0,
+        }
+    }
+
+    /// The interaction energy per unit area (J/m^2, at most 0) of a cohesive law at gap `g`
+    /// (m, at least 0), whose derivative is the traction: -sigma0 (h0 - g) for g <= h0 under
+    /// Maugis–Dugdale, -w exp(-g / rho) under the exponential law; 0 for the other laws.
+    pub fn potential(self, g: f64) -> f64 {
+        match self {
+            ContactLaw::MaugisDugdale {
+                work_of_adhesion,
+                stress,
+            } => -stress * (work_of_adhesion / stress - g).max(0.0),
+            ContactLaw::Exponential {
+                work_of_adhesion,
+                range,
+            } => -work_of_adhesion * (-g.max(0.0) / range).exp(),
+            _ => 0.0,
+        }
+    }
+
+    /// The range (m) of a cohesive law: h0 = w / sigma0 (Maugis–Dugdale) or rho
+    /// (exponential); 0 for the other laws.
+    pub fn range(self) -> f64 {
+        match self {
+            ContactLaw::MaugisDugdale {
+                work_of_adhesion,
+                stress,
+            } => work_of_adhesion / stress,
+            ContactLaw::Exponential { range, .. } => range,
+            _ => 0.0,
         }
     }
 
@@ -108,16 +192,30 @@ impl ContactLaw {
     pub fn work_of_adhesion(self) -> f64 {
         match self {
             ContactLaw::Hard => 0.0,
-            ContactLaw::Jkr { work_of_adhesion } | ContactLaw::Dmt { work_of_adhesion } => {
-                work_of_adhesion
+            ContactLaw::Jkr { work_of_adhesion }
+            | ContactLaw::Dmt { work_of_adhesion }
+            | ContactLaw::MaugisDugdale {
+                work_of_adhesion, ..
             }
+            | ContactLaw::Exponential {
+                work_of_adhesion, ..
+            } => work_of_adhesion,
         }
     }
 
-    /// Fails unless the law's parameters are valid (a work of adhesion finite and > 0).
+    /// Fails unless the law's parameters are valid (a work of adhesion, a cohesive stress
+    /// and a range finite and > 0).
     pub fn validate(self) -> Result<()> {
         match self {
             ContactLaw::Hard => Ok(()),
+            ContactLaw::MaugisDugdale { stress, .. } => {
+                check_positive("contact work_of_adhesion (J/m^2)", self.work_of_adhesion())?;
+                check_positive("contact stress (Pa)", stress)
+            }
+            ContactLaw::Exponential { range, .. } => {
+                check_positive("contact work_of_adhesion (J/m^2)", self.work_of_adhesion())?;
+                check_positive("contact range (m)", range)
+            }
             _ => check_positive("contact work_of_adhesion (J/m^2)", self.work_of_adhesion()),
         }
     }
@@ -134,11 +232,15 @@ impl ContactLaw {
     }
 
     /// The nearest pressure (Pa) the law admits inside the contact to `p`: max(p, 0) under
-    /// hard contact and DMT (whose attraction acts outside the contact), any under JKR.
+    /// hard contact and DMT (whose attraction acts outside the contact), any under JKR, and
+    /// at least minus the traction at contact under a cohesive law.
     pub fn admissible(self, p: f64) -> f64 {
         match self {
             ContactLaw::Hard | ContactLaw::Dmt { .. } => p.max(0.0),
             ContactLaw::Jkr { .. } => p,
+            ContactLaw::MaugisDugdale { .. } | ContactLaw::Exponential { .. } => {
+                p.max(-self.traction(0.0))
+            }
         }
     }
 

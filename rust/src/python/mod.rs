@@ -5,6 +5,7 @@
 //! lists from (outputs, report quantities, defaults) in `schema`.
 
 mod arrays;
+mod cohesive;
 mod convert;
 mod curve;
 mod model;
@@ -23,6 +24,8 @@ mod core_module {
         bem_punch, bem_viscous, contact_solve, mdr_deflection, mdr_pressure, surface_deflection,
         PySurfaceOperator,
     };
+    #[pymodule_export]
+    use super::cohesive::{cohesive_curve, cohesive_pull_off};
     #[pymodule_export]
     use super::curve::PyCurve;
     #[pymodule_export]

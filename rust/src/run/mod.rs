@@ -542,6 +542,10 @@ fn run_viscoelastic(
     };
     let wanted = Wanted::of(scene);
     match settings.method {
+        Method::Mdr if scene.contact.is_cohesive() => Err(Error::InvalidInput(format!(
+            "MDR solves hard, JKR and DMT contact; the cohesive law '{}' is solved by BEM (method \"bem\")",
+            scene.contact.name()
+        ))),
         Method::Mdr => {
             let (profile, dx) = scene
                 .indenter
@@ -559,15 +563,12 @@ fn run_viscoelastic(
             )?;
             mdr_report(scene, settings, dx, "viscoelastic", s, wanted, &at)
         }
-        Method::Bem if scene.contact.is_adhesive() => Err(Error::InvalidInput(format!(
-            "BEM solves hard contact only; contact '{}' is solved by MDR (method \"mdr\")",
-            scene.contact.name()
-        ))),
         Method::Bem => {
             let grid = bem_grid(scene, settings.n)?;
-            let s = viscoelastic::run_bem(
+            let s = viscoelastic::run_bem_with(
                 &grid,
                 &rheology,
+                scene.contact,
                 &loading,
                 &request,
                 &settings.solver,

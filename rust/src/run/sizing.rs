@@ -19,7 +19,8 @@ pub const DEPTH_BOUND_FACTOR: f64 = 1.05;
 pub fn sizing_radius(scene: &Scene) -> Result<f64> {
     let ind = &scene.indenter;
     if let Some(d) = &scene.depth {
-        return ind.radius_at_depth(d.max());
+        // a cohesive zone reaches gaps of a few times its range
+        return ind.radius_at_depth(d.max() + 3.0 * scene.contact.range());
     }
     let force = scene.force.as_ref().expect("validated: force or depth");
     // MDR loads F / (4 G) of the incompressible medium with the same contact modulus; an
