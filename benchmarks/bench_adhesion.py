@@ -18,6 +18,10 @@ Adhesion package (``BoundedSmoothContactSystem``: L-BFGS-B on the displacements 
 hard wall, same grid, same potential, same depths), when it is importable (install it into
 a separate environment and pass its site-packages with ``--adhesion-path``).
 
+Fits: ``mv.fit(..., contact=mv.JKR(...))`` of a depth-controlled approach and retract made
+by JKR's closed form (sphere-like paraboloid R = 5 um, G = 1 kPa, w = 1 mJ/m^2, 1 % noise):
+wall time of the whole fit and the recovered G and w.
+
 Run: ``python benchmarks/bench_adhesion.py [--sizes 501 2001 8001 32001] [--repeats 5]
 [--bem-sizes 32 64 128] [--lambdas 0.3 1 3] [--adhesion-sizes 32] [--adhesion-path DIR]``.
 """
@@ -168,6 +172,47 @@ def exponential_rows(sizes, adhesion_sizes, adhesion_path):
     return rows, have_package
 
 
+def jkr_retract(d: np.ndarray, radius: float, e_star: float, w: float) -> np.ndarray:
+    """JKR's closed form for a paraboloid of radius ``radius`` (m) under prescribed depths d
+    (m), one approach and one retract (N): Hertz in, the contact held at its largest radius,
+    then the JKR branch to its unstable end under depth control (Johnson, Kendall & Roberts
+    1971), independent of the fit's model."""
+    top = int(np.argmax(d))
+    a_m = math.sqrt(radius * d[top])
+    grid = np.linspace(1e-6 * a_m, a_m, 200001)
+    depth = grid**2 / radius - np.sqrt(2.0 * math.pi * w * grid / e_star)
+    force = 4.0 * e_star * grid**3 / (3.0 * radius) - np.sqrt(8.0 * math.pi * w * e_star * grid**3)
+    stable = grid >= grid[int(np.argmin(depth))]
+    out = 4.0 / 3.0 * e_star * math.sqrt(radius) * np.maximum(d, 0.0) ** 1.5
+    for i in range(top + 1, d.size):
+        if d[i] >= depth[-1]:
+            out[i] = 2.0 * e_star * (a_m * d[i] - a_m**3 / (3.0 * radius))
+        elif d[i] >= depth[stable].min():
+            out[i] = np.interp(d[i], depth[stable], force[stable])
+        else:
+            out[i:] = 0.0
+            break
+    return out
+
+
+def jkr_fit_rows(repeats: int):
+    """Fits of a JKR approach-retract curve (closed form, 1 % noise): wall time and the
+    recovered shear modulus and work of adhesion."""
+    radius, g, w = 5e-6, 1e3, 1e-3
+    rows = []
+    for samples in (600, 2000, 8000):
+        t = np.linspace(0.0, 2.0, samples + 1)
+        d = np.where(t <= 1.0, 3e-6 * t, 3e-6 - 4.5e-6 * (t - 1.0))
+        force = jkr_retract(d, radius, 4.0 * g, w)
+        force = force + 0.01 * np.ptp(force) * np.random.default_rng(1).standard_normal(force.size)
+        seconds, fit = best_of(lambda t=t, d=d, f=force: mv.fit(
+            mv.Paraboloid(c=0.5 / radius), mv.Elastic, t, depth=d, force=f,
+            contact=mv.JKR(work_of_adhesion=w)), repeats, warmup=1)
+        rows.append((samples + 1, fit.parameters["G"] / g - 1.0,
+                     fit.parameters["work_of_adhesion"] / w - 1.0, fit.nfev, seconds * 1e3))
+    return rows
+
+
 def main(argv=None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--sizes", type=int, nargs="+", default=[501, 2001, 8001, 32001])
@@ -206,6 +251,10 @@ def main(argv=None) -> None:
         rows.append((n, r.pull_off_force, -r.force.min(), r.steps, seconds * 1e3))
     table(["n", "pull-off (N)", "largest tension (N)", "steps", "ms per curve"], rows,
           ["{}", "{:.4e}", "{:.4e}", "{}", "{:.2f}"])
+    header(f"Fits with JKR (mv.fit(..., contact=mv.JKR(...))): a depth-controlled approach and "
+           f"retract by JKR's closed form, 1 % noise (best of {args.repeats})")
+    table(["samples", "G rel. error", "w rel. error", "solves", "ms per fit"],
+          jkr_fit_rows(args.repeats), ["{}", "{:+.2e}", "{:+.2e}", "{}", "{:.1f}"])
 
 
 if __name__ == "__main__":
