@@ -23,7 +23,7 @@
 use crate::mdr::foundation::Fields1D;
 use crate::model::contact_law::ContactLaw;
 use crate::model::loading::Loading;
-use crate::model::medium::rheology::{Rheology, StepRule};
+use crate::model::medium::rheology::{Rheology, StepRule, StepRules};
 use crate::stepping::{jumps_at_start, step_times, Jumps, Request, Series, Trail};
 use crate::support::error::Result;
 use crate::support::monitor::Monitor;
@@ -442,26 +442,22 @@ pub fn run_jkr(
     let mut jumps = Jumps::default();
     let mut before = (0.0, start, 0.0, 0usize);
     let mut t_prev = 0.0;
-    let mut rule = medium.step(1.0);
-    let mut rule_dt = f64::NAN;
+    let mut rules = StepRules::new(medium);
     for (s, &(t, output)) in steps.iter().enumerate() {
         let h = t - t_prev;
-        if h != rule_dt {
-            rule = medium.step(h);
-            rule_dt = h;
-        }
+        let rule = rules.at(h);
         let c = 4.0 * dx * rule.g_eff;
         let fields = output && request.fields_at.contains(&out.t.len());
         // the free surfaces of the step, for the line load of the fields
-        let surfaces = fields.then(|| elements.surfaces(&rule));
+        let surfaces = fields.then(|| elements.surfaces(rule));
         let (depth, force) = match loading {
             Loading::Depth(hist) => {
                 let d = hist.depth(t);
-                (d, c * elements.at_depth(&rule, t, d))
+                (d, c * elements.at_depth(rule, t, d))
             }
             Loading::Force(hist) => {
                 let f = hist.force(t);
-                (elements.under_load(&rule, t, f / c).unwrap_or(f64::NAN), f)
+                (elements.under_load(rule, t, f / c).unwrap_or(f64::NAN), f)
             }
         };
         let count = elements.count();

@@ -42,7 +42,7 @@ use crate::halfspace::layer::{compliance_ratio, gauss_legendre};
 use crate::mdr::foundation::Fields1D;
 use crate::model::body::{Base, Layer};
 use crate::model::loading::Loading;
-use crate::model::medium::rheology::Rheology;
+use crate::model::medium::rheology::{Rheology, StepRules};
 use crate::stepping::{jumps_at_start, step_times, Request, Series, Trail};
 use crate::support::error::{check_positive, Error, Result};
 use crate::support::monitor::Monitor;
@@ -453,14 +453,10 @@ pub fn run_mdr_layer(
     let mut order = Vec::with_capacity(n);
     let mut out = Series::default();
     let mut t_prev = 0.0;
-    let mut rule = medium.step(1.0);
-    let mut rule_dt = f64::NAN;
+    let mut rules = StepRules::new(medium);
     for (s, &(t, output)) in steps.iter().enumerate() {
         let h = t - t_prev;
-        if h != rule_dt {
-            rule = medium.step(h);
-            rule_dt = h;
-        }
+        let rule = rules.at(h);
         let c = 4.0 * dx * rule.g_eff;
         for i in 0..n {
             surface[i] = g[i] - rule.history(w[i], &q[i * m..(i + 1) * m]) / rule.g_eff;

@@ -11,7 +11,7 @@ use crate::mdr::adhesion::run_jkr;
 use crate::mdr::foundation::Fields1D;
 use crate::model::contact_law::{ContactLaw, SortedSurface};
 use crate::model::loading::Loading;
-use crate::model::medium::rheology::Rheology;
+use crate::model::medium::rheology::{Rheology, StepRules};
 use crate::stepping::{jumps_at_start, step_times, Jumps, Request, Series, Trail};
 use crate::support::error::{check_positive, Error, Result};
 use crate::support::monitor::Monitor;
@@ -87,14 +87,10 @@ pub fn run_mdr_adhesive(
     let mut jumps = law.is_adhesive().then(Jumps::default);
     let mut before = (0.0, start, 0.0, 0usize);
     let mut t_prev = 0.0;
-    let mut rule = medium.step(1.0);
-    let mut rule_dt = f64::NAN;
+    let mut rules = StepRules::new(medium);
     for (s, &(t, output)) in steps.iter().enumerate() {
         let h = t - t_prev;
-        if h != rule_dt {
-            rule = medium.step(h);
-            rule_dt = h;
-        }
+        let rule = rules.at(h);
         let c = 4.0 * dx * rule.g_eff;
         for i in 0..n {
             // where the indenter meets the element's freely relaxed surface

@@ -35,6 +35,34 @@ pub struct StepRule {
     damping: f64,
 }
 
+/// The step rule of the last step length asked for, recomputed only when the length
+/// changes (stepping loops whose steps are mostly of one length).
+pub struct StepRules<'a> {
+    medium: &'a Rheology,
+    dt: f64,
+    rule: StepRule,
+}
+
+impl<'a> StepRules<'a> {
+    /// The rules of `medium`, none computed for a step length yet.
+    pub fn new(medium: &'a Rheology) -> Self {
+        StepRules {
+            medium,
+            dt: f64::NAN,
+            rule: medium.step(1.0),
+        }
+    }
+
+    /// The rule of a step of length `dt` (s).
+    pub fn at(&mut self, dt: f64) -> &StepRule {
+        if dt != self.dt {
+            self.rule = self.medium.step(dt);
+            self.dt = dt;
+        }
+        &self.rule
+    }
+}
+
 impl Rheology {
     /// Validates the parameters: finite, non-negative, and a positive instantaneous response.
     pub fn new(g_inf: f64, terms: Vec<(f64, f64)>, eta: f64) -> Result<Self> {
