@@ -58,30 +58,6 @@ def afm_scene() -> mv.Scene:
                     depth=([0.0, t_in, t_end], [0.0, 1.6e-6, -1.6e-6]), duration=t_end, times=times)
 
 
-def maugis_pull_off(lam: float) -> float:
-    """Maugis's pull-off (units of pi w R) at transition parameter ``lam``: the least
-    P = A^3 - lam A^2 (mu + m^2 atan mu) over A, m = c / a solving the zone equation."""
-    def load(a):
-        def zone(m):
-            mu = math.sqrt(m * m - 1.0)
-            t = math.atan(mu)
-            return lam * a * a / 2 * (mu + (m * m - 2) * t) + 4 * lam * lam * a / 3 * (mu * t - m + 1) - 1
-        lo, hi = 1.0, 2.0
-        while zone(hi) < 0:
-            lo, hi = hi, 2 * hi
-        for _ in range(100):
-            mid = 0.5 * (lo + hi)
-            lo, hi = (mid, hi) if zone(mid) < 0 else (lo, mid)
-        mu = math.sqrt(0.25 * (lo + hi) ** 2 - 1.0)
-        return a**3 - lam * a * a * (mu + (mu * mu + 1) * math.atan(mu))
-    grid = np.linspace(0.01, 2.0, 200)
-    for _ in range(3):
-        best = grid[int(np.argmin([load(a) for a in grid]))]
-        step = grid[1] - grid[0]
-        grid = np.linspace(max(best - step, 1e-6), best + step, 41)
-    return -min(load(a) for a in grid)
-
-
 def sphere(n: int, side: float) -> tuple[np.ndarray, float]:
     """The separation of a sphere R = 1 m on an n x n grid spanning ``side`` (m), and dx."""
     dx = side / n
@@ -100,7 +76,7 @@ def md_rows(lambdas, sizes):
         h0 = w / stress
         # the zone ends near the rigid gap h0 + |pull-off depth|; the grid spans 2.5 times it
         side = max(1.2, 2.5 * math.sqrt(2 * (h0 + 0.05)))
-        reference = maugis_pull_off(lam)
+        reference = mv.analytic.maugis_pull_off(lam)
         for n in sizes:
             h, dx = sphere(n, side)
             t0 = time.perf_counter()

@@ -32,31 +32,6 @@ def sphere(n, side=1.2):
     return (x[:, None] ** 2 + x[None, :] ** 2) / 2.0, dx
 
 
-def maugis_pull_off(lam):
-    """Maugis's pull-off in units of pi w R: the least P = A^3 - lambda A^2 (mu + m^2 atan mu)
-    over A, m = c / a solving his zone equation (mu = sqrt(m^2 - 1)), by bisection and a
-    scan refined three times."""
-    def load(a):
-        def zone(m):
-            mu = math.sqrt(m * m - 1.0)
-            t = math.atan(mu)
-            return lam * a * a / 2 * (mu + (m * m - 2) * t) + 4 * lam * lam * a / 3 * (mu * t - m + 1) - 1
-        lo, hi = 1.0, 2.0
-        while zone(hi) < 0:
-            lo, hi = hi, 2 * hi
-        for _ in range(100):
-            mid = 0.5 * (lo + hi)
-            lo, hi = (mid, hi) if zone(mid) < 0 else (lo, mid)
-        mu = math.sqrt(0.25 * (lo + hi) ** 2 - 1.0)
-        return a**3 - lam * a * a * (mu + (mu * mu + 1) * math.atan(mu))
-    grid = np.linspace(0.01, 2.0, 200)
-    for _ in range(3):
-        best = grid[int(np.argmin([load(a) for a in grid]))]
-        step = grid[1] - grid[0]
-        grid = np.linspace(max(best - step, 1e-6), best + step, 41)
-    return -min(load(a) for a in grid)
-
-
 def retract_scene(contact, medium, n=32, steps=60, duration=2.0):
     """The sphere as a height map, approached to 0.02 m over the first half of ``duration``
     and retracted to -0.08 m over the second, one step per output."""
@@ -90,7 +65,7 @@ def test_array_pull_off_near_maugis():
     r = mv.arrays.adhesive_pull_off(h, dx, 1.0, md(0.3), 0.02, -0.12)
     p = -r["force"] / (math.pi * W)
     assert 1.5 < p < 2.0
-    assert p == pytest.approx(maugis_pull_off(0.3), rel=0.025)
+    assert p == pytest.approx(mv.analytic.maugis_pull_off(0.3), rel=0.025)
     assert r["contact"] > 0 and r["zone"] > r["contact"]
 
 
