@@ -6,21 +6,35 @@ use super::monitor::{to_pyerr, PyMonitor};
 use crate::bem::cohesive;
 use crate::model::body::Body;
 use crate::model::contact_law::ContactLaw;
+use crate::model::grid::Grid;
 use crate::model::settings::DENSE_LIMIT;
 use crate::support::error::Error;
 use numpy::{PyArray1, PyReadonlyArray1, PyReadonlyArray2};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-/// The cohesive law of a scene model's `contact` table in JSON.
-fn law_from(py: Python<'_>, contact: &str) -> PyResult<ContactLaw> {
+/// The cohesive law of a scene model's `contact` table in JSON, and the grid of the height
+/// array `height` (m) with its footprint mask, element size `dx` (m), one period of a
+/// periodic cell when `periodic`.
+fn problem_from(
+    py: Python<'_>,
+    contact: &str,
+    height: &PyReadonlyArray2<'_, f64>,
+    allowed: &PyReadonlyArray2<'_, bool>,
+    dx: f64,
+    periodic: bool,
+) -> PyResult<(ContactLaw, Grid)> {
     let law: ContactLaw = serde_json::from_str(contact).map_err(|e| {
         to_pyerr(
             py,
             Error::InvalidInput(format!("contact law {contact}: {e}")),
         )
     })?;
-    Ok(law)
+    let mut grid = grid_from(py, height, allowed, dx)?;
+    if periodic {
+        grid.body = Body::Periodic;
+    }
+    Ok((law, grid))
 }
 
 /// Depth-controlled static adhesive contact under the cohesive law `contact` (the scene
@@ -46,11 +60,7 @@ pub(crate) fn cohesive_curve<'py>(
     progress: Option<Py<PyAny>>,
     periodic: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let law = law_from(py, contact)?;
-    let mut grid = grid_from(py, &height, &allowed, dx)?;
-    if periodic {
-        grid.body = Body::Periodic;
-    }
+    let (law, grid) = problem_from(py, contact, &height, &allowed, dx, periodic)?;
     let depths = slice1(py, &depths, "depths")?;
     let opts = options(tol, max_iter, DENSE_LIMIT, None, true);
     let curve = PyMonitor::new(progress).run(py, |monitor| {
@@ -104,11 +114,7 @@ pub(crate) fn cohesive_pull_off<'py>(
     progress: Option<Py<PyAny>>,
     periodic: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let law = law_from(py, contact)?;
-    let mut grid = grid_from(py, &height, &allowed, dx)?;
-    if periodic {
-        grid.body = Body::Periodic;
-    }
+    let (law, grid) = problem_from(py, contact, &height, &allowed, dx, periodic)?;
     let opts = options(tol, max_iter, DENSE_LIMIT, None, true);
     let r = PyMonitor::new(progress).run(py, |monitor| {
         cohesive::pull_off(&grid, compliance, law, d_max, d_min, steps, &opts, monitor)
