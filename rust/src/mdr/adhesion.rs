@@ -481,25 +481,16 @@ pub fn run_jkr(
             out.velocity.push(rate[0]);
             out.iterations.push(0);
             if let (Some(surface), Some(w)) = (&surfaces, &w) {
-                let line_load = (0..n)
-                    .map(|i| {
-                        if elements.is_attached(i) {
-                            4.0 * rule.g_eff * (depth - surface[i])
-                        } else {
-                            0.0
-                        }
-                    })
-                    .collect();
-                let mut velocity = vec![0.0; n];
-                if let Some(trail) = &displacements {
-                    trail.rate(t, w, &mut velocity);
-                }
-                out.fields.push(Fields1D {
-                    step: k,
-                    displacement: w.clone(),
-                    line_load,
-                    velocity,
-                });
+                out.fields.push(Fields1D::of_step(
+                    k,
+                    t,
+                    depth,
+                    rule.g_eff,
+                    surface,
+                    |i| elements.is_attached(i),
+                    w,
+                    displacements.as_ref(),
+                ));
             }
         }
         if h > 0.0 {

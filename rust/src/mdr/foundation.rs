@@ -10,7 +10,7 @@
 use crate::model::contact_law::{ContactLaw, SortedSurface};
 use crate::model::loading::{check_output_times, ForceHistory};
 use crate::model::settings::ExplicitControl;
-use crate::stepping::Series;
+use crate::stepping::{Series, Trail};
 use crate::support::error::{check_finite, check_positive, Error, Result};
 use crate::support::monitor::Monitor;
 
@@ -122,6 +122,43 @@ pub struct Fields1D {
     pub line_load: Vec<f64>,
     /// Element velocities dw_i/dt (m/s); zero for the elastic medium under a held force.
     pub velocity: Vec<f64>,
+}
+
+impl Fields1D {
+    /// The fields of output `step` of a stepped foundation at time `t` (s): displacements
+    /// `w` (m), line loads 4 `g_eff` (`depth` - `surface`_i) (N/m) on the elements where
+    /// `loaded(i)` and zero elsewhere, velocities from `trail` (m/s; zero without one).
+    #[allow(clippy::too_many_arguments)]
+    pub fn of_step(
+        step: usize,
+        t: f64,
+        depth: f64,
+        g_eff: f64,
+        surface: &[f64],
+        loaded: impl Fn(usize) -> bool,
+        w: &[f64],
+        trail: Option<&Trail>,
+    ) -> Self {
+        let line_load = (0..w.len())
+            .map(|i| {
+                if loaded(i) {
+                    4.0 * g_eff * (depth - surface[i])
+                } else {
+                    0.0
+                }
+            })
+            .collect();
+        let mut velocity = vec![0.0; w.len()];
+        if let Some(trail) = trail {
+            trail.rate(t, w, &mut velocity);
+        }
+        Fields1D {
+            step,
+            displacement: w.to_vec(),
+            line_load,
+            velocity,
+        }
+    }
 }
 
 /// Runs the MDR foundation under the force `history` (N over s), with output at `times`

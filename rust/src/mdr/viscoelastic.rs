@@ -149,25 +149,16 @@ pub fn run_mdr_adhesive(
             out.velocity.push(rate[0]);
             out.iterations.push(0);
             if request.fields_at.contains(&k) {
-                let line_load = (0..n)
-                    .map(|i| {
-                        if touches(i) {
-                            4.0 * rule.g_eff * (depth - surface[i])
-                        } else {
-                            0.0
-                        }
-                    })
-                    .collect();
-                let mut velocity = vec![0.0; n];
-                if let Some(trail) = &displacements {
-                    trail.rate(t, &w, &mut velocity);
-                }
-                out.fields.push(Fields1D {
-                    step: k,
-                    displacement: w.clone(),
-                    line_load,
-                    velocity,
-                });
+                out.fields.push(Fields1D::of_step(
+                    k,
+                    t,
+                    depth,
+                    rule.g_eff,
+                    &surface,
+                    touches,
+                    &w,
+                    displacements.as_ref(),
+                ));
             }
         }
         if h > 0.0 {
