@@ -489,8 +489,8 @@ def main(argv=None) -> None:
                     try:
                         ref = mv_solve(z, mode, loads[case], args.ref_tol)
                     except mv.errors.MdrviscError as e:
-                        notes.append(f"H {case[0]:g}, fraction {case[1]:g}: skipped, mdrvisc "
-                                     f"refused: {e}")
+                        notes.append(f"H {case[0]:g}, fraction {case[1]:g}: skipped (peers "
+                                     f"not run): the installed mdrvisc refused the scene: {e}")
                         continue
                     p_ref = pressure(ref)
                     ref_file = os.path.join(folder, "ref.npy")
