@@ -393,6 +393,8 @@ def parse(argv):
                          f"default {DEFAULTS['short']})")
     ap.add_argument("--calibrate-size", type=int, default=512,
                     help="grid of the load calibration (or the smallest of --sizes)")
+    ap.add_argument("--pressure", type=float, default=None,
+                    help="mean pressure pbar (Pa) of every case instead of the calibrated ones")
     ap.add_argument("--tol", type=float, default=1e-8)
     ap.add_argument("--ref-tol", type=float, default=1e-12,
                     help="mdrvisc's tolerance for the reference solutions")
@@ -461,8 +463,13 @@ def main(argv=None) -> None:
     cases = [(h, f) for h in args.hurst for f in args.fractions]
     main_case = tuple(args.main)
     loads, log = {}, []
-    for case in dict.fromkeys(cases + [main_case]):
-        pbar, steps = calibrate(args.seed, *case, args.calibrate_size, args.short)
+    needed = ((cases if min(args.sizes) <= args.grid_up_to else [])
+              + ([main_case] if max(args.sizes) > args.grid_up_to else []))
+    for case in dict.fromkeys(needed):
+        if args.pressure is None:
+            pbar, steps = calibrate(args.seed, *case, args.calibrate_size, args.short)
+        else:
+            pbar, steps = args.pressure, ["given by --pressure"]
         loads[case] = pbar * EDGE**2
         log.append(f"H {case[0]:g}, fraction {case[1]:g}: pbar {pbar:.6g} Pa ({'; '.join(steps)})")
     header(f"Elastic rough contact (self-affine, |k| {ROLLOFF}..{args.short}, rms slope "
