@@ -217,7 +217,8 @@ def run_measured(cmd: list[str], timeout: float) -> dict:
                 break
             if time.perf_counter() - start > timeout:
                 proc.kill()
-                os.wait4(proc.pid, 0)
+                _, status, _ = os.wait4(proc.pid, 0)
+                proc.returncode = os.waitstatus_to_exitcode(status)
                 return {"failed": f"timed out after {timeout:.0f} s"}
             time.sleep(0.05)
         proc.returncode = os.waitstatus_to_exitcode(status)
