@@ -5,7 +5,7 @@
 
 use super::convert::slice1;
 use super::monitor::{to_pyerr, PyMonitor};
-use crate::mdr::curve::{AdhesiveEvaluation, Control, Curve, Forward};
+use crate::mdr::curve::{AdhesiveEvaluation, Approach, Control, Curve, Forward};
 use crate::model::Medium;
 use crate::support::error::Error;
 use numpy::{IntoPyArray, PyArray1, PyArray2, PyReadonlyArray1};
@@ -148,18 +148,36 @@ impl PyCurve {
     /// JKR contact (work of adhesion `work_of_adhesion`, J/m^2) of an elastic medium (JSON of a
     /// scene's medium table) by MDR with a continuous contact edge, depth or spring control:
     /// the force (N), contact radius (m), depth (m) and elements of the half profile in
-    /// contact at the samples, every prescribed depth or drive moved by `shift` (m).
-    #[pyo3(signature = (medium, work_of_adhesion, shift=0.0))]
+    /// contact at the samples, every prescribed depth or drive moved by `shift` (m); the edge
+    /// advances on the approach by `approach`: "touch" (a hard contact's growth) or
+    /// "equilibrium" (the JKR branch, jumping in at the touch).
+    #[pyo3(signature = (medium, work_of_adhesion, shift=0.0, approach="touch"))]
     fn evaluate_jkr<'py>(
         &self,
         py: Python<'py>,
         medium: String,
         work_of_adhesion: f64,
         shift: f64,
+        approach: &str,
     ) -> PyResult<AdhesiveEvaluated<'py>> {
+        let approach = match approach {
+            "touch" => Approach::Touch,
+            "equilibrium" => Approach::Equilibrium,
+            other => {
+                return Err(to_pyerr(
+                    py,
+                    Error::InvalidInput(format!(
+                        "approach must be \"touch\" or \"equilibrium\", got {other:?}"
+                    )),
+                ))
+            }
+        };
         let e = self
             .contact_modulus(&medium)
-            .and_then(|e_star| self.inner.evaluate_jkr(e_star, work_of_adhesion, shift))
+            .and_then(|e_star| {
+                self.inner
+                    .evaluate_jkr(e_star, work_of_adhesion, shift, approach)
+            })
             .map_err(|e| to_pyerr(py, e))?;
         Ok(adhesive_arrays(py, e))
     }
