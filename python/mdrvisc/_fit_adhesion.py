@@ -16,7 +16,7 @@ import json
 import numpy as np
 
 from ._fit_model import Problem, medium_of
-from .contact import DMT, JKR, ContactLaw
+from .contact import DMT, JKR, Hard
 from .errors import InvalidInputError
 from .geometry import Indenter, Paraboloid, Sphere
 from .media import Elastic
@@ -43,7 +43,7 @@ def check_contact(contact: object, model: object, control: str, indenter: Indent
     """The adhesive law of :func:`~mdrvisc.fit`'s ``contact`` (None: hard contact), or
     InvalidInputError for a law, medium, control, tip or curve (``raw``: an AFM curve) the
     adhesive fit does not cover."""
-    if contact is None or (isinstance(contact, ContactLaw) and contact._model() == "hard"):
+    if contact is None or isinstance(contact, Hard):
         return None
     if not isinstance(contact, (JKR, DMT)):
         raise InvalidInputError(f"fit: contact must be mv.Hard(), mv.JKR(work_of_adhesion=...) or "
@@ -85,6 +85,7 @@ class AdhesiveProblem(Problem):
         self.medium_free = list(base.free)
         self.free = self.medium_free + ([] if held else [WORK_OF_ADHESION])
         self.w0, self.law, self.radius = law.work_of_adhesion, type(law), radius
+        self.approach = law.approach if isinstance(law, JKR) else None
 
     def x0(self) -> np.ndarray:
         """The initial coordinates: the medium's initial values, and the work of adhesion of
@@ -127,7 +128,8 @@ class AdhesiveProblem(Problem):
 
     def contact_at(self, x: np.ndarray) -> JKR | DMT:
         """The contact law at ``x``."""
-        return self.law(work_of_adhesion=self.contact_parameters(x)[WORK_OF_ADHESION])
+        w = self.contact_parameters(x)[WORK_OF_ADHESION]
+        return DMT(work_of_adhesion=w) if self.law is DMT else JKR(work_of_adhesion=w, approach=self.approach)
 
     def raw_at(self, x: np.ndarray) -> tuple[float, float, float]:
         """The raw AFM curve's contact point, baseline and slope at ``x``."""
@@ -142,7 +144,7 @@ class AdhesiveProblem(Problem):
         if self.law is DMT:
             values, _, _, contact = self.curve.evaluate_dmt(medium, 2.0 * np.pi * w * self.radius, shift)
         else:
-            values, _, _, contact = self.curve.evaluate_jkr(medium, w, shift)
+            values, _, _, contact = self.curve.evaluate_jkr(medium, w, shift, self.approach)
         return values, contact
 
     def _shift(self, x: np.ndarray) -> float:
