@@ -65,6 +65,12 @@ def check_contact(contact: object, model: object, control: str, indenter: Indent
     return contact
 
 
+def reach_margin(law: JKR | DMT | None) -> str | None:
+    """The key of :data:`~mdrvisc._fit_model.MARGIN` sizing the profile of a fit with ``law``
+    (None: the control's): a JKR contact loaded in equilibrium outgrows the hard one."""
+    return "adhesive" if isinstance(law, JKR) and law.approach == "equilibrium" else None
+
+
 def tip_radius(indenter: Indenter) -> float | None:
     """Radius of curvature (m) of a rounded tip (paraboloid 1 / (2 c), sphere), else None."""
     if isinstance(indenter, Paraboloid):
