@@ -33,6 +33,14 @@ STEP = 1e-6
 #: depend on it (a plateau of the cost), while from below the fit finds it.
 START_FRACTIONS = np.geomspace(1e-3, 1.0, 7)
 
+#: Factors of the medium's first guess a raw fit whose contact jumps in starts from at each of
+#: its contact points (the guess was made at the first).
+MODULUS_FACTORS = np.geomspace(0.25, 4.0, 9)
+
+#: Robust standard deviations of the baseline's scatter the deflection falls below it where a
+#: contact jumps in (a start of the contact point).
+JUMP_SIGMAS = 5.0
+
 #: One-sided differences that disagree by more than this fraction of their magnitudes
 #: straddle a jump or a kink.
 DISAGREE = 1e-3
@@ -48,10 +56,6 @@ def check_contact(contact: object, model: object, control: str, indenter: Indent
     if not isinstance(contact, (JKR, DMT)):
         raise InvalidInputError(f"fit: contact must be mv.Hard(), mv.JKR(work_of_adhesion=...) or "
                                 f"mv.DMT(work_of_adhesion=...), got {contact!r}")
-    if isinstance(contact, DMT) and raw:
-        raise InvalidInputError("fit: DMT fits take depth-controlled curves: through a cantilever its "
-                                "contact jumps in at the touch, a jump of the force that moves with the "
-                                "contact point (fit a raw curve with mv.JKR, or DMT's depths and forces)")
     if isinstance(contact, DMT) and tip_radius(indenter) is None:
         raise InvalidInputError(f"fit: DMT's attraction 2 pi w R needs a rounded tip (mv.Sphere, "
                                 f"mv.Paraboloid), got {indenter!r}")
@@ -67,8 +71,15 @@ def check_contact(contact: object, model: object, control: str, indenter: Indent
 
 def reach_margin(law: JKR | DMT | None) -> str | None:
     """The key of :data:`~mdrvisc._fit_model.MARGIN` sizing the profile of a fit with ``law``
-    (None: the control's): a JKR contact loaded in equilibrium outgrows the hard one."""
-    return "adhesive" if isinstance(law, JKR) and law.approach == "equilibrium" else None
+    (None: the control's) whose contact jumps in: a JKR contact loaded in equilibrium outgrows
+    the hard one, and a raw curve's contact point may lie well before its first guess (which
+    the deflection's rise gives, after the jump in)."""
+    return "adhesive" if jumps_in(law) else None
+
+
+def jumps_in(law: JKR | DMT | None) -> bool:
+    """Whether the contact of ``law`` jumps in at the touch (DMT, JKR in equilibrium)."""
+    return isinstance(law, DMT) or (isinstance(law, JKR) and law.approach == "equilibrium")
 
 
 def tip_radius(indenter: Indenter) -> float | None:
@@ -90,20 +101,48 @@ class AdhesiveProblem(Problem):
                          base.free_raw, base.measured, base.root_w, base.n)
         self.medium_free = list(base.free)
         self.free = self.medium_free + ([] if held else [WORK_OF_ADHESION])
-        self.w0, self.law, self.radius = law.work_of_adhesion, type(law), radius
+        self.w0, self.law, self.radius, self.given = law.work_of_adhesion, type(law), radius, law
         self.approach = law.approach if isinstance(law, JKR) else None
 
     def x0(self) -> np.ndarray:
         """The initial coordinates: the medium's initial values, and the work of adhesion of
-        :data:`START_FRACTIONS` of the given one whose residuals are least."""
+        :data:`START_FRACTIONS` of the given one and the contact point of
+        :meth:`contact_point_starts` whose residuals are least."""
         values = dict(self.values0, work_of_adhesion=self.w0)
         logs = np.log([values[name] for name in self.free])
         x = np.concatenate([logs, np.zeros(len(self.free_raw))])
-        if WORK_OF_ADHESION not in self.free:
-            return x
-        at = self.free.index(WORK_OF_ADHESION)
-        starts = [np.concatenate([x[:at], [np.log(self.w0 * f)], x[at + 1:]]) for f in START_FRACTIONS]
+        starts = [x]
+        if WORK_OF_ADHESION in self.free:
+            at = self.free.index(WORK_OF_ADHESION)
+            starts = [np.concatenate([x[:at], [np.log(self.w0 * f)], x[at + 1:]]) for f in START_FRACTIONS]
+        points = self.contact_point_starts() if "contact_point" in self.free_raw else [0.0]
+        if len(points) > 1:
+            # the medium's first guess was made at the first contact point: scale it too
+            at = len(self.free) + self.free_raw.index("contact_point")
+            scaled = len(self.medium_free)
+            starts = [np.concatenate([s[:scaled] + np.log(f), s[scaled:at], [c], s[at + 1:]])
+                      for s in starts for c in points for f in MODULUS_FACTORS]
         return min(starts, key=self._cost)
+
+    def contact_point_starts(self) -> list[float]:
+        """Coordinates of the raw curve's contact point to start from: its first guess (where
+        the deflection last leaves its baseline before it rises); for a law whose contact jumps
+        in, also the sample before the deflection first falls :data:`JUMP_SIGMAS` robust
+        standard deviations of the baseline's scatter below it on the approach (the jump in
+        precedes the rise)."""
+        starts = [0.0]
+        raw = self.raw
+        if raw is None or not jumps_in(self.given):
+            return starts
+        top = int(np.argmax(raw.z))
+        excess = raw.deflection[:top + 1] - raw.line(raw.contact_point, raw.baseline, raw.slope)[:top + 1]
+        count = max(2, (top + 1) // 10)
+        sigma = 1.4826 * float(np.median(np.abs(excess[:count] - np.median(excess[:count]))))
+        low = np.flatnonzero(excess[count:] < -JUMP_SIGMAS * sigma)
+        if low.size and sigma > 0:
+            at = count + int(low[0]) - 1
+            starts.append((float(raw.z[at]) - raw.contact_point) / raw.depth_scale)
+        return starts
 
     def _cost(self, x: np.ndarray) -> float:
         """Sum of the squared weighted residuals at ``x`` (no Jacobian; infinite out of the
