@@ -390,6 +390,17 @@ def test_what_an_adhesive_fit_refuses(kw, words):
                **args)
 
 
+def test_the_equilibrium_approach_is_for_fits():
+    """``mv.JKR(approach=...)`` takes "touch" or "equilibrium"; a scene, whose MDR stepping
+    grows the contact by the touch rule, refuses the equilibrium approach by name."""
+    with pytest.raises(InvalidInputError, match="approach"):
+        mv.JKR(work_of_adhesion=W, approach="jump")
+    with pytest.raises(InvalidInputError, match="equilibrium"):
+        mv.Scene(indenter=mv.Paraboloid(c=0.5 / R), medium=mv.Elastic(G=G),
+                 contact=mv.JKR(work_of_adhesion=W, approach="equilibrium"),
+                 depth=([0.0, 1.0], [0.0, 1e-6]), duration=1.0)
+
+
 def test_the_command_line_fits_the_work_of_adhesion(tmp_path):
     """``mdrvisc fit ... --contact jkr:W``: the work of adhesion among the fitted parameters."""
     t, d = depth_curve(150)
@@ -410,3 +421,7 @@ def test_the_command_line_fits_the_work_of_adhesion(tmp_path):
         status = cli.main(["fit", str(path), "--indenter", f"paraboloid:c={0.5 / R}", "--model", "elastic",
                            "--contact", "sticky"])
     assert status == 2 and "--contact" in err.getvalue()
+    assert cli._contact("jkr:0.01:equilibrium") == mv.JKR(work_of_adhesion=0.01, approach="equilibrium")
+    assert cli._contact("dmt:0.01") == mv.DMT(work_of_adhesion=0.01)
+    with pytest.raises(InvalidInputError, match="--contact"):
+        cli._contact("dmt:0.01:equilibrium")
