@@ -188,8 +188,8 @@ def bem_curve():
     x = (np.arange(n) - (n - 1) / 2) * dx
     height = (x[:, None] ** 2 + x[None, :] ** 2) / (2.0 * BEM_R)
     d = np.concatenate([np.linspace(-0.02, 0.08, 21), np.linspace(0.08, -0.04, 49)[1:]])
-    curve = mv.arrays.adhesive_curve(height, dx, BEM_G, mv.MaugisDugdale(work_of_adhesion=BEM_W, stress=stress),
-                                     d, tol=1e-8)
+    law = mv.MaugisDugdale(work_of_adhesion=BEM_W, stress=stress)
+    curve = mv.arrays.adhesive_curve(height, dx, BEM_G, law, d, tol=1e-8)
     return d, curve["force"]
 
 
