@@ -376,7 +376,9 @@ def test_a_raw_curve_whose_contact_jumps_in_gives_the_medium_and_the_contact_poi
 
 
 @pytest.mark.parametrize("kw, words", [
-    (dict(model=mv.StandardSolid), "elastic"),
+    (dict(model=mv.Maxwell), "elastic"),
+    (dict(model=mv.StandardSolid, contact=mv.JKR(work_of_adhesion=W, approach="equilibrium")), "elastic"),
+    (dict(model=mv.StandardSolid, contact=mv.DMT(work_of_adhesion=W)), "elastic"),
     (dict(control="force"), "depth-controlled"),
     (dict(contact=mv.Hard), "mv.JKR"),
     (dict(body=mv.Layer(thickness=50 * R)), "on a layer"),
@@ -388,6 +390,38 @@ def test_what_an_adhesive_fit_refuses(kw, words):
     with pytest.raises(InvalidInputError, match=words):
         mv.fit(mv.Paraboloid(c=0.5 / R), args.pop("model"), t, depth=d, force=jkr_depth_control(d) + 1e-9,
                **args)
+
+
+def test_a_viscoelastic_jkr_fit_recovers_the_standard_solid_and_the_work_of_adhesion():
+    """JKR on a standard solid (G_0 / G_inf = 4, tau1 = 0.5 s, over a 2 s approach and
+    retract): data by MDR's stepped viscoelastic JKR (``mv.solve``, 8001 elements; an
+    independent path: elements stepped one by one, each letting go by Heß's rule with the
+    relaxed modulus), fitted by the continuous-edge model (the edge on the relaxed elastic
+    curve, each element's hereditary integral since it attached). Noise-free, the four
+    parameters come back to the stepped model's discretisation (0.5 %); at 1 % noise within
+    three standard errors (which are 1-3 %: G_inf, tau1 and w trade off over one relaxation
+    time)."""
+    medium = mv.StandardSolid(G_inf=G, G1=3.0 * G, tau1=0.5)
+    t, d = depth_curve()
+    scene = mv.Scene(indenter=mv.Paraboloid(c=0.5 / R), medium=medium, contact=mv.JKR(work_of_adhesion=W),
+                     depth=(t, d), duration=2.0, times=t[1:])
+    stepped = mv.solve(scene, "mdr", 8001)
+    force = np.concatenate([[0.0], stepped.force])
+    assert force.min() < -1.4 * math.pi * W * R
+    truth = dict(G_inf=G, G1=3.0 * G, tau1=0.5, work_of_adhesion=W)
+    for noise, seed in ((0.0, 0), (NOISE, 1)):
+        data = force + noise * np.ptp(force) * np.random.default_rng(seed).standard_normal(force.size)
+        fit = mv.fit(mv.Paraboloid(c=0.5 / R), mv.StandardSolid, t, depth=d, force=data,
+                     contact=mv.JKR(work_of_adhesion=0.3 * W))
+        assert fit.success, fit.message
+        for name, value in truth.items():
+            if noise == 0.0:
+                assert fit.parameters[name] == pytest.approx(value, rel=0.005), name
+            else:
+                assert abs(fit.parameters[name] - value) < 3.0 * fit.stderr[name], name
+    with pytest.raises(InvalidInputError, match="elastic"):
+        mv.fit(mv.Paraboloid(c=0.5 / R), mv.StandardSolid, t, piezo=d + 3e-6, deflection=force / 0.05,
+               spring_constant=0.05, contact=mv.JKR(work_of_adhesion=W))
 
 
 def test_the_equilibrium_approach_is_for_fits():

@@ -1,6 +1,6 @@
 """Fits with an adhesive contact law: the least-squares problem of a fit whose forward model is
-JKR contact by MDR (``_core.Curve.evaluate_jkr``: an elastic body, the contact's edge moving
-continuously between the elements) or DMT's (``evaluate_dmt``: the hard contact plus the
+JKR contact by MDR (``_core.Curve.evaluate_jkr``: an elastic body, or a viscoelastic one under
+depth control, the contact's edge moving continuously between the elements) or DMT's (``evaluate_dmt``: the hard contact plus the
 attraction 2 pi w R of a rounded tip), so that the retract's dip below the baseline is data.
 
 The coordinates are those of :class:`~mdrvisc._fit_model.Problem` with the logarithm of the
@@ -19,7 +19,12 @@ from ._fit_model import Problem, medium_of
 from .contact import DMT, JKR, Hard
 from .errors import InvalidInputError
 from .geometry import Indenter, Paraboloid, Sphere
-from .media import Elastic
+from .media import Elastic, Prony, StandardSolid, _Medium
+
+#: Viscoelastic media a JKR fit of a depth-controlled curve takes (a relaxed modulus, no
+#: dashpot in parallel): the contact's edge follows the relaxed modulus, each element its own
+#: hereditary integral.
+VISCOELASTIC = (StandardSolid, Prony)
 
 #: Name of the work of adhesion among a fit's parameters (J/m^2).
 WORK_OF_ADHESION = "work_of_adhesion"
@@ -60,9 +65,11 @@ def check_contact(contact: object, model: object, control: str, indenter: Indent
         raise InvalidInputError(f"fit: DMT's attraction 2 pi w R needs a rounded tip (mv.Sphere, "
                                 f"mv.Paraboloid), got {indenter!r}")
     cls = model if isinstance(model, type) else type(model)
-    if cls is not Elastic:
-        raise InvalidInputError(f"fit: an adhesive fit (contact=mv.JKR(...)) takes an elastic medium "
-                                f"(mv.Elastic), got {cls.__name__}")
+    if cls is not Elastic and not (isinstance(contact, JKR) and contact.approach == "touch"
+                                   and cls in VISCOELASTIC and not raw):
+        raise InvalidInputError(f"fit: an adhesive fit takes an elastic medium (mv.Elastic), or with "
+                                f"mv.JKR(approach='touch') on a depth-controlled curve one of "
+                                f"{', '.join(c.__name__ for c in VISCOELASTIC)}; got {cls.__name__}")
     if control != "depth":
         raise InvalidInputError(f"fit: an adhesive fit is depth-controlled (or a raw AFM curve); "
                                 f"control={control!r}")
@@ -159,7 +166,7 @@ class AdhesiveProblem(Problem):
             return np.inf
         return float(np.sum((self.root_w * (values - measured)) ** 2))
 
-    def medium_at(self, x: np.ndarray) -> Elastic:
+    def medium_at(self, x: np.ndarray) -> _Medium:
         """The medium at coordinates ``x``."""
         values = dict(self.values0)
         values.update({name: float(np.exp(v)) for name, v in zip(self.medium_free, x)})

@@ -21,6 +21,7 @@
 //! the parameters, except at a pull-off, so finite differences give its derivatives.
 
 use super::{Control, Curve};
+use crate::model::medium::rheology::Rheology;
 use crate::support::error::{check_finite, check_positive, Error, Result};
 use std::f64::consts::PI;
 
@@ -290,6 +291,127 @@ impl Curve {
         check_positive("contact modulus E*", e_star)?;
         check_positive("attraction", attraction)?;
         self.evaluate_adhesive(e_star, Law::Dmt { attraction }, shift)
+    }
+
+    /// `evaluate_jkr` (touch approach, depth control) on a viscoelastic body of relaxation
+    /// modulus `medium` (shear; the contact modulus is 4 G(t)) with a relaxed modulus: the
+    /// edge lets go by Heß's rule with the relaxed contact modulus E*_inf, an elongation of the
+    /// edge that is geometric (g(a) - d), so the radius follows the elastic curve of E*_inf;
+    /// an element attached at t_x (when the indenter reached it) then carries
+    /// E*_inf (d - g) + sum_k E*_k integral_{t_x}^t exp(-(t - s) / tau_k) dd/ds ds, and the
+    /// force is twice the integral of that over 0 < x < a. The depth is linear between samples,
+    /// which the hereditary integrals take exactly; the curve must be one approach and one
+    /// retract (the radius rises, then falls).
+    pub fn evaluate_jkr_viscoelastic(
+        &self,
+        medium: &Rheology,
+        w: f64,
+        shift: f64,
+    ) -> Result<AdhesiveEvaluation> {
+        if medium.eta != 0.0 {
+            return Err(Error::InvalidInput(
+                "a viscoelastic adhesive curve takes a medium without a dashpot in parallel".into(),
+            ));
+        }
+        if !matches!(self.control, Control::Depth) {
+            return Err(Error::InvalidInput(
+                "a viscoelastic adhesive curve is depth-controlled".into(),
+            ));
+        }
+        let e_inf = 4.0 * medium.g_inf;
+        check_positive("relaxed contact modulus E*_inf", e_inf)?;
+        let mut out = self.evaluate_jkr(e_inf, w, shift, Approach::Touch)?;
+        let a = &out.contact_radius;
+        let top = (0..a.len()).fold(0, |m, i| if a[i] > a[m] { i } else { m });
+        if a[..=top].windows(2).any(|p| p[1] < p[0]) || a[top..].windows(2).any(|p| p[1] > p[0]) {
+            return Err(Error::InvalidInput(
+                "a viscoelastic adhesive curve is one approach and one retract: its contact radius must rise and then fall"
+                    .into(),
+            ));
+        }
+        let profile = Profile::new(&self.g, self.dx)?;
+        let t = &self.times;
+        let d = &out.depth;
+        // h_k(t_i) = integral_{t_0}^{t_i} exp(-(t_i - s) / tau_k) dd/ds ds, the depth linear
+        // between samples
+        let ramp = |tau: f64, h: f64, dt: f64, slope: f64| {
+            let decay = (-dt / tau).exp();
+            decay * h + slope * tau * (1.0 - decay)
+        };
+        let h: Vec<Vec<f64>> = medium
+            .terms
+            .iter()
+            .map(|&(_, tau)| {
+                let mut row = vec![0.0; t.len()];
+                for i in 1..t.len() {
+                    let dt = t[i] - t[i - 1];
+                    let slope = if dt > 0.0 {
+                        (d[i] - d[i - 1]) / dt
+                    } else {
+                        0.0
+                    };
+                    row[i] = ramp(tau, row[i - 1], dt, slope);
+                }
+                row
+            })
+            .collect();
+        // the attachment of the point x of the half profile: its time and h_k there (the first
+        // sample reaching it, the depth interpolated to where it meets g(x))
+        let attach = |x: f64| -> (f64, Vec<f64>) {
+            let j = a[..=top].partition_point(|&r| r < x).min(top);
+            if j == 0 {
+                return (t[0], vec![0.0; medium.terms.len()]);
+            }
+            let gx = profile.at(x).0;
+            let dt = t[j] - t[j - 1];
+            let rise = d[j] - d[j - 1];
+            let s = if rise > 0.0 {
+                ((gx - d[j - 1]) / rise).clamp(0.0, 1.0)
+            } else {
+                1.0
+            };
+            let slope = if dt > 0.0 { rise / dt } else { 0.0 };
+            let hk = medium
+                .terms
+                .iter()
+                .zip(&h)
+                .map(|(&(_, tau), row)| ramp(tau, row[j - 1], s * dt, slope))
+                .collect();
+            (t[j - 1] + s * dt, hk)
+        };
+        // attachments of the elements' midpoints, and of the covered part of a partial one
+        let attached: Vec<(f64, Vec<f64>)> = (0..)
+            .map(|m| (m as f64 + 0.5) * self.dx)
+            .take_while(|&x| x - 0.5 * self.dx < a[top])
+            .map(attach)
+            .collect();
+        for i in 0..t.len() {
+            let ai = a[i];
+            if ai <= 0.0 {
+                continue;
+            }
+            let mut viscous = 0.0;
+            for (k, &(g_k, tau)) in medium.terms.iter().enumerate() {
+                let mut integral = 0.0;
+                for (m, (tx, hx)) in attached.iter().enumerate() {
+                    let lo = m as f64 * self.dx;
+                    if lo >= ai {
+                        break;
+                    }
+                    let width = (ai - lo).min(self.dx);
+                    let (tx, hxk) = if width < self.dx {
+                        let (tp, hp) = attach(lo + 0.5 * width);
+                        (tp, hp[k])
+                    } else {
+                        (*tx, hx[k])
+                    };
+                    integral += width * (h[k][i] - (-(t[i] - tx) / tau).exp() * hxk);
+                }
+                viscous += 4.0 * g_k * integral;
+            }
+            out.values[i] += 2.0 * viscous;
+        }
+        Ok(out)
     }
 
     fn evaluate_adhesive(&self, e_star: f64, law: Law, shift: f64) -> Result<AdhesiveEvaluation> {
@@ -592,6 +714,70 @@ mod tests {
         let least = out.values.iter().copied().fold(0.0, f64::min);
         assert!((least / (-1.5 * PI * w * r) - 1.0).abs() < 1e-4, "{least}");
         assert_eq!(*out.values.last().unwrap(), 0.0);
+    }
+
+    /// A viscoelastic body on the approach: Lee and Radok's hereditary Hertz force for a
+    /// ramp d = v t on a standard solid, F(t) = (4/3) sqrt(R) integral_0^t E*(t - s)
+    /// d(d^(3/2))/ds ds with E*(t) = 4 (G_inf + G_1 exp(-t / tau)) (the integral by Simpson's
+    /// rule in u = sqrt(s)); on the retract the radius is the relaxed elastic curve's.
+    #[test]
+    fn a_viscoelastic_approach_is_lee_and_radoks() {
+        let (r, w) = (1.0, 0.001);
+        let (g_inf, g1, tau) = (0.25, 0.75, 0.3);
+        let medium = Rheology {
+            g_inf,
+            terms: vec![(g1, tau)],
+            eta: 0.0,
+        };
+        let (k, v, t_top) = (801, 0.04, 1.0);
+        let times: Vec<f64> = (0..k)
+            .map(|i| 2.0 * t_top * i as f64 / (k - 1) as f64)
+            .collect();
+        let values: Vec<f64> = times
+            .iter()
+            .map(|&t| {
+                if t <= t_top {
+                    v * t
+                } else {
+                    v * (2.0 * t_top - t) * 1.5 - 0.5 * v * t_top
+                }
+            })
+            .collect();
+        let curve = paraboloid(20000, 0.5, r, times.clone(), values, Control::Depth);
+        let out = curve.evaluate_jkr_viscoelastic(&medium, w, 0.0).unwrap();
+        let relaxed = curve
+            .evaluate_jkr(4.0 * g_inf, w, 0.0, Approach::Touch)
+            .unwrap();
+        let scale = 4.0 * (g_inf + g1) * (v * t_top).powf(1.5);
+        for i in (1..k).filter(|&i| times[i] <= t_top) {
+            let t = times[i];
+            let m = 400;
+            let h = t.sqrt() / m as f64;
+            let f = |u: f64| 3.0 * u * u * (-(t - u * u) / tau).exp();
+            let simpson: f64 = (0..=m)
+                .map(|j| {
+                    let weight = if j == 0 || j == m {
+                        1.0
+                    } else if j % 2 == 1 {
+                        4.0
+                    } else {
+                        2.0
+                    };
+                    weight * f(j as f64 * h)
+                })
+                .sum::<f64>()
+                * h
+                / 3.0;
+            let exact =
+                4.0 / 3.0 * r.sqrt() * v.powf(1.5) * 4.0 * (g_inf * t.powf(1.5) + g1 * simpson);
+            assert!(
+                (out.values[i] - exact).abs() < 2e-4 * scale,
+                "{i}: {} vs {exact}",
+                out.values[i]
+            );
+        }
+        assert_eq!(out.contact_radius, relaxed.contact_radius);
+        assert!(out.values.iter().any(|&f| f < 0.0));
     }
 
     /// DMT: Hertz less the attraction while the surfaces touch; through a spring the
