@@ -1,7 +1,8 @@
 """Fits with an adhesive contact law: the least-squares problem of a fit whose forward model is
 JKR contact by MDR (``_core.Curve.evaluate_jkr``: an elastic body, or a viscoelastic one under
-depth control, the contact's edge moving continuously between the elements) or DMT's (``evaluate_dmt``: the hard contact plus the
-attraction 2 pi w R of a rounded tip), so that the retract's dip below the baseline is data.
+depth control, the contact's edge moving continuously between the elements) or DMT's
+(``evaluate_dmt``: the hard contact plus the attraction 2 pi w R of a rounded tip), so that
+the retract's dip below the baseline is data.
 
 The coordinates are those of :class:`~mdrvisc._fit_model.Problem` with the logarithm of the
 work of adhesion after the medium's (unless it is held). The Jacobian is by finite

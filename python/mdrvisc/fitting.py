@@ -304,12 +304,15 @@ def fit(indenter: Indenter, model: _Medium | type, t: ArrayLike, *, depth: Array
         (the touch rule), stays at its largest radius on the retract until the edge's
         elongation reaches sqrt(2 pi a w / E*), then recedes in JKR equilibrium to the
         pull-off (depth control: JKR's unstable end; a raw curve: where the cantilever
-        snaps off). ``mv.DMT(work_of_adhesion=w)``: the hard contact plus the attraction
-        2 pi w R of a rounded tip (:class:`Sphere`, :class:`Paraboloid`) while the surfaces
-        touch; depth-controlled curves only (through a cantilever DMT's contact jumps in at
-        the touch, a jump of the force that moves with the contact point). An elastic medium
-        (:class:`Elastic`), depth control or a raw AFM curve; the result's ``forward`` is
-        "jkr" or "dmt". Default: hard contact (no adhesion).
+        snaps off); ``mv.JKR(..., approach="equilibrium")`` loads and unloads on the JKR
+        branch instead, jumping in at the touch. ``mv.DMT(work_of_adhesion=w)``: the hard
+        contact plus the attraction 2 pi w R of a rounded tip (:class:`Sphere`,
+        :class:`Paraboloid`) while the surfaces touch. An elastic medium (:class:`Elastic`),
+        depth control or a raw AFM curve (whose contact point also starts where the deflection
+        first falls below its baseline when the contact jumps in); JKR with the touch rule on a
+        depth-controlled curve also takes :class:`StandardSolid` and :class:`Prony` (the edge
+        lets go by the relaxed modulus, each element carries its hereditary integral); the
+        result's ``forward`` is "jkr" or "dmt". Default: hard contact (no adhesion).
     body : Layer, optional
         A :class:`~mdrvisc.Layer` of known thickness in place of the half-space (default
         None): the forward model is MDR on the layer (its flat-punch stiffness and exact
