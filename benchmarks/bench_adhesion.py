@@ -27,7 +27,8 @@ and retract (to -0.04 m) of the same sphere under Maugis–Dugdale at lambda = 2
 of 1.2 and 1.8 times the law's resolution limit (the element E* h0 / (1.12 sigma0)): the
 largest difference of the BEM force from JKR's closed form on its equilibrium branch (the
 curve MDR's equilibrium approach gives) at the depths both are in contact, the samples
-where one is in contact and the other not (the jumps of a zone of finite range), the least
+where one is in contact and the other not (the jumps of a zone of finite range), the
+largest change of the BEM force from the coarser grid (in the force's range), the least
 force against Maugis and JKR, and a fit by ``contact=mv.JKR(..., approach="equilibrium")`` at
 1 % noise (G and w relative errors).
 
@@ -229,6 +230,7 @@ def bem_jkr_rows(lambdas, refinements):
         stress = lam / 2.0 * (math.pi * w * k * k) ** (1.0 / 3.0)
         law = mv.MaugisDugdale(work_of_adhesion=w, stress=stress)
         finest = e_star * law.range / (1.12 * stress)
+        coarser = None
         for factor in refinements:
             n = 8 * math.ceil(factor * side / finest / 8)
             h, dx = sphere(n, side)
@@ -241,16 +243,19 @@ def bem_jkr_rows(lambdas, refinements):
                 except (mv.InvalidInputError, mv.ConvergenceError) as exc:
                     print(f"lambda = {lam:g}, n = {n}, tol = {tol:g}: {exc}")
             if force is None:
-                rows.append((lam, n, *([math.nan] * 7)))
+                rows.append((lam, n, *([math.nan] * 8)))
                 continue
             seconds = time.perf_counter() - t0
+            # the change from the coarser grid, in the force's range (NaN on the first)
+            moved = math.nan if coarser is None else float(np.max(np.abs(force - coarser)) / np.ptp(force))
+            coarser = force
             both = np.isfinite(reference) & (force != 0.0)
             jumps = int(np.sum(np.isfinite(reference) != (force != 0.0)))
             diff = np.max(np.abs(force[both] - reference[both])) / unit
             data = force + 0.01 * np.ptp(force) * np.random.default_rng(1).standard_normal(force.size)
             fit = mv.fit(mv.Paraboloid(c=0.5), mv.Elastic, t, depth=d, force=data,
                          contact=mv.JKR(work_of_adhesion=0.3 * w, approach="equilibrium"))
-            rows.append((lam, n, diff, jumps, -force.min() / unit, mv.analytic.maugis_pull_off(lam),
+            rows.append((lam, n, moved, diff, jumps, -force.min() / unit, mv.analytic.maugis_pull_off(lam),
                          fit.parameters["G"] / g - 1.0, fit.parameters["work_of_adhesion"] / w - 1.0,
                          seconds))
     return rows
@@ -272,9 +277,10 @@ def main(argv=None) -> None:
     args = parser.parse_args(argv)
     header("Maugis-Dugdale by BEM against JKR's equilibrium branch (units of pi w R), and fits by "
            "mv.JKR(approach='equilibrium') at 1 % noise")
-    table(["lambda", "n", "max |F - F_JKR|", "jump samples", "BEM least force", "Maugis",
-           "G rel. error", "w rel. error", "BEM s"], bem_jkr_rows(args.jkr_lambdas, args.jkr_refinements),
-          ["{:g}", "{}", "{:.4f}", "{}", "{:.4f}", "{:.4f}", "{:+.2e}", "{:+.2e}", "{:.1f}"])
+    table(["lambda", "n", "max |dF| vs coarser (range)", "max |F - F_JKR|", "jump samples",
+           "BEM least force", "Maugis", "G rel. error", "w rel. error", "BEM s"],
+          bem_jkr_rows(args.jkr_lambdas, args.jkr_refinements),
+          ["{:g}", "{}", "{:.2e}", "{:.4f}", "{}", "{:.4f}", "{:.4f}", "{:+.2e}", "{:+.2e}", "{:.1f}"])
     header("Maugis-Dugdale by BEM: sphere, pull-off against Maugis (units of pi w R)")
     table(["lambda", "n", "BEM", "Maugis", "rel. error", "zone width (dx)", "solves", "s"],
           md_rows(args.lambdas, args.bem_sizes),

@@ -171,8 +171,8 @@ def test_a_raw_afm_retract_gives_the_medium_the_work_of_adhesion_and_the_contact
 #: then 1.1 % above JKR's (``mv.analytic.maugis_pull_off``). The grid of 64 x 64 elements of
 #: 14 mm over 0.9 m holds the contact (radius 0.39 m at the deepest) and its zone, the element
 #: below the law's resolution limit E* h0 / (1.12 sigma0) = 17 mm; refined to 96 x 96 its
-#: forces move by at most 0.7 % of their range, 1.9 % at the last sample before the jump out
-#: (``benchmarks/bench_adhesion.py``).
+#: forces move by 1.9 % of their range at the last sample before the jump out
+#: (``benchmarks/bench_adhesion.py``) and by at most 0.7 % elsewhere.
 BEM_R, BEM_G, BEM_W, BEM_LAMBDA = 1.0, 1.0, 0.01, 3.0
 
 
