@@ -22,8 +22,19 @@ Fits: ``mv.fit(..., contact=mv.JKR(...))`` of a depth-controlled approach and re
 by JKR's closed form (sphere-like paraboloid R = 5 um, G = 1 kPa, w = 1 mJ/m^2, 1 % noise):
 wall time of the whole fit and the recovered G and w.
 
+BEM against MDR's JKR and fits of BEM curves: a depth-controlled approach (-0.02 to 0.08 m)
+and retract (to -0.04 m) of the same sphere under Maugis–Dugdale at lambda = 2, 3, 4 on grids
+of 1.2 and 1.8 times the law's resolution limit (the element E* h0 / (1.12 sigma0)): the
+largest difference of the BEM force from JKR's closed form on its equilibrium branch (the
+curve MDR's equilibrium approach gives) at the depths both are in contact, the samples
+where one is in contact and the other not (the jumps of a zone of finite range), the
+largest change of the BEM force from the coarser grid (in the force's range), the least
+force against Maugis and JKR, and a fit by ``contact=mv.JKR(..., approach="equilibrium")`` at
+1 % noise (G and w relative errors).
+
 Run: ``python benchmarks/bench_adhesion.py [--sizes 501 2001 8001 32001] [--repeats 5]
-[--bem-sizes 32 64 128] [--lambdas 0.3 1 3] [--adhesion-sizes 32] [--adhesion-path DIR]``.
+[--bem-sizes 32 64 128] [--lambdas 0.3 1 3] [--adhesion-sizes 32] [--adhesion-path DIR]
+[--jkr-lambdas 2 3 4] [--jkr-refinements 1.2 1.8]``.
 """
 
 from __future__ import annotations
@@ -189,6 +200,67 @@ def jkr_fit_rows(repeats: int):
     return rows
 
 
+def jkr_branch(d: np.ndarray, radius: float, e_star: float, w: float) -> np.ndarray:
+    """JKR's force (N) on its stable equilibrium branch at depths d (m) for a paraboloid of
+    radius ``radius``: F(a) = 4 E* a^3 / (3 R) - sqrt(8 pi w E* a^3) at the radius of
+    d = a^2 / R - sqrt(2 pi w a / E*) beyond the branch's unstable end; NaN where the branch
+    has no such radius (Johnson, Kendall & Roberts 1971)."""
+    a_end = (radius / 4.0 * math.sqrt(2.0 * math.pi * w / e_star)) ** (2.0 / 3.0)
+    grid = np.linspace(a_end, 3.0 * radius, 400001)
+    depth = grid**2 / radius - np.sqrt(2.0 * math.pi * w * grid / e_star)
+    force = 4.0 * e_star * grid**3 / (3.0 * radius) - np.sqrt(8.0 * math.pi * w * e_star * grid**3)
+    return np.where(d >= depth[0], np.interp(d, depth, force), np.nan)
+
+
+def bem_jkr_rows(lambdas, refinements):
+    """Maugis–Dugdale approach-retract curves by BEM against JKR's equilibrium branch, and
+    JKR fits of them (sphere R = 1 m, G = 1 Pa, w = 0.01 J/m^2, grid side 0.9 m)."""
+    w, g, side = 0.01, 1.0, 0.9
+    e_star = 4.0 * g
+    k = 4.0 * e_star / 3.0
+    unit = math.pi * w
+    d = np.concatenate([np.linspace(-0.02, 0.08, 21), np.linspace(0.08, -0.04, 49)[1:]])
+    top = int(np.argmax(d))
+    reference = jkr_branch(d, 1.0, e_star, w)
+    # before the touch and past the branch's end JKR's contact is open
+    reference[:top][d[:top] < 0.0] = np.nan
+    t = np.linspace(0.0, 2.0, d.size)
+    rows = []
+    for lam in lambdas:
+        stress = lam / 2.0 * (math.pi * w * k * k) ** (1.0 / 3.0)
+        law = mv.MaugisDugdale(work_of_adhesion=w, stress=stress)
+        finest = e_star * law.range / (1.12 * stress)
+        coarser = None
+        for factor in refinements:
+            n = 8 * math.ceil(factor * side / finest / 8)
+            h, dx = sphere(n, side)
+            t0 = time.perf_counter()
+            force = None
+            for tol in (1e-8, 1e-6):  # the looser one where the sweeps stall at the tighter
+                try:
+                    force = mv.arrays.adhesive_curve(h, dx, g, law, d, tol=tol)["force"]
+                    break
+                except (mv.InvalidInputError, mv.ConvergenceError) as exc:
+                    print(f"lambda = {lam:g}, n = {n}, tol = {tol:g}: {exc}")
+            if force is None:
+                rows.append((lam, n, *([math.nan] * 8)))
+                continue
+            seconds = time.perf_counter() - t0
+            # the change from the coarser grid, in the force's range (NaN on the first)
+            moved = math.nan if coarser is None else float(np.max(np.abs(force - coarser)) / np.ptp(force))
+            coarser = force
+            both = np.isfinite(reference) & (force != 0.0)
+            jumps = int(np.sum(np.isfinite(reference) != (force != 0.0)))
+            diff = np.max(np.abs(force[both] - reference[both])) / unit
+            data = force + 0.01 * np.ptp(force) * np.random.default_rng(1).standard_normal(force.size)
+            fit = mv.fit(mv.Paraboloid(c=0.5), mv.Elastic, t, depth=d, force=data,
+                         contact=mv.JKR(work_of_adhesion=0.3 * w, approach="equilibrium"))
+            rows.append((lam, n, moved, diff, jumps, -force.min() / unit, mv.analytic.maugis_pull_off(lam),
+                         fit.parameters["G"] / g - 1.0, fit.parameters["work_of_adhesion"] / w - 1.0,
+                         seconds))
+    return rows
+
+
 def main(argv=None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--sizes", type=int, nargs="+", default=[501, 2001, 8001, 32001])
@@ -199,7 +271,16 @@ def main(argv=None) -> None:
                         help="grids on which the Adhesion package runs too (it is slow)")
     parser.add_argument("--adhesion-path", default=None,
                         help="site-packages holding the Adhesion package (optional)")
+    parser.add_argument("--jkr-lambdas", type=float, nargs="+", default=[2.0, 3.0, 4.0])
+    parser.add_argument("--jkr-refinements", type=float, nargs="+", default=[1.2, 1.8],
+                        help="grids as multiples of the elements the law's resolution limit needs")
     args = parser.parse_args(argv)
+    header("Maugis-Dugdale by BEM against JKR's equilibrium branch (units of pi w R), and fits by "
+           "mv.JKR(approach='equilibrium') at 1 % noise")
+    table(["lambda", "n", "max |dF| vs coarser (range)", "max |F - F_JKR|", "jump samples",
+           "BEM least force", "Maugis", "G rel. error", "w rel. error", "BEM s"],
+          bem_jkr_rows(args.jkr_lambdas, args.jkr_refinements),
+          ["{:g}", "{}", "{:.2e}", "{:.4f}", "{}", "{:.4f}", "{:.4f}", "{:+.2e}", "{:+.2e}", "{:.1f}"])
     header("Maugis-Dugdale by BEM: sphere, pull-off against Maugis (units of pi w R)")
     table(["lambda", "n", "BEM", "Maugis", "rel. error", "zone width (dx)", "solves", "s"],
           md_rows(args.lambdas, args.bem_sizes),

@@ -21,7 +21,9 @@ from .media import _Medium
 #: The 1D profile reaches this factor times the largest contact radius of the data (depth
 #: control) or of the measured depths (force control, and raw AFM curves at the first guess
 #: of the contact point: the model's depths may exceed them while the fit searches).
-MARGIN = {"depth": 1.1, "force": 1.5}
+#: A JKR contact loaded in equilibrium ("adhesive") outgrows the hard contact of its depth (by
+#: 1.4 times at a depth of 2.5 times JKR's at zero load).
+MARGIN = {"depth": 1.1, "force": 1.5, "adhesive": 2.5}
 
 #: Samples the initial estimate uses at most (evenly spread over the data).
 ESTIMATE_SAMPLES = 200

@@ -3,7 +3,7 @@
 ADDRESS] [--store DIR] [--json] [--out FILE]`` and ``mdrvisc fit DATA.csv|FILE.jpk-force
 --indenter sphere:radius=5e-6 --model standardsolid [--control depth] [--spring-constant K]
 [--curve N] [--segments approach,...] [--contact-point Z] [--baseline B]
-[--baseline-model offset|tilt] [--guess KEY=VALUE,...] [--contact hard|jkr:W|dmt:W]
+[--baseline-model offset|tilt] [--guess KEY=VALUE,...] [--contact hard|jkr:W[:equilibrium]|dmt:W]
 [--fix NAME,...] [--out FIT.csv] [--json]`` (also ``python -m mdrvisc ...``).
 
 Results go to stdout (tables, or one JSON document with ``--json``), progress and warnings
@@ -143,11 +143,11 @@ def _parser():
     fitting.add_argument("--fix", default="", metavar="NAME,...",
                          help="parameters held at their guess, e.g. contact_point, baseline, or a "
                               "medium's (those need --guess)")
-    fitting.add_argument("--contact", default="hard", metavar="hard|jkr:W|dmt:W",
+    fitting.add_argument("--contact", default="hard", metavar="hard|jkr:W[:equilibrium]|dmt:W",
                          help="contact law: hard (default), or jkr:W or dmt:W, adhesion fitted from the "
                               "initial work of adhesion W (J/m^2; --fix work_of_adhesion holds it): the "
-                              "retract's dip below the baseline is data (an elastic model; DMT: depth "
-                              "and force columns)")
+                              "retract's dip below the baseline is data (an elastic model); "
+                              "jkr:W:equilibrium loads JKR in equilibrium, jumping in at the touch")
     fitting.add_argument("--terms", type=int, default=2, help="Prony terms (--model prony)")
     fitting.add_argument("--substeps", type=int, default=1, help="time steps per sample interval")
     fitting.add_argument("--out", metavar="FILE.csv", default=None,
@@ -317,21 +317,25 @@ def _curve(args):
 
 
 def _contact(text: str):
-    """The contact law of ``--contact``: "hard", "jkr:W" or "dmt:W" (W the work of adhesion,
+    """The contact law of ``--contact``: "hard", "jkr:W", "jkr:W:equilibrium" (loaded in
+    equilibrium, ``mv.JKR(approach="equilibrium")``) or "dmt:W" (W the work of adhesion,
     J/m^2)."""
     kind, _, value = text.partition(":")
+    value, _, approach = value.partition(":")
     kind = kind.strip().lower()
     if kind == "hard" and not value:
         return contact.Hard()
-    if kind in ("jkr", "dmt"):
+    if (kind == "jkr" and approach in ("", "equilibrium")) or (kind == "dmt" and not approach):
         try:
             w = float(value)
         except ValueError:
             pass
         else:
-            return (contact.JKR if kind == "jkr" else contact.DMT)(work_of_adhesion=w)
-    raise InvalidInputError(f"--contact: {text!r} is not hard, jkr:W or dmt:W (W the work of adhesion "
-                            f"in J/m^2)")
+            if kind == "dmt":
+                return contact.DMT(work_of_adhesion=w)
+            return contact.JKR(work_of_adhesion=w, approach=approach or "touch")
+    raise InvalidInputError(f"--contact: {text!r} is not hard, jkr:W, jkr:W:equilibrium or dmt:W (W the "
+                            f"work of adhesion in J/m^2)")
 
 
 def _fit(args):

@@ -52,15 +52,33 @@ class JKR(ContactLaw):
     paraboloid of radius R lets go at -3/2 pi w R under force control and -5/6 pi w R under
     depth control; a flat punch of radius a at -sqrt(8 pi a^3 w E*) (Kendall 1971). A
     viscoelastic body needs a relaxed modulus (G_inf > 0); its pull-off grows with the
-    retract rate up to G_0 / G_inf times the relaxed one."""
+    retract rate up to G_0 / G_inf times the relaxed one.
+
+    ``approach`` says how the contact grows on an approach: ``"touch"`` (the default) as a
+    hard contact (Hertz on a paraboloid), the contact then held at its largest radius on the
+    retract until its edge lets go; ``"equilibrium"`` on the JKR branch, jumping in at the
+    touch (loading and unloading retrace each other: the zero-range limit of a cohesive zone,
+    what boundary elements with a Maugis–Dugdale law of large transition parameter give).
+    Fits (:func:`~mdrvisc.fit`) take both; scenes step the touch rule.
+
+    >>> import mdrvisc as mv
+    >>> mv.JKR(work_of_adhesion=0.05, approach="equilibrium").approach
+    'equilibrium'
+    """
 
     work_of_adhesion: float
+    approach: str = "touch"
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "work_of_adhesion",
                            _positive("JKR", "work_of_adhesion", self.work_of_adhesion))
+        if self.approach not in ("touch", "equilibrium"):
+            raise InvalidInputError(f"JKR: approach must be 'touch' or 'equilibrium', got {self.approach!r}")
 
     def _model(self):
+        if self.approach != "touch":
+            raise InvalidInputError("JKR: scenes grow a JKR contact by the touch rule; "
+                                    "approach='equilibrium' is for fits (mv.fit(..., contact=...))")
         return {"type": "jkr", "work_of_adhesion": self.work_of_adhesion}
 
 

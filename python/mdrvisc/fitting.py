@@ -25,7 +25,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ._afm_raw import BASELINE_SAMPLES, BASELINES, RAW_NAMES, AfmCurve, raw_input
-from ._fit_adhesion import WORK_OF_ADHESION, AdhesiveProblem, check_contact, tip_radius
+from ._fit_adhesion import WORK_OF_ADHESION, AdhesiveProblem, check_contact, reach_margin, tip_radius
 from ._fit_checks import array, check_times, covariance, identifiability
 from ._fit_model import Problem, curves, moduli, parameters
 from ._guesses import estimate
@@ -304,12 +304,15 @@ def fit(indenter: Indenter, model: _Medium | type, t: ArrayLike, *, depth: Array
         (the touch rule), stays at its largest radius on the retract until the edge's
         elongation reaches sqrt(2 pi a w / E*), then recedes in JKR equilibrium to the
         pull-off (depth control: JKR's unstable end; a raw curve: where the cantilever
-        snaps off). ``mv.DMT(work_of_adhesion=w)``: the hard contact plus the attraction
-        2 pi w R of a rounded tip (:class:`Sphere`, :class:`Paraboloid`) while the surfaces
-        touch; depth-controlled curves only (through a cantilever DMT's contact jumps in at
-        the touch, a jump of the force that moves with the contact point). An elastic medium
-        (:class:`Elastic`), depth control or a raw AFM curve; the result's ``forward`` is
-        "jkr" or "dmt". Default: hard contact (no adhesion).
+        snaps off); ``mv.JKR(..., approach="equilibrium")`` loads and unloads on the JKR
+        branch instead, jumping in at the touch. ``mv.DMT(work_of_adhesion=w)``: the hard
+        contact plus the attraction 2 pi w R of a rounded tip (:class:`Sphere`,
+        :class:`Paraboloid`) while the surfaces touch. An elastic medium (:class:`Elastic`),
+        depth control or a raw AFM curve (whose contact point also starts where the deflection
+        first falls below its baseline when the contact jumps in); JKR with the touch rule on a
+        depth-controlled curve also takes :class:`StandardSolid` and :class:`Prony` (the edge
+        lets go by the relaxed modulus, each element carries its hereditary integral); the
+        result's ``forward`` is "jkr" or "dmt". Default: hard contact (no adhesion).
     body : Layer, optional
         A :class:`~mdrvisc.Layer` of known thickness in place of the half-space (default
         None): the forward model is MDR on the layer (its flat-punch stiffness and exact
@@ -393,7 +396,7 @@ def fit(indenter: Indenter, model: _Medium | type, t: ArrayLike, *, depth: Array
         fixed = tuple(name for name in fixed if name != WORK_OF_ADHESION)
     problem, data, scale = _problem(indenter, model, t, depth, force, piezo, deflection, spring_constant,
                                     contact_point, baseline, control, weights, fixed, nu, terms, n, substeps,
-                                    baseline_model, body)
+                                    baseline_model, body, reach_margin(law))
     if law is not None:
         problem = AdhesiveProblem(problem, law, held_law, tip_radius(indenter))
     # residuals below this are round-off of the forward model's sums (noise-free data that
@@ -408,9 +411,10 @@ def fit(indenter: Indenter, model: _Medium | type, t: ArrayLike, *, depth: Array
 
 def _problem(indenter, model, t, depth, force, piezo, deflection, spring_constant, contact_point, baseline,
              control, weights, fixed, nu, terms, n, substeps,
-             baseline_model="offset", body=None) -> tuple[Problem, _Data, float]:
+             baseline_model="offset", body=None, margin=None) -> tuple[Problem, _Data, float]:
     """The least-squares problem of :func:`fit`'s arguments (checked), its data and the
-    scale its residuals were divided by (the largest measurement)."""
+    scale its residuals were divided by (the largest measurement); ``margin`` a key of
+    :data:`~mdrvisc._fit_model.MARGIN` in place of the control's."""
     if control not in ("depth", "force"):
         raise InvalidInputError(f'fit: control must be "depth" or "force", got {control!r}')
     if not isinstance(indenter, Indenter):
@@ -437,7 +441,7 @@ def _problem(indenter, model, t, depth, force, piezo, deflection, spring_constan
     raw, t, w = data.raw, data.t, data.weights
     curve, (estimate_curve, some) = curves(
         indenter, t, data.depth, data.prescribed, "spring" if raw is not None else control,
-        "force" if raw is not None else control, n, substeps, raw.k if raw is not None else None,
+        margin or ("force" if raw is not None else control), n, substeps, raw.k if raw is not None else None,
         layer=body, nu=nu)
     if guess is None:
         span = float(t[-1])

@@ -5,7 +5,8 @@
 
 use super::convert::slice1;
 use super::monitor::{to_pyerr, PyMonitor};
-use crate::mdr::curve::{AdhesiveEvaluation, Control, Curve, Forward};
+use crate::mdr::curve::{AdhesiveEvaluation, Approach, Control, Curve, Forward};
+use crate::model::medium::rheology::Rheology;
 use crate::model::Medium;
 use crate::support::error::Error;
 use numpy::{IntoPyArray, PyArray1, PyArray2, PyReadonlyArray1};
@@ -148,18 +149,47 @@ impl PyCurve {
     /// JKR contact (work of adhesion `work_of_adhesion`, J/m^2) of an elastic medium (JSON of a
     /// scene's medium table) by MDR with a continuous contact edge, depth or spring control:
     /// the force (N), contact radius (m), depth (m) and elements of the half profile in
-    /// contact at the samples, every prescribed depth or drive moved by `shift` (m).
-    #[pyo3(signature = (medium, work_of_adhesion, shift=0.0))]
+    /// contact at the samples, every prescribed depth or drive moved by `shift` (m); the edge
+    /// advances on the approach by `approach`: "touch" (a hard contact's growth) or
+    /// "equilibrium" (the JKR branch, jumping in at the touch). A viscoelastic medium (a
+    /// relaxed modulus, no dashpot; depth control, touch approach) lets go by the relaxed
+    /// modulus, each element carrying its hereditary integral since it attached.
+    #[pyo3(signature = (medium, work_of_adhesion, shift=0.0, approach="touch"))]
     fn evaluate_jkr<'py>(
         &self,
         py: Python<'py>,
         medium: String,
         work_of_adhesion: f64,
         shift: f64,
+        approach: &str,
     ) -> PyResult<AdhesiveEvaluated<'py>> {
+        let approach = match approach {
+            "touch" => Approach::Touch,
+            "equilibrium" => Approach::Equilibrium,
+            other => {
+                return Err(to_pyerr(
+                    py,
+                    Error::InvalidInput(format!(
+                        "approach must be \"touch\" or \"equilibrium\", got {other:?}"
+                    )),
+                ))
+            }
+        };
         let e = self
-            .contact_modulus(&medium)
-            .and_then(|e_star| self.inner.evaluate_jkr(e_star, work_of_adhesion, shift))
+            .rheology(&medium)
+            .and_then(|r| {
+                if r.terms.is_empty() && r.eta == 0.0 {
+                    self.inner
+                        .evaluate_jkr(4.0 * r.g_inf, work_of_adhesion, shift, approach)
+                } else if approach == Approach::Touch {
+                    self.inner
+                        .evaluate_jkr_viscoelastic(&r, work_of_adhesion, shift)
+                } else {
+                    Err(Error::InvalidInput(
+                        "a viscoelastic adhesive curve grows its contact by the touch rule".into(),
+                    ))
+                }
+            })
             .map_err(|e| to_pyerr(py, e))?;
         Ok(adhesive_arrays(py, e))
     }
@@ -183,13 +213,19 @@ impl PyCurve {
 }
 
 impl PyCurve {
-    /// The contact modulus E* (Pa) of an elastic medium (JSON of a scene's medium table).
-    fn contact_modulus(&self, medium: &str) -> crate::Result<f64> {
+    /// The relaxation modulus of a medium (JSON of a scene's medium table) over the curve's
+    /// times.
+    fn rheology(&self, medium: &str) -> crate::Result<Rheology> {
         let (t_lo, t_hi) = self.inner.time_range();
         let m: Medium = serde_json::from_str(medium)
             .map_err(|e| Error::InvalidInput(format!("medium: {e}")))?;
         m.validate()?;
-        let (r, _) = m.rheology_tangents_of(&[], t_lo, t_hi)?;
+        Ok(m.rheology_tangents_of(&[], t_lo, t_hi)?.0)
+    }
+
+    /// The contact modulus E* (Pa) of an elastic medium (JSON of a scene's medium table).
+    fn contact_modulus(&self, medium: &str) -> crate::Result<f64> {
+        let r = self.rheology(medium)?;
         if !r.terms.is_empty() || r.eta != 0.0 {
             return Err(Error::InvalidInput(
                 "an adhesive curve is computed for an elastic medium".into(),

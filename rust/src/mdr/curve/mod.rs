@@ -16,7 +16,7 @@ use crate::model::settings::MAX_STEPS;
 use crate::support::error::{check_finite, check_positive, Error, Result};
 use crate::support::monitor::Stop;
 
-pub use adhesive::AdhesiveEvaluation;
+pub use adhesive::{AdhesiveEvaluation, Approach};
 
 mod adhesive;
 mod balance;
