@@ -9,12 +9,13 @@ them (``pyfmrheo.models.bec``): Dimitriadis et al., Biophys. J. 82 (2002), bonde
 bonded; Garcia & Garcia, Biophys. J. 114 (2018), paraboloid and flat punch (bonded). Each
 entry is the correction's relative error against the layer's factor.
 
-Cost: the wall time of one elastic sphere solve on a free layer against the half-space at
-the same n (the layer's first solve builds its correction table, once per Poisson ratio
-and base in the process: timed apart; a layer is solved on the whole grid, the half-space
-on a window around the contact), and the iterations and wall time of a periodic cell's
-solve on a layer against the periodic half-space (the same operator cost per iteration: one
-FFT pair and a spectrum product).
+Cost (``--cost``): the CPU time of the process (all threads) of a sphere under a force on
+a free layer against the half-space at the same n, elastic (one static solve) and viscous
+(implicit steps), both on windows around the contact (the layer's widened by the most its
+surface can rise), with their iterations and last windows; the layer's first solve builds
+its correction table, once per Poisson ratio and base in the process: timed apart. Then the
+iterations and CPU time of a periodic cell's solve on a layer against the periodic
+half-space (the same operator cost per iteration: one FFT pair and a spectrum product).
 
 MDR on a layer against BEM (``--mdr``): a paraboloid (R = 1) and a cone (slope 1) on
 layers of both bases, nu = 0.3 and 0.5, under forces that give contact radii of about chi
@@ -23,7 +24,7 @@ own half-space (so that each one's discretisation cancels), and the relative dif
 the two factors, at two BEM grids to show BEM's share.
 
 Run: ``python benchmarks/bench_layer.py [--n 129] [--chi 0.1 0.2 0.3 0.5 0.7 1.0]
-[--mdr [--mdr-chi 0.1 0.3 1 3]]``.
+[--mdr [--mdr-chi 0.1 0.3 1 3]] [--cost]``.
 """
 
 from __future__ import annotations
@@ -100,7 +101,8 @@ def cost(n: int) -> None:
             for chi in (0.3, 1.0):
                 times, results = [], []
                 for body in (None, mv.Layer(1.0)):
-                    scene = mv.Scene(indenter=sphere, medium=medium, body=body, force=16 / 3 * chi**3, **timing)
+                    scene = mv.Scene(indenter=sphere, medium=medium, body=body, force=16 / 3 * chi**3,
+                                     **timing)
                     seconds, result = timed(scene, n)
                     times.append(seconds)
                     results.append(result)
