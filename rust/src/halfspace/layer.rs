@@ -337,7 +337,7 @@ pub struct FreeLayerOperator {
     table: KernelTable,
     layer: Layer,
     nu: f64,
-    inverse: Option<LayerInverse>,
+    inverse: Option<Box<LayerInverse>>,
 }
 
 impl FreeLayerOperator {
@@ -416,7 +416,7 @@ impl SurfaceOperator for FreeLayerOperator {
     fn precondition(&mut self, g: &[f64], z: &mut [f64]) {
         let (nx, ny, dx, layer, nu) = (self.nx(), self.ny(), self.dx(), self.layer, self.nu);
         self.inverse
-            .get_or_insert_with(|| LayerInverse::new(nx, ny, dx, layer, nu))
+            .get_or_insert_with(|| Box::new(LayerInverse::new(nx, ny, dx, layer, nu)))
             .apply(g, z);
     }
 }
