@@ -9,12 +9,13 @@ them (``pyfmrheo.models.bec``): Dimitriadis et al., Biophys. J. 82 (2002), bonde
 bonded; Garcia & Garcia, Biophys. J. 114 (2018), paraboloid and flat punch (bonded). Each
 entry is the correction's relative error against the layer's factor.
 
-Cost: the wall time of one elastic sphere solve on a free layer against the half-space at
-the same n (the layer's first solve builds its correction table, once per Poisson ratio
-and base in the process: timed apart; a layer is solved on the whole grid, the half-space
-on a window around the contact), and the iterations and wall time of a periodic cell's
-solve on a layer against the periodic half-space (the same operator cost per iteration: one
-FFT pair and a spectrum product).
+Cost (``--cost``): the CPU time of the process (all threads) of a sphere under a force on
+a free layer against the half-space at the same n, elastic (one static solve) and viscous
+(implicit steps), both on windows around the contact (the layer's widened by the most its
+surface can rise), with their iterations and last windows; the layer's first solve builds
+its correction table, once per Poisson ratio and base in the process: timed apart. Then the
+iterations and CPU time of a periodic cell's solve on a layer against the periodic
+half-space (the same operator cost per iteration: one FFT pair and a spectrum product).
 
 MDR on a layer against BEM (``--mdr``): a paraboloid (R = 1) and a cone (slope 1) on
 layers of both bases, nu = 0.3 and 0.5, under forces that give contact radii of about chi
@@ -23,7 +24,7 @@ own half-space (so that each one's discretisation cancels), and the relative dif
 the two factors, at two BEM grids to show BEM's share.
 
 Run: ``python benchmarks/bench_layer.py [--n 129] [--chi 0.1 0.2 0.3 0.5 0.7 1.0]
-[--mdr [--mdr-chi 0.1 0.3 1 3]]``.
+[--mdr [--mdr-chi 0.1 0.3 1 3]] [--cost]``.
 """
 
 from __future__ import annotations
@@ -71,31 +72,56 @@ def factor(tip: str, base: str, chi: float, n: int) -> tuple[float, float, float
     return chi_layer, (half / layer) ** k, wall[False], wall[True]
 
 
+def timed(scene: mv.Scene, n: int | None) -> tuple[float, mv.Result]:
+    """CPU time (s, all threads of the process) of one BEM solve of `scene` at n, and its result."""
+    start = time.process_time()
+    result = mv.solve(scene, "bem", n)
+    return time.process_time() - start, result
+
+
 def cost(n: int) -> None:
-    """Times of a free sphere solve and of a periodic cell's iterations, layer and half-space."""
+    """CPU times of free solves (layer against half-space, force and depth control) and of a
+    periodic cell's iterations, layer and half-space."""
     sphere = mv.Sphere(radius=1.0)
-    for base in ("bonded",):
-        start = time.perf_counter()
-        mv.solve(mv.Scene(indenter=sphere, medium=mv.Elastic(G=1.0, nu=0.3), force=0.1,
-                          body=mv.Layer(1.0, base)), "bem", n)
-        print(f"first free layer solve (nu = 0.3, {base}; builds the correction table): "
-              f"{time.perf_counter() - start:.2f} s")
-    print(f"\nfree grid, n = {n}: wall time (s) of one elastic sphere solve")
-    for chi in (0.3, 1.0):
-        _, _, layer, half = factor("sphere", "bonded", chi, n)
-        print(f"  chi {chi}: half-space {half:.3f}, layer {layer:.3f}, ratio {layer / half:.2f}")
+    for nu in (0.3, 0.5):
+        start = time.process_time()
+        mv.solve(mv.Scene(indenter=sphere, medium=mv.Elastic(G=1.0, nu=nu), force=0.1,
+                          body=mv.Layer(1.0)), "bem", 33)
+        print(f"correction table (nu = {nu}, bonded; once per process): "
+              f"{time.process_time() - start:.2f} s CPU")
+    print(f"\nfree grid, n = {n}: CPU time (s) of a sphere (R = h = 1) under a force on an elastic "
+          "medium (G = 1, one static solve) and a viscous one (eta = 1, a constant force for 1 s, "
+          "20 implicit steps), Polonsky–Keer iterations and the window (elements) of the last solve")
+    print(f"{'nu':>4s} {'medium':>8s} {'chi':>4s} {'half-space':>10s} {'layer':>8s} {'ratio':>6s}"
+          f" {'its half':>8s} {'its layer':>9s} {'window half':>11s} {'window layer':>12s}")
+    for nu in (0.3, 0.5):
+        for kind in ("elastic", "viscous"):
+            medium = mv.Elastic(G=1.0, nu=nu) if kind == "elastic" else mv.Viscous(eta=1.0, nu=nu)
+            timing = {} if kind == "elastic" else {"duration": 1.0, "times": np.linspace(0.05, 1.0, 20)}
+            for chi in (0.3, 1.0):
+                times, results = [], []
+                for body in (None, mv.Layer(1.0)):
+                    scene = mv.Scene(indenter=sphere, medium=medium, body=body, force=16 / 3 * chi**3,
+                                     **timing)
+                    seconds, result = timed(scene, n)
+                    times.append(seconds)
+                    results.append(result)
+                windows = [f"{r.window[2]}x{r.window[3]}" if r.window else "-" for r in results]
+                print(f"{nu:4.1f} {kind:>8s} {chi:4.1f} {times[0]:10.3f} {times[1]:8.3f} "
+                      f"{times[1] / times[0]:6.2f} {results[0].iterations:8d} {results[1].iterations:9d}"
+                      f" {windows[0]:>11s} {windows[1]:>12s}", flush=True)
     size = 256
     dx = 1.0 / size
     x = (np.arange(size) - size // 2 + 0.5) * dx
     heights = np.tile(0.01 * np.cos(2 * np.pi * x), (4, 1))
     print(f"\nperiodic cell {size} x 4 (wavy surface, half of full contact): Polonsky–Keer iterations "
-          "(all levels) and wall time of the solve")
+          "(all levels) and CPU time of the solve")
     for body in (None, mv.Layer(0.05), mv.Layer(0.05, "frictionless")):
         scene = mv.Scene(indenter=mv.HeightMap(heights, dx, periodic=True), medium=mv.Elastic(G=1.0),
                          force=0.5 * np.pi * 4 * 0.01 * heights.size * dx * dx, body=body)
-        result = mv.solve(scene, "bem")
+        seconds, result = timed(scene, None)
         print(f"  {'half-space' if body is None else f'layer h = 0.05, {body.base}':32s}"
-              f" {int(result.iterations):4d} iterations, {result.wall_time * 1e3:8.1f} ms")
+              f" {int(result.iterations):4d} iterations, {seconds * 1e3:8.1f} ms CPU")
 
 
 def mdr_factor(tip: str, base: str, nu: float, chi: float, method: str, n: int) -> tuple[float, float]:
@@ -140,8 +166,12 @@ def main() -> None:
     parser.add_argument("--chi", type=float, nargs="+", default=[0.1, 0.2, 0.3, 0.5, 0.7, 1.0])
     parser.add_argument("--mdr", action="store_true", help="MDR on a layer against BEM only")
     parser.add_argument("--mdr-chi", type=float, nargs="+", default=[0.1, 0.3, 1.0, 3.0])
+    parser.add_argument("--cost", action="store_true", help="the cost of a layer against a half-space only")
     args = parser.parse_args()
     print(__doc__.splitlines()[0])
+    if args.cost:
+        cost(args.n)
+        return
     if args.mdr:
         mdr_against_bem(args.n, args.mdr_chi)
         return

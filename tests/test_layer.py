@@ -156,3 +156,35 @@ def test_bad_layers_are_refused():
         mv.Layer(1.0, "glued")
     with pytest.raises(InvalidInputError, match="body"):
         _scene("layer")
+
+
+def test_depth_control_sizes_the_grid_from_the_layers_contact():
+    """A paraboloid (R = 1) pressed 0.04 deep into a thin bonded incompressible layer of a
+    standard solid. The layer's surface bulges around the indenter, so its contact is wider
+    than the half-space's at the same depth, beyond the 1.2 sqrt(R d) that a grid sized
+    for the half-space reaches (which failed with "the contact reached the edge of the
+    grid"); the grid is sized from the layer's contact radius instead. Under depth control
+    the contact at the deepest point is the elastic layer's at that depth, whatever the
+    relaxation. h = 0.05 (a / h = 7): BEM's contact radius and force agree with MDR on the
+    layer, an independent method, to 2 % and 0.5 %. h = 0.005 (a / h = 80, beyond MDR's
+    table): the contact radius tends to the squeeze film's 2 sqrt(R d) (an incompressible
+    film whose pressure leaves the contact with zero slope), sqrt(2) times the indenter's
+    intersection with the undeformed surface: within 3 %, the film's error being of order
+    h / a."""
+    depth = 0.04
+    hertz, film = np.sqrt(depth), 2 * np.sqrt(depth)
+
+    def scene(h):
+        return mv.Scene(indenter=mv.Paraboloid(c=0.5),
+                        medium=mv.StandardSolid(G_inf=1.0, G1=1.0, tau1=1.0, nu=0.5),
+                        depth=([0.0, 1.0], [0.0, depth]), duration=1.0, times=[1.0], body=mv.Layer(h))
+
+    bem = mv.solve(scene(0.05), "bem", 65, dt=0.5)
+    mdr = mv.solve(scene(0.05), "mdr", 2001, dt=0.5)
+    radius = np.sqrt(bem.area[-1] / np.pi)
+    assert not bem.at_edge[-1] and radius > 1.2 * hertz
+    assert abs(radius / (0.5 * mdr.contact_length[-1]) - 1) < 0.02
+    assert abs(bem.force[-1] / mdr.force[-1] - 1) < 0.005
+    thin = mv.solve(scene(0.005), "bem", 65, dt=0.5)
+    radius = np.sqrt(thin.area[-1] / np.pi)
+    assert not thin.at_edge[-1] and abs(radius / film - 1) < 0.03

@@ -5,7 +5,11 @@
 //! contact, and under force control so does the window around {h + u_low <= bound} for any
 //! bound above the depth (e.g. from MDR), u_low a lower bound of the deflection under the
 //! force (`Window::around_contact`). The windowed solution is then the full grid's, exactly.
-//! A bound the solve exceeds is widened and the solve repeated.
+//! A bound the solve exceeds is widened and the solve repeated. On a free layer the surface
+//! may rise around the contact, by at most F / dx^2 times the body's least coefficient
+//! (`Body::least_coefficient`): the windows widen to {h - rise <= bound}; under depth control
+//! the force is known after the solve, and a window that did not hold {h - rise(F) <= d} is
+//! widened and the solve repeated.
 //!
 //! A body without windows (a periodic cell, `Body::windows`) is solved whole by
 //! [`solve_whole`]. Either is started from the solution on the grid coarsened twice and again
@@ -136,17 +140,26 @@ pub fn solve_from(
     let (h, allowed) = (&grid.height, &grid.allowed);
     let (mut h_w, mut allowed_w) = (vec![], vec![]);
     let mut plans = FftPlans::default();
+    // the most the surface can rise under a force (m; 0 on a half-space), and under depth
+    // control the rise the window allows for, checked against the solved force
+    let least = grid.body.least_coefficient(grid.dx);
+    let rise = |force: f64| -compliance * force * least / (grid.dx * grid.dx);
+    let mut allowance = match target {
+        Target::Force(f) => rise(f),
+        Target::Depth(_) => 0.0,
+    };
     loop {
+        let can = |i: usize, b: f64| allowed[i] && h[i] - allowance <= b;
         let (window, table) = match bound {
-            Some(b) if (0..n).any(|i| allowed[i] && h[i] <= b) => {
-                let outer = Window::around(nx, ny, 2, |i| allowed[i] && h[i] <= b);
+            Some(b) if (0..n).any(|i| can(i, b)) => {
+                let outer = Window::around(nx, ny, 2, |i| can(i, b));
                 let table = grid
                     .body
-                    .window_kernel(outer.wx, outer.wy, grid.dx)
+                    .window_kernel(outer.wx, outer.wy, grid.dx)?
                     .expect("a body with windows has a window kernel");
                 let window = match target {
                     Target::Force(f) => {
-                        Window::around_contact(nx, ny, h, allowed, b, compliance * f, &table)
+                        Window::around_contact(nx, ny, h, allowed, b, compliance * f, &table, least)
                     }
                     Target::Depth(_) => outer,
                 };
@@ -155,7 +168,7 @@ pub fn solve_from(
             _ => (
                 Window::full(nx, ny),
                 grid.body
-                    .window_kernel(nx, ny, grid.dx)
+                    .window_kernel(nx, ny, grid.dx)?
                     .expect("a body with windows has a window kernel"),
             ),
         };
@@ -182,10 +195,21 @@ pub fn solve_from(
         )?;
         solves += 1;
         iterations += summary.iterations;
-        match bound {
-            Some(b) if !window.is_full() && summary.depth > b => {
+        match (bound, target) {
+            (Some(b), Target::Force(_)) if !window.is_full() && summary.depth > b => {
                 bound = Some(summary.depth + (summary.depth - b));
                 continue;
+            }
+            // under depth control the force is known only now: the elements that its rise
+            // could bring into contact must lie inside the window
+            (Some(d), Target::Depth(_)) if !window.is_full() && rise(summary.force) > allowance => {
+                let needed = rise(summary.force);
+                if !window.contains(&Window::around(nx, ny, 2, |i| {
+                    allowed[i] && h[i] - needed <= d
+                })) {
+                    allowance = RISE_ALLOWANCE * needed;
+                    continue;
+                }
             }
             _ => {}
         }
@@ -213,6 +237,10 @@ pub fn solve_from(
         });
     }
 }
+
+/// Factor on the rise of a free layer's surface under the solved force by which a
+/// depth-controlled window that was too narrow is widened (the force grows with the window).
+const RISE_ALLOWANCE: f64 = 1.25;
 
 /// Bytes per element a solve holds besides the operator: the contact solver's buffers
 /// (`ContactSolver::BYTES_PER_ELEMENT`), the start and the pressure returned (16), and on a

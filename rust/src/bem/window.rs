@@ -77,11 +77,18 @@ impl Window {
     /// approach is at most `bound` (m): allowed elements whose separation `sep` (m) plus a
     /// lower bound of the deflection that the new load adds is <= bound. The load adds
     /// `load` (m^3: compliance times force, 1/G F or dI/eta) spread over some elements of
-    /// {sep <= bound}; since coefficients fall with each offset, the deflection at x is at
-    /// least load / dx^2 times the coefficient to the corner of that set's bounding box
-    /// farthest from x (`table` must cover the box). The whole grid when nothing is at most
-    /// `bound` apart; the window around {sep <= bound} when nothing passes the tighter test
-    /// (the bound is then below the depth, which the solve will show).
+    /// the set that can touch; `least` (m/Pa at G = 1, <= 0) bounds the coefficients at every
+    /// offset from below (`Body::least_coefficient`), so that no point sinks by less than
+    /// load / dx^2 times it: the set is {sep - rise <= bound}, rise = -load least / dx^2 the
+    /// most the surface can rise (0 on a half-space). Within it, the deflection at x is at
+    /// least load / dx^2 times the least coefficient at the offsets from x to the set's
+    /// bounding box, all at most the offset to the box's corner farthest from x: Love's
+    /// coefficients fall with each offset, so for `least` = 0 that is the coefficient to the
+    /// corner; otherwise the least coefficient over the offsets up to the corner in both
+    /// directions (a running minimum over the box). `table` must cover the box. The whole
+    /// grid when nothing can touch; the window around that set when nothing passes the
+    /// tighter test (the bound is then below the depth, which the solve will show).
+    #[allow(clippy::too_many_arguments)]
     pub fn around_contact(
         nx: usize,
         ny: usize,
@@ -90,26 +97,56 @@ impl Window {
         bound: f64,
         load: f64,
         table: &KernelTable,
+        least: f64,
     ) -> Self {
-        let can = |i: usize| allowed[i] && sep[i] <= bound;
+        let scale = load / (table.dx() * table.dx());
+        let rise = -scale * least.min(0.0);
+        let can = |i: usize| allowed[i] && sep[i] - rise <= bound;
         let outer = Window::around(nx, ny, 0, can);
         if outer.is_full() {
             return Window::around(nx, ny, 2, can);
         }
-        let scale = load / (table.dx() * table.dx());
-        let (x_hi, y_hi) = (outer.x0 + outer.wx - 1, outer.y0 + outer.wy - 1);
+        let (wx, wy) = (outer.wx, outer.wy);
+        let floor = (least < 0.0).then(|| {
+            let mut floor = vec![0.0; wx * wy];
+            for ky in 0..wy {
+                for kx in 0..wx {
+                    let mut v = table.get(kx, ky);
+                    if kx > 0 {
+                        v = v.min(floor[ky * wx + kx - 1]);
+                    }
+                    if ky > 0 {
+                        v = v.min(floor[(ky - 1) * wx + kx]);
+                    }
+                    floor[ky * wx + kx] = v;
+                }
+            }
+            floor
+        });
+        let lowest = |kx: usize, ky: usize| match &floor {
+            Some(f) => f[ky * wx + kx],
+            None => table.get(kx, ky),
+        };
+        let (x_hi, y_hi) = (outer.x0 + wx - 1, outer.y0 + wy - 1);
         let far = |v: usize, lo: usize, hi: usize| (v - lo).max(hi - v);
         let tight = |i: usize| {
             let (x, y) = (i % nx, i / nx);
             can(i)
-                && sep[i] + scale * table.get(far(x, outer.x0, x_hi), far(y, outer.y0, y_hi))
-                    <= bound
+                && sep[i] + scale * lowest(far(x, outer.x0, x_hi), far(y, outer.y0, y_hi)) <= bound
         };
         if (0..nx * ny).any(tight) {
             Window::around(nx, ny, 2, tight)
         } else {
             Window::around(nx, ny, 2, can)
         }
+    }
+
+    /// Whether `other`, a window of the same grid, lies inside this one.
+    pub fn contains(&self, other: &Window) -> bool {
+        other.x0 >= self.x0
+            && other.y0 >= self.y0
+            && other.x0 + other.wx <= self.x0 + self.wx
+            && other.y0 + other.wy <= self.y0 + self.wy
     }
 
     /// Whether the window is the whole grid.
@@ -152,6 +189,7 @@ pub struct SolverPool {
     ny: usize,
     dx: f64,
     kernel: Option<KernelTable>,
+    least: f64,
     plans: FftPlans,
     solvers: HashMap<(usize, usize), ContactSolver<Operator>>,
 }
@@ -165,7 +203,8 @@ impl SolverPool {
             nx,
             ny,
             dx,
-            kernel: body.window_kernel(nx, ny, dx),
+            kernel: body.window_kernel(nx, ny, dx)?,
+            least: body.least_coefficient(dx),
             plans: FftPlans::default(),
             solvers: HashMap::new(),
         })
@@ -173,10 +212,13 @@ impl SolverPool {
 
     /// The window that holds every allowed element whose separation `sep` (m) plus the
     /// least deflection a load `load` (m^3: compliance times force) adds is at most `bound`
-    /// (m) (`Window::around_contact`); the whole grid on a body solved whole.
+    /// (m), widened by the most the body's surface can rise under the load
+    /// (`Window::around_contact`); the whole grid on a body solved whole.
     pub fn contact_window(&self, sep: &[f64], allowed: &[bool], bound: f64, load: f64) -> Window {
         match &self.kernel {
-            Some(k) => Window::around_contact(self.nx, self.ny, sep, allowed, bound, load, k),
+            Some(k) => {
+                Window::around_contact(self.nx, self.ny, sep, allowed, bound, load, k, self.least)
+            }
             None => Window::full(self.nx, self.ny),
         }
     }
@@ -299,7 +341,7 @@ mod tests {
         let table = KernelTable::new(n, n, dx);
         let bound = 1.02 * s.depth;
         let plain = Window::around(n, n, 2, |i| h[i] <= bound);
-        let tight = Window::around_contact(n, n, &h, &allowed, bound, force, &table);
+        let tight = Window::around_contact(n, n, &h, &allowed, bound, force, &table, 0.0);
         assert!(tight.wx + 4 <= plain.wx, "{tight:?} vs {plain:?}");
         let inside = |w: &Window, i: usize| {
             let (x, y) = (i % n, i / n);

@@ -4,10 +4,12 @@
 //! the inverse-kernel stencil) on windows that share one kernel table; a periodic cell by its spectral kernel (`PeriodicOperator`,
 //! preconditioned by the exact spectral inverse) on the whole cell, a periodic layer the
 //! same way with the layer's spectral compliance (`crate::halfspace::layer`), and a free
-//! grid on a layer by the DC-FFT of the layer's influence coefficients on the whole grid.
+//! grid on a layer by the DC-FFT of the layer's influence coefficients (preconditioned by
+//! the layer's spectral inverse) on windows that share one table of them, as the
+//! half-space's.
 
 use crate::halfspace::influence::KernelTable;
-use crate::halfspace::layer::{compliance, FreeLayerOperator};
+use crate::halfspace::layer::{compliance, kernel_table, least_coefficient, FreeLayerOperator};
 use crate::halfspace::operator::{FftOperator, FftPlans, SurfaceOperator};
 use crate::halfspace::periodic::PeriodicOperator;
 use crate::model::body::Body;
@@ -60,13 +62,41 @@ impl Body {
     }
 
     /// The kernel table the windows of an `nx` x `ny` grid of side `dx` (m) share, for a
-    /// body solved on windows (`Body::windows`); None otherwise.
-    pub fn window_kernel(self, nx: usize, ny: usize, dx: f64) -> Option<KernelTable> {
-        self.windows().then(|| KernelTable::new(nx, ny, dx))
+    /// body solved on windows (`Body::windows`): Love's coefficients, or a layer's
+    /// (`crate::halfspace::layer::kernel_table`, which fails for elements wider than its
+    /// limit); None for a periodic cell.
+    pub fn window_kernel(self, nx: usize, ny: usize, dx: f64) -> Result<Option<KernelTable>> {
+        Ok(match self {
+            Body::HalfSpace => Some(KernelTable::new(nx, ny, dx)),
+            Body::Layer {
+                layer,
+                nu,
+                periodic: false,
+            } => Some(kernel_table(nx, ny, dx, layer, nu)?),
+            Body::Periodic | Body::Layer { periodic: true, .. } => None,
+        })
     }
 
-    /// The operator of a `wx` x `wy` window from the grid's kernel table `kernel` and the
-    /// FFT plans `plans` (kept by the caller across windows).
+    /// A lower bound (m/Pa at G = 1, <= 0) of the body's influence coefficients at every
+    /// offset, for elements of side `dx` (m): a pressure field of total force F deflects no
+    /// point by less than F / dx^2 times it, so the windows of a body whose surface may rise
+    /// around a load widen by that rise. 0 for the half-space, whose coefficients are
+    /// positive and fall with each offset; a free layer's from its kernel's least value
+    /// (`crate::halfspace::layer::least_coefficient`); 0 for a periodic cell, which has no
+    /// windows.
+    pub fn least_coefficient(self, dx: f64) -> f64 {
+        match self {
+            Body::Layer {
+                layer,
+                nu,
+                periodic: false,
+            } => least_coefficient(dx, layer, nu),
+            Body::HalfSpace | Body::Periodic | Body::Layer { periodic: true, .. } => 0.0,
+        }
+    }
+
+    /// The operator of a `wx` x `wy` window from the grid's kernel table `kernel`
+    /// (`window_kernel`) and the FFT plans `plans` (kept by the caller across windows).
     pub fn window_operator(
         self,
         kernel: &KernelTable,
@@ -78,10 +108,19 @@ impl Body {
             Body::HalfSpace => Ok(Operator::Free(FftOperator::with_kernel(
                 wx, wy, kernel, plans,
             )?)),
-            Body::Periodic | Body::Layer { .. } => Err(Error::InvalidInput(format!(
-                "a {} has no windows: its solves take the whole grid",
-                self.name()
-            ))),
+            Body::Layer {
+                layer,
+                nu,
+                periodic: false,
+            } => Ok(Operator::FreeLayer(FreeLayerOperator::with_kernel(
+                wx, wy, kernel, layer, nu, plans,
+            )?)),
+            Body::Periodic | Body::Layer { periodic: true, .. } => {
+                Err(Error::InvalidInput(format!(
+                    "a {} has no windows: its solves take the whole grid",
+                    self.name()
+                )))
+            }
         }
     }
 }
@@ -101,10 +140,7 @@ impl Operator {
     pub fn resize(&mut self, wx: usize, wy: usize) -> Result<()> {
         match self {
             Operator::Free(op) => op.resize(wx, wy),
-            Operator::FreeLayer(op) if (op.nx(), op.ny()) == (wx, wy) => Ok(()),
-            Operator::FreeLayer(_) => Err(Error::InvalidInput(
-                "a layer's operator is never resized".into(),
-            )),
+            Operator::FreeLayer(op) => op.resize(wx, wy),
             Operator::Periodic(op) if (op.nx(), op.ny()) == (wx, wy) => Ok(()),
             Operator::Periodic(_) => Err(Error::InvalidInput(
                 "a periodic cell's operator is never resized".into(),

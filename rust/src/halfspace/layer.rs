@@ -33,7 +33,7 @@
 //! precision.
 
 use crate::halfspace::influence::{quarter_kernel, KernelTable};
-use crate::halfspace::operator::{FftOperator, FftPlans, SurfaceOperator};
+use crate::halfspace::operator::{fast_size, FftOperator, FftPlans, SurfaceOperator};
 use crate::model::body::{Base, Layer};
 use crate::support::error::{check_positive, Error, Result};
 use faer::Mat;
@@ -266,13 +266,78 @@ pub fn kernel_table(nx: usize, ny: usize, dx: f64, layer: Layer, nu: f64) -> Res
     Ok(KernelTable::from_values(nx, ny, dx, values))
 }
 
-/// The surface operator of a free (non-periodic) grid on a layer: the DC-FFT of the layer's
-/// influence coefficients (`kernel_table`), dense submatrices from the same coefficients,
-/// and the half-space's inverse-kernel stencil as the conjugate gradients' preconditioner
-/// (an approximate inverse at the high wavenumbers, where the layer is the half-space).
+/// Margin on the least point-kernel value of `least_coefficient`: the minimum is taken over
+/// the table's nodes (SPACING apart, a relative error of order 1e-4 near a smooth minimum)
+/// and an element's coefficient is a quadrature of the kernel over it.
+const LEAST_MARGIN: f64 = 1.05;
+
+/// A lower bound (m/Pa at G' = 1, <= 0) of a layer's influence coefficients
+/// (`kernel_table`) at every offset, for elements of side `dx` (m): dx^2 times the least
+/// value of the point kernel 1 / (4 pi r) + G(r / h) / h (negative where the surface rises
+/// around a load: 0.0107 / h at its lowest, r = 1.12 h, for the incompressible bonded layer;
+/// 0.0013 / h at nu = 0.3; 0.0009 / h frictionless), with a 5 % margin; 0 where the kernel
+/// is nowhere negative. An element's coefficient is the kernel's integral over it, at least
+/// dx^2 times its least value; so a pressure field of total force F deflects no point by
+/// less than F / dx^2 times this bound: the most the surface rises anywhere.
+pub fn least_coefficient(dx: f64, layer: Layer, nu: f64) -> f64 {
+    let table = correction_table(nu, layer.base);
+    let lowest = table
+        .iter()
+        .enumerate()
+        .skip(1)
+        .map(|(i, g)| 1.0 / (4.0 * std::f64::consts::PI * i as f64 * SPACING) + g)
+        .fold(0.0f64, f64::min);
+    LEAST_MARGIN * lowest * dx * dx / layer.thickness
+}
+
+/// The free grids' spectral preconditioner on a layer: dx / C(q), the inverse of the layer's
+/// continuum compliance C(q) = ratio(|q| h) / (2 |q|) (G' = 1, `compliance`), applied as a
+/// circular convolution on the grid padded to fast FFT lengths (the residual zero beyond
+/// it; its mean mode at the longest wave's value, as the half-space's spectral inverse).
+/// Where the layer is thin against a wavelength its compliance falls below the half-space's
+/// (to q^2 h^3 / 3 for the incompressible bonded layer), which the half-space's
+/// preconditioners, flat or growing like |q| at long waves, do not see.
+struct LayerInverse {
+    fft: FftOperator,
+    spectrum: Vec<f64>,
+}
+
+impl LayerInverse {
+    /// The preconditioner of an `nx` x `ny` grid of elements of side `dx` (m) on `layer` of
+    /// Poisson ratio `nu`.
+    fn new(nx: usize, ny: usize, dx: f64, layer: Layer, nu: f64) -> Self {
+        let period = (fast_size(nx), fast_size(ny));
+        let wave = |k: usize, m: usize| {
+            let k = if k <= m / 2 { k } else { m - k };
+            2.0 * std::f64::consts::PI * k as f64 / (m as f64 * dx)
+        };
+        let q = |kx, ky| wave(kx, period.0).hypot(wave(ky, period.1));
+        let longest = q(1, 0).min(q(0, 1));
+        let fft =
+            FftOperator::with_symbol(nx, ny, dx, period, |_, _| 0.0, &mut FftPlans::default());
+        let spectrum = fft.spectrum_of(|kx, ky| {
+            let q = q(kx, ky);
+            dx / compliance(if q > 0.0 { q } else { longest }, layer, nu)
+        });
+        LayerInverse { fft, spectrum }
+    }
+
+    /// z = dx C^-1 g.
+    fn apply(&mut self, g: &[f64], z: &mut [f64]) {
+        self.fft.convolve_with(&mut self.spectrum, g, z);
+    }
+}
+
+/// The surface operator of a free (non-periodic) grid, or of a window of one, on a layer:
+/// the DC-FFT of the layer's influence coefficients (`kernel_table`), dense submatrices from
+/// the same coefficients, and the layer's spectral inverse (`LayerInverse`) as the conjugate
+/// gradients' preconditioner.
 pub struct FreeLayerOperator {
     fft: FftOperator,
     table: KernelTable,
+    layer: Layer,
+    nu: f64,
+    inverse: Option<Box<LayerInverse>>,
 }
 
 impl FreeLayerOperator {
@@ -281,13 +346,47 @@ impl FreeLayerOperator {
     pub fn new(nx: usize, ny: usize, dx: f64, layer: Layer, nu: f64) -> Result<Self> {
         check_positive("element size dx", dx)?;
         let table = kernel_table(nx, ny, dx, layer, nu)?;
-        let fft = FftOperator::with_kernel(nx, ny, &table, &mut FftPlans::default())?;
-        Ok(FreeLayerOperator { fft, table })
+        Self::with_kernel(nx, ny, &table, layer, nu, &mut FftPlans::default())
+    }
+
+    /// The operator of an `nx` x `ny` grid (a window) from the layer's coefficients `table`
+    /// of a grid that covers it (`kernel_table`, shared by the windows of a grid) and a plan
+    /// cache; it keeps the table's part that covers `nx` x `ny` for dense submatrices.
+    pub fn with_kernel(
+        nx: usize,
+        ny: usize,
+        table: &KernelTable,
+        layer: Layer,
+        nu: f64,
+        plans: &mut FftPlans,
+    ) -> Result<Self> {
+        let fft = FftOperator::with_kernel(nx, ny, table, plans)?;
+        let own = if table.extent() == (nx, ny) {
+            table.clone()
+        } else {
+            let values = (0..nx * ny).map(|i| table.get(i % nx, i / nx)).collect();
+            KernelTable::from_values(nx, ny, table.dx(), values)
+        };
+        Ok(FreeLayerOperator {
+            fft,
+            table: own,
+            layer,
+            nu,
+            inverse: None,
+        })
     }
 
     /// The padded FFT sizes (x, y).
     pub fn padded(&self) -> (usize, usize) {
         self.fft.padded()
+    }
+
+    /// Makes this the operator of an `nx` x `ny` window with the same padded sizes, within
+    /// the grid it was made for (`FftOperator::resize`).
+    pub fn resize(&mut self, nx: usize, ny: usize) -> Result<()> {
+        self.fft.resize(nx, ny)?;
+        self.inverse = None;
+        Ok(())
     }
 }
 
@@ -312,6 +411,13 @@ impl SurfaceOperator for FreeLayerOperator {
             let (a, b) = (idx[i], idx[j]);
             table.get((a % nx).abs_diff(b % nx), (a / nx).abs_diff(b / nx))
         }))
+    }
+    /// The layer's spectral inverse (`LayerInverse`), made on first use per grid size.
+    fn precondition(&mut self, g: &[f64], z: &mut [f64]) {
+        let (nx, ny, dx, layer, nu) = (self.nx(), self.ny(), self.dx(), self.layer, self.nu);
+        self.inverse
+            .get_or_insert_with(|| Box::new(LayerInverse::new(nx, ny, dx, layer, nu)))
+            .apply(g, z);
     }
 }
 
@@ -833,5 +939,121 @@ mod contact_tests {
         assert_eq!(in_contact(&free), in_contact(&per));
         assert!((per.summary.depth / depth - 1.0).abs() < 2e-3);
         assert!(worst < 1e-2 * peak && l1 < 7e-3 * norm);
+    }
+
+    /// `least_coefficient` bounds a layer's influence coefficients from below at every
+    /// offset, for elements from h / 8 to 8 h wide (both bases, nu = 0, 0.3, 0.5), and is
+    /// tight for small elements (within its 5 % margin and the table's sampling of the
+    /// kernel's minimum: below 1.1 times the least coefficient at dx = h / 8); every kernel
+    /// here dips below zero somewhere (the surface rises around a load).
+    #[test]
+    fn least_coefficient_bounds_the_coefficients() {
+        for (base, nu) in [
+            (Base::Bonded, 0.5),
+            (Base::Bonded, 0.3),
+            (Base::Bonded, 0.0),
+            (Base::Frictionless, 0.3),
+        ] {
+            let l = layer(1.0, base);
+            for dx in [0.125f64, 0.5, 2.0, 8.0] {
+                let n = (12.0 / dx).ceil() as usize + 2;
+                let table = kernel_table(n, n, dx, l, nu).unwrap();
+                let lowest = (0..n * n)
+                    .map(|i| table.get(i % n, i / n))
+                    .fold(f64::INFINITY, f64::min);
+                let least = least_coefficient(dx, l, nu);
+                assert!(least <= lowest, "{base:?} {nu} dx {dx}: {least} > {lowest}");
+                if dx == 0.125 {
+                    assert!(
+                        lowest < 0.0 && least > 1.1 * lowest,
+                        "{base:?} {nu}: {least} vs {lowest}"
+                    );
+                }
+            }
+        }
+    }
+
+    /// A paraboloid (R = 1) pressed into a thin layer (h = 0.1, contact radius about 3 h) on a
+    /// free grid: the solve on a window (force control with a depth bound, depth control)
+    /// gives the whole grid's solution (`solve_whole`, every element free to touch) to the
+    /// solver's tolerance, on a window smaller than the grid; the window of the viscous
+    /// stepping (`Window::around_contact` with the body's least coefficient) holds the whole
+    /// grid's contact. On the incompressible bonded layer the surface bulges around the
+    /// contact, which reaches beyond the indenter's intersection with the undeformed
+    /// surface {h <= d}: the window that depth control starts from is widened by the rise
+    /// under the solved force.
+    #[test]
+    fn windows_on_a_layer_give_the_whole_grid_solution() {
+        use crate::bem::static_contact::solve_whole;
+        use crate::bem::window::Window;
+        let (n, dx) = (48, 0.02);
+        let c = n as f64 / 2.0 - 0.5;
+        let h: Vec<f64> = (0..n * n)
+            .map(|i| {
+                0.5 * (((i % n) as f64 - c) * dx)
+                    .hypot(((i / n) as f64 - c) * dx)
+                    .powi(2)
+            })
+            .collect();
+        for nu in [0.5, 0.3] {
+            let body = Body::Layer {
+                layer: layer(0.1, Base::Bonded),
+                nu,
+                periodic: false,
+            };
+            let grid = Grid {
+                body,
+                ..Grid::new(n, n, dx, h.clone(), vec![true; n * n]).unwrap()
+            };
+            // the half-space's Hertz depth at the force, an upper bound of the layer's
+            let force = 0.05f64;
+            let hertz = (3.0 * force / 16.0).powf(2.0 / 3.0);
+            let whole = solve_whole(
+                &grid,
+                1.0,
+                Target::Force(force),
+                false,
+                &tight(),
+                &mut Silent,
+            )
+            .unwrap();
+            let depth = whole.summary.depth;
+            for (target, bound) in [
+                (Target::Force(force), Some(1.05 * hertz)),
+                (Target::Depth(depth), None),
+            ] {
+                let s = solve(&grid, 1.0, target, bound, false, &tight(), &mut Silent).unwrap();
+                assert!(
+                    s.window.wx < n && s.window.wy < n,
+                    "nu {nu}: {:?}",
+                    s.window
+                );
+                let peak = whole.pressure.iter().fold(0.0f64, |m, &p| m.max(p));
+                assert!((s.summary.depth / depth - 1.0).abs() < 1e-9, "nu {nu}");
+                assert!((s.summary.force / force - 1.0).abs() < 1e-9, "nu {nu}");
+                for (a, b) in s.pressure.iter().zip(&whole.pressure) {
+                    assert!((a - b).abs() < 1e-8 * peak, "nu {nu}: {a} vs {b}");
+                }
+            }
+            let wider = (0..n * n).any(|i| whole.pressure[i] > 0.0 && h[i] > depth);
+            assert_eq!(wider, nu == 0.5, "nu {nu}");
+            let window = Window::around_contact(
+                n,
+                n,
+                &h,
+                &grid.allowed,
+                1.05 * hertz,
+                force,
+                &kernel_table(n, n, dx, grid.body.layer().unwrap(), nu).unwrap(),
+                body.least_coefficient(dx),
+            );
+            let (wx, wy) = (
+                window.x0..window.x0 + window.wx,
+                window.y0..window.y0 + window.wy,
+            );
+            for (i, &p) in whole.pressure.iter().enumerate() {
+                assert!(p == 0.0 || (wx.contains(&(i % n)) && wy.contains(&(i / n))));
+            }
+        }
     }
 }

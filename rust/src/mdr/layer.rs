@@ -181,14 +181,34 @@ fn nodes_for(chi: f64) -> usize {
     24 + (12.0 * chi).ceil() as usize
 }
 
-/// A layer's tables for one (Poisson ratio, base): M(x) and phi(chi).
+/// A layer's punch stiffness table for one (Poisson ratio, base): phi(chi).
 struct Tables {
-    m: Vec<f64>,
     phi: Vec<f64>,
 }
 
 /// Tables by (nu's bits, base).
 type Cache = HashMap<(u64, Base), Arc<Tables>>;
+
+/// M(x) tables by (nu's bits, base).
+type MCache = HashMap<(u64, Base), Arc<Vec<f64>>>;
+
+/// M(x) of a layer of Poisson ratio `nu` on `base` (`m_table`), computed once for the
+/// process: all that the contact radius at a depth needs (`depth_at_radius`), without the
+/// punch stiffness's table.
+fn m_cached(nu: f64, base: Base) -> Arc<Vec<f64>> {
+    static CACHE: OnceLock<Mutex<MCache>> = OnceLock::new();
+    let cache = CACHE.get_or_init(Default::default);
+    let key = (nu.to_bits(), base);
+    if let Some(m) = cache.lock().unwrap_or_else(|e| e.into_inner()).get(&key) {
+        return m.clone();
+    }
+    let m = Arc::new(m_table(nu, base));
+    cache
+        .lock()
+        .unwrap_or_else(|e| e.into_inner())
+        .insert(key, m.clone());
+    m
+}
 
 /// The tables of a layer of Poisson ratio `nu` on `base`, computed once for the process.
 fn tables(nu: f64, base: Base) -> Result<Arc<Tables>> {
@@ -198,7 +218,7 @@ fn tables(nu: f64, base: Base) -> Result<Arc<Tables>> {
     if let Some(t) = cache.lock().unwrap_or_else(|e| e.into_inner()).get(&key) {
         return Ok(t.clone());
     }
-    let m = m_table(nu, base);
+    let m = m_cached(nu, base);
     let count = (CHI_MAX / CHI_STEP).round() as usize + 3;
     let phi = (0..count)
         .into_par_iter()
@@ -212,7 +232,7 @@ fn tables(nu: f64, base: Base) -> Result<Arc<Tables>> {
             Ok(system.integral(&system.solve(&ones)))
         })
         .collect::<Result<Vec<f64>>>()?;
-    let t = Arc::new(Tables { m, phi });
+    let t = Arc::new(Tables { phi });
     cache
         .lock()
         .unwrap_or_else(|e| e.into_inner())
@@ -252,12 +272,12 @@ pub fn depth_at_radius(
     layer: Layer,
     nu: f64,
 ) -> Result<f64> {
-    let t = tables(nu, layer.base)?;
+    let m = m_cached(nu, layer.base);
     let chi = a / layer.thickness;
     if chi == 0.0 {
         return g1(0.0);
     }
-    let system = Nystrom::new(&t.m, chi)?;
+    let system = Nystrom::new(&m, chi)?;
     let rhs = system
         .points
         .iter()
@@ -265,7 +285,7 @@ pub fn depth_at_radius(
         .collect::<Result<Vec<f64>>>()?;
     let ones = vec![1.0; rhs.len()];
     let (u, f) = (system.solve(&rhs), system.solve(&ones));
-    Ok(system.at_edge(&t.m, g1(a)?, &u) / system.at_edge(&t.m, 1.0, &f))
+    Ok(system.at_edge(&m, g1(a)?, &u) / system.at_edge(&m, 1.0, &f))
 }
 
 /// The force (N, at E* = 1 Pa) of a contact of radius `a` (m) at depth `d` (m) on `layer`,
@@ -278,8 +298,8 @@ pub fn force_at_radius(
     layer: Layer,
     nu: f64,
 ) -> Result<f64> {
-    let t = tables(nu, layer.base)?;
-    let system = Nystrom::new(&t.m, a / layer.thickness)?;
+    let m = m_cached(nu, layer.base);
+    let system = Nystrom::new(&m, a / layer.thickness)?;
     let rhs = system
         .points
         .iter()

@@ -50,9 +50,9 @@ fn thick_layer_punch_follows_its_expansion() {
 #[test]
 fn punch_equation_converges_under_refinement() {
     for base in [Base::Bonded, Base::Frictionless] {
-        let t = tables(0.5, base).unwrap();
+        let m = m_cached(0.5, base);
         for chi in [0.5, 3.0, 8.0] {
-            let s = Nystrom::new(&t.m, chi).unwrap();
+            let s = Nystrom::new(&m, chi).unwrap();
             let ones = vec![1.0; s.points.len()];
             let coarse = s.integral(&s.solve(&ones));
             let nodes = 2 * nodes_for(chi);
@@ -61,7 +61,7 @@ fn punch_equation_converges_under_refinement() {
                 .map(|(x, w)| (x + 0.5, w))
                 .collect();
             let a = Mat::from_fn(nodes, nodes, |i, j| {
-                let k = kernel(&t.m, chi, points[i].0, points[j].0) * points[j].1;
+                let k = kernel(&m, chi, points[i].0, points[j].0) * points[j].1;
                 if i == j {
                     1.0 + k
                 } else {

@@ -110,12 +110,12 @@ impl Body {
 
     /// Whether a contact on the body can be solved on a window of its grid that holds the
     /// contact, the elements outside carrying no pressure (a free surface's deflection
-    /// inside depends only on the pressure inside); otherwise every solve takes the whole
-    /// grid.
-    /// A layer takes the whole grid too: under a pressure its surface may rise around the
-    /// contact (an incompressible layer bulges), so a window's edge is no bound on it.
+    /// inside depends only on the pressure inside); otherwise (a periodic cell) every solve
+    /// takes the whole grid. A free layer's surface may rise around a contact (an
+    /// incompressible layer bulges): its windows widen by the most it can rise
+    /// (`Body::least_coefficient`).
     pub fn windows(self) -> bool {
-        matches!(self, Body::HalfSpace)
+        !self.is_periodic()
     }
 
     /// Whether the grid has an edge a contact can reach (a periodic cell has none: its

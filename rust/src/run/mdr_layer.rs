@@ -1,12 +1,18 @@
 //! MDR on a layer (`crate::mdr::layer`): the layered profile and element weights from the
 //! scene, then the weighted hereditary foundation; hard contact, elastic and viscoelastic
-//! media, no fields.
+//! media, no fields. Also the layer's contact radius at a depth, which sizes the grids of
+//! depth-controlled scenes on a layer (`radius_at_depth`).
 
 use super::assemble::{report_from, Wanted};
 use super::report::Report;
 use super::sizing::mdr_half_length;
 use super::{refuse, step_length, stepped_rheology};
-use crate::mdr::layer::{element_weights, layered_profile, run_mdr_layer};
+use crate::halfspace::layer::gauss_legendre;
+use crate::mdr::layer::{
+    depth_at_radius, element_weights, layered_profile, run_mdr_layer, CHI_MAX,
+};
+use crate::model::body::{Base, Layer};
+use crate::model::indenter::{bisect_radius, Reach};
 use crate::model::loading::{ForceHistory, Loading};
 use crate::model::medium::rheology::Rheology;
 use crate::model::settings::RunSettings;
@@ -94,4 +100,59 @@ pub(super) fn run(
     };
     let mut s = run_mdr_layer(&g, dx, &weights, &rheology, &loading, &request, monitor)?;
     Ok(report_from(settings, dx, "viscoelastic", &mut s, wanted))
+}
+
+/// The contact radius (m) of the scene's axisymmetric indenter on `layer` at depth `depth`
+/// (m): the radius whose edge pressure is regular at that depth (`depth_at_radius`, exact
+/// for an elastic layer, and for a viscoelastic one under a depth history, whose contact
+/// is the elastic one's at each depth while it grows and recedes while the depth falls),
+/// by bisection up to `CHI_MAX` thicknesses. A layer's contact is wider than the
+/// half-space's at the same depth. Beyond `CHI_MAX` thicknesses, its thin-layer limit:
+/// on a bonded base the squeeze film's (an incompressible layer,
+/// (h^3 / 3 G) laplacian p = f(r) - d, whose pressure leaves the contact with zero slope
+/// where the profile's mean over the contact disc, (2 / a^2) integral_0^a r f(r) dr, is the
+/// depth: a = 2 sqrt(R d) for a paraboloid, sqrt 2 times the intersection with the undeformed
+/// surface; a compressible bonded layer lies between it and the Winkler foundation's
+/// intersection); on a frictionless base (a Winkler foundation at every nu) the radius
+/// where the indenter's height is the depth, widened by the contact's excess over that
+/// radius at `CHI_MAX` thicknesses. None for an indenter without an MDR profile (a height
+/// map) or whose profile ends before (a sphere's, at its radius).
+pub(super) fn radius_at_depth(scene: &Scene, layer: Layer, depth: f64) -> Result<Option<f64>> {
+    let indenter = &scene.indenter;
+    let nu = scene.medium.nu();
+    let profile = |x: f64| indenter.profile_1d(x);
+    let depth_at = |a: f64| depth_at_radius(&profile, a, layer, nu);
+    let top = CHI_MAX * layer.thickness;
+    let (Ok(deepest), true) = (depth_at(top), depth > 0.0) else {
+        return Ok(None);
+    };
+    if deepest >= depth {
+        let disc = Reach::Disc {
+            radius: top,
+            fills: true,
+        };
+        return bisect_radius(disc, depth_at, depth, "depth").map(Some);
+    }
+    let beyond = Reach::Beyond {
+        start: top,
+        doublings: 60,
+    };
+    let height = |r: f64| indenter.height(r);
+    let radius = match layer.base {
+        Base::Bonded => {
+            let points = gauss_legendre(32);
+            let mean = |a: f64| {
+                points.iter().try_fold(0.0, |sum, &(x, w)| {
+                    let r = a * (x + 0.5);
+                    Ok(sum + 2.0 * w * (r / a) * height(r)?)
+                })
+            };
+            bisect_radius(beyond, mean, depth, "depth")
+        }
+        Base::Frictionless => bisect_radius(beyond, height, depth, "depth").and_then(|at| {
+            let at_top = bisect_radius(beyond, height, deepest, "depth")?;
+            Ok(at + (top - at_top).max(0.0))
+        }),
+    };
+    Ok(radius.ok())
 }

@@ -15,12 +15,20 @@ pub const DEPTH_BOUND_FACTOR: f64 = 1.05;
 
 /// The largest contact radius (m) the scene reaches, by MDR (closed forms where they
 /// exist): elastic at its force; viscous at its last impulse; viscoelastic at its largest
-/// force with the modulus 1 / J(duration), or at its largest depth.
+/// force with the modulus 1 / J(duration), or at its largest depth (on a layer the larger
+/// of the half-space's and the layer's, `mdr_layer::radius_at_depth`).
 pub fn sizing_radius(scene: &Scene) -> Result<f64> {
     let ind = &scene.indenter;
     if let Some(d) = &scene.depth {
         // a cohesive zone reaches gaps of a few times its range
-        return ind.radius_at_depth(d.max() + 3.0 * scene.contact.range());
+        let depth = d.max() + 3.0 * scene.contact.range();
+        let half = ind.radius_at_depth(depth)?;
+        // a layer's contact is wider than the half-space's at the same depth
+        let layer = match scene.layer {
+            Some(layer) => super::mdr_layer::radius_at_depth(scene, layer, depth)?,
+            None => None,
+        };
+        return Ok(layer.map_or(half, |a| a.max(half)));
     }
     let force = scene.force.as_ref().expect("validated: force or depth");
     // MDR loads F / (4 G) of the incompressible medium with the same contact modulus; an

@@ -42,7 +42,7 @@ pub trait SurfaceOperator {
 /// lengths at which rustfft and realfft run fastest. Odd lengths take realfft's slow path,
 /// and factors 7 and 25 cost 15-50 % more per point than the next such size up
 /// (`benchmarks/bench_operator.py --sizes`, 129..257).
-fn fast_size(n: usize) -> usize {
+pub(crate) fn fast_size(n: usize) -> usize {
     if n <= 1 {
         return 1;
     }
