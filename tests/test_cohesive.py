@@ -91,6 +91,24 @@ def test_array_pull_off_near_maugis():
     assert r["contact"] > 0 and r["zone"] > r["contact"]
 
 
+def test_maugis_dugdale_has_its_limits():
+    """Maugis's state at a contact radius (the reference of the zone tests) tends to JKR's
+    P = A^3 - sqrt(6 A^3), Delta = A^2 - sqrt(8 A / 3) with m -> 1 at large lambda and to
+    Hertz's Delta = A^2 at small lambda (as sqrt(lambda); Johnson & Greenwood 1997), and its
+    least P is ``maugis_pull_off``."""
+    for A in (0.5, 1.0, 2.0):
+        p, delta, m = mv.analytic.maugis_dugdale(300.0, A)
+        assert p == pytest.approx(A**3 - math.sqrt(6 * A**3), abs=1e-3)
+        assert delta == pytest.approx(A * A - math.sqrt(8 * A / 3), abs=1e-3)
+        assert 1.0 < m < 1.001
+        assert mv.analytic.maugis_dugdale(1e-8, A)[1] == pytest.approx(A * A, abs=1e-3)
+    radii = np.linspace(0.3, 2.0, 400)
+    least = min(mv.analytic.maugis_dugdale(1.0, A)[0] for A in radii)
+    assert -least == pytest.approx(mv.analytic.maugis_pull_off(1.0), rel=1e-4)
+    with pytest.raises(InvalidInputError, match="radius"):
+        mv.analytic.maugis_dugdale(1.0, 0.0)
+
+
 def test_scene_solves_what_the_array_api_solves():
     """An elastic scene on a height map follows the same depth-controlled history as
     ``adhesive_curve`` at its depths: the same forces (to 1e-6 of pi w R), tension in the
