@@ -109,7 +109,8 @@ class Result:
     units = UNITS
 
     def __init__(self, *, method: str, n: int, dx: float, t, depth, contact_length, force,
-                 area=None, zone_area=None, zone_length=None, velocity=None, stiffness_length=None, central_pressure=None,
+                 area=None, zone_area=None, zone_length=None, velocity=None,
+                 stiffness_length=None, central_pressure=None,
                  contact_fraction=None, patches=None, mean_gap=None, saturated=None, at_edge=None,
                  fields=None, grid_shape=None, integrator: str = "implicit",
                  solver: str | None = None, window=None, steps: int = 0, solves: int = 0,
