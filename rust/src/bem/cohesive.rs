@@ -625,9 +625,18 @@ impl Trials<'_> {
     }
 
     /// The force tolerance (N) of a step to `f` (N) whose solves gave `s`.
-    fn force_tolerance(&self, solver: &CohesiveSolver, dx: f64, f: f64, s: &CohesiveSummary) -> f64 {
+    fn force_tolerance(
+        &self,
+        solver: &CohesiveSolver,
+        dx: f64,
+        f: f64,
+        s: &CohesiveSummary,
+    ) -> f64 {
         let zone = (s.contact_count + s.zone_count).max(1) as f64 * dx * dx;
-        FORCE_TOL * f.abs().max(s.force.abs()).max(solver.law.traction(0.0) * zone)
+        FORCE_TOL
+            * f.abs()
+                .max(s.force.abs())
+                .max(solver.law.traction(0.0) * zone)
     }
 
     /// A held contact, last at depth `d` (m), to the force `f` (N) along its branch:
@@ -666,7 +675,16 @@ impl Trials<'_> {
             }
             if (s1.force >= f) == up {
                 return self
-                    .refine(solver, hard, &base, (da, fa), (d1, s1.force), f, tol, monitor)
+                    .refine(
+                        solver,
+                        hard,
+                        &base,
+                        (da, fa),
+                        (d1, s1.force),
+                        f,
+                        tol,
+                        monitor,
+                    )
                     .map(Some);
             }
             if !up && s1.force >= fa {
@@ -675,7 +693,16 @@ impl Trials<'_> {
                 let (dm, sm) = self.least_between(solver, hard, &base, d1, da, monitor)?;
                 if sm.force <= f {
                     return self
-                        .refine(solver, hard, &base, (da, fa), (dm, sm.force), f, tol, monitor)
+                        .refine(
+                            solver,
+                            hard,
+                            &base,
+                            (da, fa),
+                            (dm, sm.force),
+                            f,
+                            tol,
+                            monitor,
+                        )
                         .map(Some);
                 }
                 let least = (dm, sm.force, d1, da, base);
@@ -773,7 +800,16 @@ impl Trials<'_> {
             s = self.solve(solver, hard, d1, true, monitor)?;
             if s.force >= f {
                 let tol = self.force_tolerance(solver, dx, f, &s);
-                return self.refine(solver, hard, &base, (da, fa), (d1, s.force), f, tol, monitor);
+                return self.refine(
+                    solver,
+                    hard,
+                    &base,
+                    (da, fa),
+                    (d1, s.force),
+                    f,
+                    tol,
+                    monitor,
+                );
             }
             (da, step) = (d1, 2.0 * step);
         }
@@ -849,7 +885,11 @@ impl Trials<'_> {
                 s2 = self.solve_from(solver, hard, base, x2, monitor)?;
             }
         }
-        Ok(if s1.force < s2.force { (x1, s1) } else { (x2, s2) })
+        Ok(if s1.force < s2.force {
+            (x1, s1)
+        } else {
+            (x2, s2)
+        })
     }
 }
 
@@ -1248,10 +1288,10 @@ mod stepping_tests {
     use super::*;
     use crate::bem::viscoelastic::run_bem_with;
     use crate::model::loading::{ForceHistory, Loading};
-    use std::f64::consts::PI;
     use crate::model::medium::rheology::Rheology;
     use crate::stepping::Request;
     use crate::support::monitor::Silent;
+    use std::f64::consts::PI;
 
     /// The force-controlled steps of the sphere (elastic, G = 1 Pa) under `law`: loaded to
     /// `f_max` and pulled to `f_min` (N) in `steps` steps each.
@@ -1294,7 +1334,10 @@ mod stepping_tests {
         assert_eq!(jumps.jump_out.len(), 1, "{jumps:?}");
         let [t_off, d_off, f_off] = jumps.pull_off.unwrap();
         let reference = maugis_pull_off(lambda) * PI * w;
-        assert!((-f_off / reference - 1.0).abs() < 0.02, "{f_off} vs {reference}");
+        assert!(
+            (-f_off / reference - 1.0).abs() < 0.02,
+            "{f_off} vs {reference}"
+        );
         let held: Vec<usize> = (0..s.t.len()).filter(|&k| s.depth[k].is_finite()).collect();
         let last = *held.last().unwrap();
         assert!(s.t[last] <= t_off && t_off <= s.t[last + 1] && d_off < s.depth[last]);
@@ -1304,7 +1347,11 @@ mod stepping_tests {
         let d_max = held.iter().map(|&k| s.depth[k]).fold(f64::MIN, f64::max);
         let opts = SolverOptions::default();
         let p = pull_off(&grid, 1.0, law, d_max, -0.1, 30, &opts, &mut Silent).unwrap();
-        assert!((f_off / p.force - 1.0).abs() < 0.01, "{f_off} vs {}", p.force);
+        assert!(
+            (f_off / p.force - 1.0).abs() < 0.01,
+            "{f_off} vs {}",
+            p.force
+        );
         let depths: Vec<f64> = held.iter().map(|&k| s.depth[k]).collect();
         let curve = depth_curve(&grid, 1.0, law, &depths, &opts, &mut Silent).unwrap();
         for (&k, c) in held.iter().zip(&curve) {
