@@ -1302,19 +1302,61 @@ mod stepping_tests {
         f_min: f64,
         steps: usize,
     ) -> crate::stepping::Series<crate::bem::viscous::Fields> {
+        let elastic = Rheology::new(1.0, vec![], 0.0).unwrap();
+        force_cycle_on(grid, &elastic, 1.0, law, f_max, f_min, steps)
+    }
+
+    /// [`force_cycle`] on `medium`, loaded over `half` (s) and pulled over `half` more.
+    fn force_cycle_on(
+        grid: &Grid,
+        medium: &Rheology,
+        half: f64,
+        law: ContactLaw,
+        f_max: f64,
+        f_min: f64,
+        steps: usize,
+    ) -> crate::stepping::Series<crate::bem::viscous::Fields> {
         let loading = Loading::Force(
-            ForceHistory::piecewise_linear(vec![0.0, 1.0, 2.0], vec![0.0, f_max, f_min]).unwrap(),
+            ForceHistory::piecewise_linear(vec![0.0, half, 2.0 * half], vec![0.0, f_max, f_min])
+                .unwrap(),
         );
-        let times: Vec<f64> = (1..=2 * steps).map(|k| k as f64 / steps as f64).collect();
+        let dt = half / steps as f64;
+        let times: Vec<f64> = (1..=2 * steps).map(|k| k as f64 * dt).collect();
         let request = Request {
             times: &times,
-            dt: 1.0 / steps as f64,
+            dt,
             fields_at: &[],
             field_rates: false,
         };
-        let medium = Rheology::new(1.0, vec![], 0.0).unwrap();
         let opts = SolverOptions::default();
-        run_bem_with(grid, &medium, law, &loading, &request, &opts, &mut Silent).unwrap()
+        run_bem_with(grid, medium, law, &loading, &request, &opts, &mut Silent).unwrap()
+    }
+
+    /// A standard solid (G_inf = 1 Pa, G_1 = 3 Pa, tau = 1 s) under force control and the
+    /// exponential law: cycled over 2e5 tau it lets go at the relaxed elastic body's
+    /// force-controlled pull-off, over 2e-5 tau at the glassy one's (G = 4 Pa), each within
+    /// 1e-3; both lie between JKR's 3/2 and DMT's 2 pi w R.
+    #[test]
+    fn viscoelastic_force_control_has_its_elastic_limits() {
+        let grid = md_sphere(32, 1.2);
+        let law = ContactLaw::Exponential {
+            work_of_adhesion: 0.01,
+            range: 0.02,
+        };
+        let solid = Rheology::new(1.0, vec![(3.0, 1.0)], 0.0).unwrap();
+        let pull_off = |medium: &Rheology, half: f64| {
+            let s = force_cycle_on(&grid, medium, half, law, 0.02, -0.08, 20);
+            s.jumps.unwrap().pull_off.unwrap()[2]
+        };
+        for (g, half) in [(1.0, 1e5), (4.0, 1e-5)] {
+            let elastic = pull_off(&Rheology::new(g, vec![], 0.0).unwrap(), 1.0);
+            let limit = pull_off(&solid, half);
+            assert!(
+                (limit / elastic - 1.0).abs() < 1e-3,
+                "{g}: {limit} vs {elastic}"
+            );
+            assert!((1.5..2.0).contains(&(-elastic / (PI * 0.01))), "{elastic}");
+        }
     }
 
     /// Force control (lambda = 0.3, n = 32 over 1.4 m, loaded to 0.05 N and pulled to
