@@ -178,6 +178,28 @@ def test_zone_radii_converge_to_maugis():
     assert a64 < 0.04 and c64 < 0.01, errors
 
 
+def test_rough_cell_pull_off_bounded_by_the_smooth_sphere():
+    """A periodic cell (0.8 m, 32 x 32) holding a sphere cap plus self-affine roughness
+    (H = 0.8, wavelengths from 4 elements to 0.2 m, below the contact's diameter at the
+    pull-off) of rms height eps times the range of the exponential law: its pull-off is at
+    most the smooth cap's, falls as eps grows (measured 1.8 %, 6.1 % and 19 % below at
+    eps = 0.03, 0.1, 0.3) and tends to it as eps goes to 0, at least in proportion to eps
+    (the deficit at 0.03 under a fifth of that at 0.3)."""
+    n, side, rho = 32, 0.8, 0.02
+    law = mv.Exponential(work_of_adhesion=W, range=rho)
+    cap, dx = sphere(n, side)
+    rough = mv.surfaces.self_affine((n, n), dx, hurst=0.8, rms_height=rho, rolloff=0.2,
+                                    short_cutoff=4 * dx, seed=3)
+    pull_off = {}
+    for eps in (0.0, 0.03, 0.1, 0.3):
+        h = cap + eps * rough
+        pull_off[eps] = -mv.arrays.adhesive_pull_off(h - h.min(), dx, 1.0, law, 0.02, -0.12,
+                                                     periodic=True)["force"]
+    assert pull_off[0.0] > pull_off[0.03] > pull_off[0.1] > pull_off[0.3] > 0.0, pull_off
+    deficit = {eps: 1.0 - p / pull_off[0.0] for eps, p in pull_off.items()}
+    assert deficit[0.03] < 0.2 * deficit[0.3], deficit
+
+
 def test_viscoelastic_pull_off_between_relaxed_and_glassy():
     """A standard solid (G_inf = 1 Pa, G_0 = 4 Pa, tau = 1 s) under the exponential law: the
     retract's least force tends to the relaxed elastic body's when slow (1e5 tau: measured
