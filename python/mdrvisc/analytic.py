@@ -43,6 +43,7 @@ __all__ = [
     "lee_radok_depth_from_impulse",
     "ting_paraboloid_triangle",
     "maugis_pull_off",
+    "maugis_dugdale",
 ]
 
 
@@ -379,19 +380,7 @@ def maugis_pull_off(transition: float) -> float:
     lam = _positive("maugis_pull_off", "transition", transition)
 
     def load(a: float) -> float:
-        def zone(m: float) -> float:
-            mu = math.sqrt(m * m - 1.0)
-            t = math.atan(mu)
-            return lam * a * a / 2 * (mu + (m * m - 2) * t) + 4 * lam * lam * a / 3 * (mu * t - m + 1) - 1
-
-        lo, hi = 1.0, 2.0
-        while zone(hi) < 0:
-            lo, hi = hi, 2 * hi
-        for _ in range(100):
-            mid = 0.5 * (lo + hi)
-            lo, hi = (mid, hi) if zone(mid) < 0 else (lo, mid)
-        mu = math.sqrt(0.25 * (lo + hi) ** 2 - 1.0)
-        return a**3 - lam * a * a * (mu + (mu * mu + 1) * math.atan(mu))
+        return _maugis_state(lam, a)[0]
 
     grid = np.linspace(0.01, 2.0, 200)
     for _ in range(3):
@@ -399,3 +388,48 @@ def maugis_pull_off(transition: float) -> float:
         step = grid[1] - grid[0]
         grid = np.linspace(max(best - step, 1e-6), best + step, 41)
     return -min(load(a) for a in grid)
+
+
+def _maugis_state(lam: float, a: float) -> tuple[float, float, float]:
+    """(P, Delta, m) of Maugis's solution at transition parameter ``lam`` and reduced contact
+    radius ``a`` > 0 (see :func:`maugis_dugdale`)."""
+    def zone(m: float) -> float:
+        mu = math.sqrt(m * m - 1.0)
+        t = math.atan(mu)
+        return lam * a * a / 2 * (mu + (m * m - 2) * t) + 4 * lam * lam * a / 3 * (mu * t - m + 1) - 1
+
+    lo, hi = 1.0, 2.0
+    while zone(hi) < 0:
+        lo, hi = hi, 2 * hi
+    for _ in range(100):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if zone(mid) < 0 else (lo, mid)
+    m = 0.5 * (lo + hi)
+    mu = math.sqrt(m * m - 1.0)
+    return (a**3 - lam * a * a * (mu + m * m * math.atan(mu)),
+            a * a - 4.0 / 3.0 * lam * a * mu, m)
+
+
+def maugis_dugdale(transition: float, radius: float) -> tuple[float, float, float]:
+    """Maugis's (1992) Maugis-Dugdale contact of a rigid sphere (paraboloid of radius R) at
+    one contact radius, in Johnson and Greenwood's (1997) reduced variables: contact radius
+    A = a (K / (pi w R^2))^(1/3), load P = F / (pi w R), depth
+    Delta = d (K^2 / (pi^2 w^2 R))^(1/3), with K = 4 E* / 3, w the work of adhesion (J/m^2),
+    and the transition parameter lambda = 2 sigma0 (R / (pi w K^2))^(1/3).
+
+    Returns (P, Delta, m) at A = ``radius``: m = c / a, the ratio of the cohesive zone's
+    outer radius c to the contact radius, solves Maugis's zone equation
+    lambda A^2 / 2 (mu + (m^2 - 2) atan mu) + 4 lambda^2 A / 3 (mu atan mu - m + 1) = 1
+    (mu = sqrt(m^2 - 1); bisection), then P = A^3 - lambda A^2 (mu + m^2 atan mu) and
+    Delta = A^2 - 4/3 lambda A mu. Large lambda gives JKR's P = A^3 - sqrt(6 A^3),
+    Delta = A^2 - sqrt(8 A / 3); small lambda Hertz's Delta = A^2 with DMT's zone.
+
+    Examples
+    --------
+    >>> import mdrvisc as mv
+    >>> p, delta, m = mv.analytic.maugis_dugdale(1.0, 1.0)
+    >>> round(p, 3), round(delta, 3), round(m, 3)
+    (-1.58, -0.337, 1.416)
+    """
+    lam = _positive("maugis_dugdale", "transition", transition)
+    return _maugis_state(lam, _positive("maugis_dugdale", "radius", radius))

@@ -83,7 +83,9 @@ class Result:
     """What a solve computed, and how.
 
     Series (numpy arrays, one entry per output time ``t`` in s): ``depth`` (m),
-    ``contact_length`` (m), ``force`` (N), and where computed ``area`` (m^2), ``velocity``
+    ``contact_length`` (m), ``force`` (N), and where computed ``area`` (m^2), ``zone_area``
+    (m^2: the contact and the adhesive zone around it, BEM under a cohesive-zone law) and
+    ``zone_length`` (m: its outer diameter 2 sqrt(zone_area / pi)), ``velocity``
     (penetration rate, m/s), ``stiffness_length`` (F / (4 eta dd/dt), m; F (1 - nu) / (2 eta dd/dt)
     for a Poisson ratio nu),
     ``central_pressure`` (Pa), ``saturated`` (the contact covers the whole indenter),
@@ -107,7 +109,8 @@ class Result:
     units = UNITS
 
     def __init__(self, *, method: str, n: int, dx: float, t, depth, contact_length, force,
-                 area=None, velocity=None, stiffness_length=None, central_pressure=None,
+                 area=None, zone_area=None, zone_length=None, velocity=None,
+                 stiffness_length=None, central_pressure=None,
                  contact_fraction=None, patches=None, mean_gap=None, saturated=None, at_edge=None,
                  fields=None, grid_shape=None, integrator: str = "implicit",
                  solver: str | None = None, window=None, steps: int = 0, solves: int = 0,
@@ -116,7 +119,8 @@ class Result:
                  jump_in=None, jump_out=None) -> None:
         self.method, self.n, self.dx = str(method), int(n), float(dx)
         for name, value in (("t", t), ("depth", depth), ("contact_length", contact_length),
-                            ("force", force), ("area", area), ("velocity", velocity),
+                            ("force", force), ("area", area), ("zone_area", zone_area),
+                            ("zone_length", zone_length), ("velocity", velocity),
                             ("stiffness_length", stiffness_length), ("central_pressure", central_pressure),
                             ("contact_fraction", contact_fraction), ("mean_gap", mean_gap)):
             setattr(self, name, None if value is None else np.asarray(value, dtype=np.float64))

@@ -24,6 +24,9 @@ pub struct Series<F> {
     pub contact_length: Vec<f64>,
     /// Contact area (m^2) (BEM).
     pub area: Vec<f64>,
+    /// Area (m^2) of the contact and the adhesive zone around it: the elements within a
+    /// cohesive law's range (BEM under a cohesive-zone law).
+    pub zone_area: Vec<f64>,
     /// Penetration rate dd/dt (m/s): exact for a viscous medium, the second-order backward
     /// difference of the depth over the last three step times for the others (first order
     /// on the first two steps, where the state at t = 0 may precede a jump of the load);
@@ -88,6 +91,7 @@ impl<F> Default for Series<F> {
             force: vec![],
             contact_length: vec![],
             area: vec![],
+            zone_area: vec![],
             velocity: vec![],
             stiffness_length: vec![],
             saturated: vec![],

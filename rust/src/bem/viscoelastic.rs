@@ -8,7 +8,7 @@
 //! cohesive-zone law (`run_bem_with`), carry the law's traction at their gap: each step is
 //! then the elastic cohesive solve (`crate::bem::cohesive`) at compliance 1/G_eff.
 
-use crate::bem::cohesive::CohesiveSolver;
+use crate::bem::cohesive::CohesiveStepper;
 use crate::bem::contact::{ContactSolver, Target};
 use crate::bem::static_contact::load_to_separation;
 use crate::bem::viscous::Fields;
@@ -18,7 +18,7 @@ use crate::model::grid::Grid;
 use crate::model::loading::Loading;
 use crate::model::medium::rheology::Rheology;
 use crate::model::settings::SolverOptions;
-use crate::stepping::{jumps_at_start, step_times, Jumps, Request, Series, Trail};
+use crate::stepping::{jumps_at_start, step_times, Request, Series, Trail};
 use crate::support::error::{Error, Result};
 use crate::support::monitor::Monitor;
 
@@ -48,11 +48,12 @@ pub fn run_bem(
 }
 
 /// [`run_bem`] under the contact law `law`: hard, or a cohesive zone (Maugis–Dugdale,
-/// exponential) under depth control, whose steps are cohesive solves warm-started from the
-/// last step's traction (the zone follows the history), whose pressure field includes the
-/// tension, whose contact counts the elements at zero gap, and which reports its jumps and
-/// pull-off (`Series::jumps`). Other laws and force control under a cohesive law are
-/// refused.
+/// exponential) under depth or force control, whose steps are those of a
+/// `CohesiveStepper` (the zone follows the history; under force control the contact lets
+/// go where the tension passes its branch's least force), whose pressure field includes the
+/// tension, whose contact counts the elements at zero gap, and which reports the adhesive
+/// zone's area (`Series::zone_area`), its jumps and pull-off (`Series::jumps`). Other laws
+/// are refused.
 pub fn run_bem_with(
     grid: &Grid,
     medium: &Rheology,
@@ -63,17 +64,9 @@ pub fn run_bem_with(
     monitor: &mut dyn Monitor,
 ) -> Result<Series<Fields>> {
     request.check()?;
-    let mut cohesive = match (law, loading) {
-        (ContactLaw::Hard, _) => None,
-        (_, Loading::Depth(_)) if law.is_cohesive() => {
-            Some(CohesiveSolver::new(law, grid.nx * grid.ny)?)
-        }
-        (_, Loading::Force(_)) if law.is_cohesive() => {
-            return Err(Error::InvalidInput(format!(
-                "BEM solves contact '{}' under depth control only: prescribe the depth",
-                law.name()
-            )))
-        }
+    let mut cohesive = match law {
+        ContactLaw::Hard => None,
+        _ if law.is_cohesive() => Some(CohesiveStepper::new(law, grid.nx * grid.ny)?),
         _ => {
             return Err(Error::InvalidInput(format!(
                 "BEM solves hard contact only, or a cohesive law ('maugis_dugdale', 'exponential'); contact '{}' is solved by MDR (method \"mdr\")",
@@ -81,8 +74,6 @@ pub fn run_bem_with(
             )))
         }
     };
-    let mut jumps = cohesive.is_some().then(Jumps::default);
-    let mut before = (0.0, 0.0, 0.0, 0usize);
     let steps = step_times(request.times, request.dt, jumps_at_start(loading, medium))?;
     let n = grid.nx * grid.ny;
     let start = match loading {
@@ -121,7 +112,26 @@ pub fn run_bem_with(
             }
             Loading::Force(h) => Target::Force(h.force(t)),
         };
+        let mut zone = 0;
         let (depth, force) = match target {
+            _ if cohesive.is_some() => {
+                let c = cohesive.as_mut().expect("matched: a cohesive law");
+                let r = c.step(
+                    &mut solver,
+                    &sep,
+                    &grid.allowed,
+                    1.0 / rule.g_eff,
+                    t,
+                    target,
+                    grid.body.loads_depth_by_force(),
+                    opts,
+                    monitor,
+                )?;
+                iterations += r.iterations;
+                residual = residual.max(r.residual);
+                zone = r.contact_count + r.zone_count;
+                (r.depth, r.force)
+            }
             Target::Force(f) if f <= 0.0 => {
                 // separated: the indenter rests where it touches the relaxed surface
                 let lowest = (0..n)
@@ -131,24 +141,6 @@ pub fn run_bem_with(
                 solver.clear_pressure();
                 (warm, extrapolate) = (false, false);
                 (lowest, 0.0)
-            }
-            Target::Depth(d) if cohesive.is_some() => {
-                let c = cohesive.as_mut().expect("matched: a cohesive law");
-                let r = c.solve(
-                    &mut solver,
-                    &sep,
-                    &grid.allowed,
-                    1.0 / rule.g_eff,
-                    d,
-                    warm,
-                    grid.body.loads_depth_by_force(),
-                    opts,
-                    monitor,
-                )?;
-                iterations += r.iterations;
-                residual = residual.max(r.residual);
-                warm = true;
-                (d, r.force)
             }
             _ => {
                 if warm {
@@ -213,11 +205,6 @@ pub fn run_bem_with(
             x[i] = x_new;
             count += usize::from(compression[i] > 0.0);
         }
-        if let Some(j) = &mut jumps {
-            let now = (t, depth, force, count);
-            j.record(before, now);
-            before = now;
-        }
         if t == t_prev {
             // the jump at t = 0: rates start from the state just after it
             depths = Trail::new(vec![depth]);
@@ -248,6 +235,9 @@ pub fn run_bem_with(
             };
             out.at_edge.push(grid.touches_edge(&reach));
             out.area.push(area);
+            if cohesive.is_some() {
+                out.zone_area.push(zone as f64 * grid.dx * grid.dx);
+            }
             out.saturated
                 .push(grid.covers(0.25 * std::f64::consts::PI * length * length));
             out.patches.push(grid.patches(&contact));
@@ -283,6 +273,6 @@ pub fn run_bem_with(
         t_prev = t;
     }
     out.solves = out.steps;
-    out.jumps = jumps;
+    out.jumps = cohesive.map(|c| c.jumps().clone());
     Ok(out)
 }

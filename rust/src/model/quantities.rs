@@ -36,12 +36,14 @@ impl QuantityKind {
 /// Every quantity of a `Report` and its `FieldSet`s but the fields list and the warnings:
 /// name, unit (SI; empty for counts, flags and labels) and kind. Each kind in the order the
 /// Python `Result` lists it.
-pub const QUANTITIES: [(&str, &str, QuantityKind); 38] = [
+pub const QUANTITIES: [(&str, &str, QuantityKind); 40] = [
     ("t", "s", QuantityKind::Series),
     ("depth", "m", QuantityKind::Series),
     ("contact_length", "m", QuantityKind::Series),
     ("force", "N", QuantityKind::Series),
     ("area", "m^2", QuantityKind::Series),
+    ("zone_area", "m^2", QuantityKind::Series),
+    ("zone_length", "m", QuantityKind::Series),
     ("velocity", "m/s", QuantityKind::Series),
     ("stiffness_length", "m", QuantityKind::Series),
     ("central_pressure", "Pa", QuantityKind::Series),

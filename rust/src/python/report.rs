@@ -70,6 +70,16 @@ impl PyReport {
     fn area<'py>(&self, py: Python<'py>) -> Option<Bound<'py, PyArray1<f64>>> {
         optional(py, &self.inner.area)
     }
+    /// Area of the contact and the adhesive zone around it (m^2), BEM under a cohesive law.
+    #[getter]
+    fn zone_area<'py>(&self, py: Python<'py>) -> Option<Bound<'py, PyArray1<f64>>> {
+        optional(py, &self.inner.zone_area)
+    }
+    /// Outer diameter of the adhesive zone, 2 sqrt(zone_area / pi) (m).
+    #[getter]
+    fn zone_length<'py>(&self, py: Python<'py>) -> Option<Bound<'py, PyArray1<f64>>> {
+        optional(py, &self.inner.zone_length)
+    }
     /// Force on the indenter (N).
     #[getter]
     fn force<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {

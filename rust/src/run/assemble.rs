@@ -53,6 +53,8 @@ fn report(settings: &RunSettings, dx: f64, integrator: &str, t: Vec<f64>) -> Rep
         depth: vec![],
         contact_length: vec![],
         area: None,
+        zone_area: None,
+        zone_length: None,
         force: vec![],
         velocity: None,
         stiffness_length: None,
@@ -98,6 +100,11 @@ pub fn report_from<F>(
     out.contact_length = std::mem::take(&mut s.contact_length);
     out.force = std::mem::take(&mut s.force);
     out.area = some(std::mem::take(&mut s.area));
+    out.zone_area = some(std::mem::take(&mut s.zone_area));
+    out.zone_length = out
+        .zone_area
+        .as_ref()
+        .map(|a| a.iter().map(|&a| 2.0 * (a / PI).sqrt()).collect());
     out.velocity = wanted.velocity.then(|| std::mem::take(&mut s.velocity));
     out.stiffness_length = wanted
         .stiffness_length

@@ -7,11 +7,13 @@ use crate::model::Scene;
 use serde::Serialize;
 
 /// The unit of each quantity of a report.
-pub const UNITS: [(&str, &str); 23] = [
+pub const UNITS: [(&str, &str); 25] = [
     ("t", "s"),
     ("depth", "m"),
     ("contact_length", "m"),
     ("area", "m^2"),
+    ("zone_area", "m^2"),
+    ("zone_length", "m"),
     ("force", "N"),
     ("velocity", "m/s"),
     ("stiffness_length", "m"),
@@ -90,6 +92,14 @@ pub struct Report {
     pub contact_length: Vec<f64>,
     /// Contact area (m^2) (BEM).
     pub area: Option<Vec<f64>>,
+    /// Area (m^2) of the contact and the adhesive zone around it, the elements within the
+    /// law's range (BEM under a cohesive-zone law).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub zone_area: Option<Vec<f64>>,
+    /// Outer diameter of the adhesive zone (m): 2 sqrt(zone_area / pi), as `contact_length`
+    /// is of the contact (BEM under a cohesive-zone law).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub zone_length: Option<Vec<f64>>,
     /// Force on the indenter (N): prescribed or computed.
     pub force: Vec<f64>,
     /// Penetration rate dd/dt (m/s), viscous medium.
@@ -157,6 +167,8 @@ impl Report {
         pick(&mut self.force, from);
         for v in [
             &mut self.area,
+            &mut self.zone_area,
+            &mut self.zone_length,
             &mut self.velocity,
             &mut self.stiffness_length,
             &mut self.central_pressure,
@@ -276,6 +288,9 @@ impl Report {
         }
         if let Some(v) = &self.stiffness_length {
             columns.push(("l_F [m]", numbers(v)));
+        }
+        if let Some(v) = &self.zone_length {
+            columns.push(("l_zone [m]", numbers(v)));
         }
         if let (Some(area), Some(fraction), Some(patches), Some(gap)) = (
             &self.area,
