@@ -152,6 +152,25 @@ def test_force_control_lets_go_at_maugis_pull_off():
     assert r.t[~off][-1] <= r.pull_off_time <= r.jump_out[0]
 
 
+def test_force_control_sizes_the_grid_of_an_unbounded_indenter_from_its_cohesive_contact():
+    """A paraboloid has no edge, so its grid is sized from the largest contact the scene
+    reaches. A cohesive zone pulls the contact in beyond the hard contact's at the same
+    force (here R = 1 m, E* = 1 Pa, pi w R = 1 N, sigma0 = 0.3 Pa: lambda = 0.495; loaded to
+    0.3 pi w R, where JKR's equilibrium radius is 2.8 times Hertz's): sized from Hertz's
+    contact, the zone met the grid's edge and the retract let go at half of Maugis's
+    pull-off. Sized from JKR's equilibrium radius plus the zone's range, the force-controlled
+    pull-off is Maugis's within 3 % at 48 x 48 elements (measured 0.6 %)."""
+    w = 1.0 / math.pi
+    stress = 0.3
+    transition = 2.0 * stress * (1.0 / (math.pi * w * (4.0 / 3.0) ** 2)) ** (1.0 / 3.0)
+    scene = mv.Scene(indenter=mv.Paraboloid(c=0.5), medium=mv.Elastic(G=0.25),
+                     contact=mv.MaugisDugdale(work_of_adhesion=w, stress=stress),
+                     force=([0.0, 1.0, 2.0], [0.0, 0.3, -3.0]), duration=2.0, dt=0.01)
+    r = mv.solve(scene, "bem", 48)
+    assert r.jump_out.size == 1
+    assert -r.pull_off_force == pytest.approx(mv.analytic.maugis_pull_off(transition), rel=0.03)
+
+
 def test_zone_radii_converge_to_maugis():
     """The contact radius (contact_length / 2) and the zone's outer radius (zone_length / 2)
     of a depth-controlled cycle (lambda = 0.3, over 1.4 m, approach to 0.02 m and retract to

@@ -6,6 +6,7 @@ use crate::mdr::foundation::Foundation;
 use crate::model::grid::Grid;
 use crate::model::{Medium, Scene};
 use crate::support::error::{Error, Result};
+use std::f64::consts::PI;
 
 /// An unbounded indenter's grid reaches this factor times its largest contact radius.
 pub const UNBOUNDED_MARGIN: f64 = 1.2;
@@ -35,8 +36,16 @@ pub fn sizing_radius(scene: &Scene) -> Result<f64> {
     // adhesive contact is widest at its largest force (DMT: plus its attraction)
     let medium = scene.medium.incompressible_equivalent()?;
     let attraction = scene.contact.attraction(ind.tip_radius())?;
+    let law = scene.contact;
+    // a cohesive zone pulls the contact in beyond the hard contact's (MDR's JKR grows by
+    // touch, as a hard contact, and DMT's attraction is a load)
+    if law.is_cohesive() {
+        if let Some(e_star) = relaxed_contact_modulus(scene, &medium)? {
+            return adhesive_radius_at_force(scene, force.max(), e_star);
+        }
+    }
     match medium {
-        Medium::Elastic { g, .. } if scene.contact.is_adhesive() => {
+        Medium::Elastic { g, .. } if law.is_adhesive() => {
             ind.radius_at_load((force.max() + attraction) / (4.0 * g))
         }
         Medium::Elastic { g, .. } => ind.radius_at_load(force.last() / (4.0 * g)),
@@ -54,6 +63,61 @@ pub fn sizing_radius(scene: &Scene) -> Result<f64> {
             ind.radius_at_load((force.max() + attraction) * compliance / 4.0)
         }
     }
+}
+
+/// The contact modulus (Pa) that bounds a force-controlled scene's contact: 4 G of an
+/// elastic medium, 4 / J(duration) of a viscoelastic one; None for a viscous medium (sized
+/// by its impulse).
+fn relaxed_contact_modulus(scene: &Scene, medium: &Medium) -> Result<Option<f64>> {
+    Ok(match medium {
+        Medium::Elastic { g, .. } => Some(4.0 * g),
+        Medium::Viscous { .. } => None,
+        _ => {
+            let duration = scene.duration.expect("validated: a duration");
+            Some(4.0 / medium.creep_compliance(duration)?)
+        }
+    })
+}
+
+/// A bound (m) of the radius a cohesive-zone contact reaches at the force `force` (N) on a
+/// body of contact modulus `e_star` (Pa): the largest radius a at which JKR's equilibrium
+/// force E* s(a) - sqrt(8 pi w E* a^3) (s the MDR load of the profile, Hess's rule) is at most
+/// the force - JKR's contact is the widest of the adhesive limits at a given force - taken
+/// three ranges deeper, where the zone's traction still acts (as under depth control).
+fn adhesive_radius_at_force(scene: &Scene, force: f64, e_star: f64) -> Result<f64> {
+    let ind = &scene.indenter;
+    let w = scene.contact.work_of_adhesion();
+    let excess = |a: f64| -> Result<f64> {
+        Ok(e_star * ind.load_at_radius(a)? - (8.0 * PI * w * e_star * a.powi(3)).sqrt() - force)
+    };
+    let mut lo = ind.radius_at_load(force.max(0.0) / e_star)?;
+    let mut hi = if lo > 0.0 {
+        2.0 * lo
+    } else {
+        // JKR's zero-load radius of a paraboloid of unit radius sets the scale
+        (4.5 * PI * w / e_star).cbrt()
+    };
+    let mut doublings = 0;
+    while excess(hi)? <= 0.0 {
+        lo = hi;
+        hi *= 2.0;
+        doublings += 1;
+        if doublings > 200 {
+            return Err(Error::InvalidInput(
+                "the adhesive contact grows without bound under this force: no grid holds it"
+                    .into(),
+            ));
+        }
+    }
+    for _ in 0..100 {
+        let mid = 0.5 * (lo + hi);
+        if excess(mid)? <= 0.0 {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    ind.radius_at_depth(ind.profile_1d(hi)? + 3.0 * scene.contact.range())
 }
 
 /// Half-width (m) of the square the BEM grid covers: the footprint, or for an unbounded

@@ -474,7 +474,7 @@ impl Indenter {
                 pyramid::equivalent_cone(*half_angle, *edge).radius_at_load(s)?
             }
             Indenter::HeightMap(_) => return Err(not_axisymmetric("contact radius")),
-            _ => bisect_radius(self.reach(), |a| self.mdr_load(a), s, "load")?,
+            _ => bisect_radius(self.reach(), |a| self.load_at_radius(a), s, "load")?,
         })
     }
 
@@ -490,7 +490,7 @@ impl Indenter {
             fills,
             |s| self.radius_at_load(s),
             |x| self.profile_1d(x),
-            |a| self.mdr_load(a),
+            |a| self.load_at_radius(a),
             s,
         )
     }
@@ -528,8 +528,9 @@ impl Indenter {
         self.profile_1d(a).map(Some)
     }
 
-    /// The MDR load at contact radius `a` (m): `mdr_load` of the profile (m^2).
-    fn mdr_load(&self, a: f64) -> Result<f64> {
+    /// The MDR load at contact radius `a` (m): `mdr_load` of the profile (m^2; F / E* of a
+    /// hard contact of that radius).
+    pub fn load_at_radius(&self, a: f64) -> Result<f64> {
         mdr_load(
             &|x: &[f64]| x.iter().map(|&v| self.profile_1d(v)).collect(),
             a,
