@@ -592,7 +592,7 @@ def test_result_files_and_store_entries(tmp_path, cut, garbage, kind):
 @FUZZ
 @given(
     shape=mostly(st.sampled_from([(8, 8), (16, 4), (1, 32), (3, 5)]),
-                 st.one_of(st.tuples(NUMBERS, NUMBERS), NUMBERS, st.just((4096, 4097)))),
+                 st.one_of(st.tuples(NUMBERS, NUMBERS), NUMBERS, st.just((8192, 8193)))),
     dx=mostly(PLAUSIBLE),
     hurst=mostly(st.floats(0.05, 0.95)),
     rms=mostly(PLAUSIBLE),

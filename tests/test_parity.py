@@ -96,7 +96,7 @@ eta = 1.0
     (("paraboloid", "teapot"), "teapot"),
     (("eta = 1.0", "eta = -1.0"), "eta"),
     (("n = 2001", "n = 0"), "n"),
-    (("method = \"mdr\"\nn = 2001", "method = \"bem\"\nn = 100000"), "4096"),
+    (("method = \"mdr\"\nn = 2001", "method = \"bem\"\nn = 100000"), "8192"),
 ])
 def test_bad_files_fail_alike_in_both_command_lines(binary, tmp_path, edit, word):
     path = _write(tmp_path, "bad.toml", GOOD.replace(*edit))

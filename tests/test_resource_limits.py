@@ -22,7 +22,7 @@ CALLS = {
     "operator 1 x 1e9": "mv.arrays.SurfaceOperator((1, 10**9), 1.0)",
     "operator 2^40": "mv.arrays.SurfaceOperator((2**40, 2**40), 1.0)",
     "BEM n 100000": "mv.solve(VISCOUS, 'bem', 100000)",
-    "BEM n 4096": "mv.solve(VISCOUS, 'bem', 4096)",
+    "BEM n 8192": "mv.solve(VISCOUS, 'bem', 8192)",
     "MDR n 1e12": "mv.solve(VISCOUS, 'mdr', 10**12)",
     "MDR n 2^26": "mv.solve(SLS, 'mdr', 1 << 26, dt=0.5)",
     "explicit step": "mv.solve(VISCOUS, 'mdr', 201, integrator='explicit', step=1e-9)",
@@ -59,7 +59,7 @@ def test_sizes_beyond_memory_are_typed_errors(name):
 
 def test_python_command_line_exits_2_on_an_endless_scene_file_and_a_run_too_big(tmp_path):
     scene = tmp_path / "big.toml"
-    scene.write_text('method = "bem"\nn = 4096\n[indenter]\ntype = "paraboloid"\nc = 1.0\nedge = 2.56\n'
+    scene.write_text('method = "bem"\nn = 8192\n[indenter]\ntype = "paraboloid"\nc = 1.0\nedge = 2.56\n'
                      '[medium]\ntype = "viscous"\neta = 1.0\n\nforce = 1.0\nduration = 2.0\n')
     for path in ("/dev/zero", str(scene)):
         out = subprocess.run([sys.executable, "-m", "mdrvisc", "run", path], capture_output=True, text=True,
@@ -71,7 +71,7 @@ def test_python_command_line_exits_2_on_an_endless_scene_file_and_a_run_too_big(
 def test_binary_exits_2_on_an_endless_scene_file_and_a_run_too_big(tmp_path):
     subprocess.run(["cargo", "build", "--release", "--quiet", "--bin", "mdrvisc"], cwd=ROOT, check=True)
     scene = tmp_path / "big.toml"
-    scene.write_text('method = "bem"\nn = 4096\n[indenter]\ntype = "paraboloid"\nc = 1.0\nedge = 2.56\n'
+    scene.write_text('method = "bem"\nn = 8192\n[indenter]\ntype = "paraboloid"\nc = 1.0\nedge = 2.56\n'
                      '[medium]\ntype = "viscous"\neta = 1.0\n\nforce = 1.0\nduration = 2.0\n')
     for path in ("/dev/zero", str(scene)):
         out = subprocess.run([str(ROOT / "target" / "release" / "mdrvisc"), "run", path], capture_output=True,

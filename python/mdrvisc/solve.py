@@ -51,7 +51,7 @@ def solve(scene: Scene, method: str = "bem", n: int | None = None, tol: float = 
     scene : Scene
     method : {"bem", "mdr"}
     n : int, optional
-        BEM: elements across the footprint (n x n grid, at most 4096); MDR: elements of the
+        BEM: elements across the footprint (n x n grid, at most 8192); MDR: elements of the
         1D indenter. Default 257 (BEM) or 66049 (MDR), the paper's resolutions. A
         :class:`~mdrvisc.HeightMap` fixes the grid: its ``n`` (the longer side) by default,
         and any other is refused.

@@ -47,7 +47,7 @@ def self_affine(shape: tuple[int, int], dx: float, hurst: float, rms_slope: floa
     Parameters
     ----------
     shape : (int, int)
-        Grid shape (ny, nx), >= 1 each (at most 4096 x 4096 elements).
+        Grid shape (ny, nx), >= 1 each (at most 8192 x 8192 elements).
     dx : float
         Element side (m), > 0.
     hurst : float

@@ -72,10 +72,12 @@ pub fn solve(
 /// solution at a neighbouring load; rescaled to the target force) instead of a cold start:
 /// a load curve's warm start. The solution is the same as a cold start's, to the solver's
 /// tolerance. A periodic cell with nested coarse levels starts its coarsest level from it
-/// (averaged over 2 x 2 elements per level). Without a start or a depth bound, a grid whose
-/// halves are at least `NESTED_COARSEST` elements is started from its solution on the grid
-/// coarsened by two (`coarsened`, solved the same way at tolerance max(tol, `NESTED_TOL`)),
-/// repeated over each element's four children; `solves` and the iterations count every level.
+/// (averaged over 2 x 2 elements per level). Without a start, a grid whose halves are at
+/// least `NESTED_COARSEST` elements (under a depth bound: the window of the elements with
+/// h <= bound at least twice that each way) is started from its solution on the grid
+/// coarsened by two (`coarsened`, solved the same way, with the same depth bound, at
+/// tolerance max(tol, `NESTED_TOL`)), repeated over each element's four children; `solves`
+/// and the iterations count every level.
 #[allow(clippy::too_many_arguments)]
 pub fn solve_from(
     grid: &Grid,
@@ -105,16 +107,36 @@ pub fn solve_from(
     }
     let (nx, ny, n) = (grid.nx, grid.ny, grid.nx * grid.ny);
     check_len("height", grid.height.len(), n)?;
-    // nested grids: a large grid without a start or a depth bound starts from its solution
-    // on the grid coarsened by two (recursively)
-    let coarse = match (start, depth_bound, coarsened(grid)) {
-        (None, None, Some(coarse)) if opts.precondition => {
+    if let Some(b) = depth_bound.filter(|b| !b.is_finite()) {
+        return Err(Error::InvalidInput(format!(
+            "depth bound must be finite, got {b}"
+        )));
+    }
+    // nested grids: a large grid without a start starts from its solution on the grid
+    // coarsened by two (recursively), under a depth bound when the elements that bound lets
+    // touch span at least twice `NESTED_COARSEST` each way (a small contact's window is
+    // solved faster alone); the coarse levels take the same bound, and widen it as the
+    // finest level does where their solve exceeds it
+    let spans_levels = |b: f64| {
+        let w = Window::around(nx, ny, 2, |i| grid.allowed[i] && grid.height[i] <= b);
+        w.wx.min(w.wy) >= 2 * NESTED_COARSEST
+    };
+    let nest = start.is_none() && opts.precondition && depth_bound.is_none_or(spans_levels);
+    let coarse = match coarsened(grid).filter(|_| nest) {
+        Some(coarse) => {
             let loose = SolverOptions {
                 tol: opts.tol.max(NESTED_TOL),
                 ..*opts
             };
             let solved = solve_from(
-                &coarse, compliance, target, None, false, None, &loose, monitor,
+                &coarse,
+                compliance,
+                target,
+                depth_bound,
+                false,
+                None,
+                &loose,
+                monitor,
             )?;
             Some((
                 refined(&solved.pressure, nx, ny),
@@ -122,20 +144,13 @@ pub fn solve_from(
                 solved.solves,
             ))
         }
-        _ => None,
+        None => None,
     };
     let start = start.or(coarse.as_ref().map(|c| c.0.as_slice()));
     let (mut iterations, mut solves) = coarse.as_ref().map_or((0, 0), |c| (c.1, c.2));
     let mut bound = match target {
         Target::Depth(d) => Some(d),
-        Target::Force(_) => match depth_bound {
-            Some(b) if !b.is_finite() => {
-                return Err(Error::InvalidInput(format!(
-                    "depth bound must be finite, got {b}"
-                )))
-            }
-            b => b,
-        },
+        Target::Force(_) => depth_bound,
     };
     let (h, allowed) = (&grid.height, &grid.allowed);
     let (mut h_w, mut allowed_w) = (vec![], vec![]);
@@ -584,6 +599,62 @@ mod tests {
         }
     }
 
+    /// Under force control with a depth bound, a rough grid whose touching part spans two
+    /// levels is nested (the coarse level under the same bound), and its solution equals
+    /// the single-level solve's (started from a uniform pressure, which skips the coarse
+    /// level) to the tolerance.
+    #[test]
+    fn nested_solves_under_a_depth_bound_match_one_level() {
+        use crate::model::surfaces::{self_affine, Roughness, SelfAffine};
+        let n = 256;
+        let surface = SelfAffine {
+            nx: n,
+            ny: n,
+            dx: 1.0 / n as f64,
+            hurst: 0.8,
+            rolloff: Some(0.25),
+            short_cutoff: None,
+            roughness: Roughness::RmsSlope(0.1),
+        };
+        let h = self_affine(&surface, 7, &Default::default()).unwrap();
+        let low = h.iter().fold(f64::INFINITY, |m, &v| m.min(v));
+        let h = h.iter().map(|v| v - low).collect();
+        let grid = Grid::new(n, n, surface.dx, h, vec![true; n * n]).unwrap();
+        let opts = SolverOptions {
+            tol: 1e-11,
+            ..SolverOptions::default()
+        };
+        let force = Target::Force(0.01);
+        let free = solve(&grid, 1.0, force, None, false, &opts, &mut Silent).unwrap();
+        let d = free.summary.depth;
+        let uniform = vec![1.0; n * n];
+        {
+            let bound = 1.5 * d;
+            let nested = solve(&grid, 1.0, force, Some(bound), false, &opts, &mut Silent).unwrap();
+            let single = solve_from(
+                &grid,
+                1.0,
+                force,
+                Some(bound),
+                false,
+                Some(&uniform),
+                &opts,
+                &mut Silent,
+            )
+            .unwrap();
+            assert_eq!((single.solves, nested.solves), (1, 2));
+            let total: f64 = single.pressure.iter().sum();
+            let diff: f64 = nested
+                .pressure
+                .iter()
+                .zip(&single.pressure)
+                .map(|(a, b)| (a - b).abs())
+                .sum();
+            assert!(diff < 1e-8 * total, "{diff} of {total}");
+            assert!((nested.summary.depth - single.summary.depth).abs() < 1e-9 * d);
+        }
+    }
+
     /// A non-finite bound is refused.
     #[test]
     fn a_nan_bound_is_refused() {
@@ -834,9 +905,9 @@ mod periodic_tests {
     }
 
     /// The same asperities on a free half-space (Love's kernel, spectral preconditioner):
-    /// solved on nested grids (256 from 128, no depth bound) and on the whole
-    /// grid alone (a depth bound above every height, which takes the single level), under
-    /// force and depth control: the same pressure to the tolerance (tol 1e-10).
+    /// solved on nested grids (256 from 128) and on the whole grid alone (started cold,
+    /// which takes the single level), under force and depth control: the same pressure to
+    /// the tolerance (tol 1e-10).
     #[test]
     fn free_nested_solves_match_the_single_level() {
         let grid = asperities();
@@ -846,28 +917,23 @@ mod periodic_tests {
             active_limit: Some(0),
             ..SolverOptions::default()
         };
-        let above = 2.0 * grid.height.iter().fold(0.0f64, |m, &v| m.max(v));
         let force = 2e-3;
-        let run =
-            |target, bound| solve(&grid, 1.0, target, bound, false, &opts, &mut Silent).unwrap();
-        let depth = run(Target::Force(force), None).summary.depth;
+        let run = |target| solve(&grid, 1.0, target, None, false, &opts, &mut Silent).unwrap();
+        let depth = run(Target::Force(force)).summary.depth;
         for target in [Target::Force(force), Target::Depth(depth)] {
-            let nested = run(target, None);
-            let single = match target {
-                Target::Force(_) => run(target, Some(above)),
-                // a depth sizes its own window: the coarse level is skipped by a start
-                Target::Depth(_) => solve_from(
-                    &grid,
-                    1.0,
-                    target,
-                    None,
-                    false,
-                    Some(&vec![0.0; n * n]),
-                    &opts,
-                    &mut Silent,
-                )
-                .unwrap(),
-            };
+            let nested = run(target);
+            // a start (here a cold one) skips the coarse level
+            let single = solve_from(
+                &grid,
+                1.0,
+                target,
+                None,
+                false,
+                Some(&vec![0.0; n * n]),
+                &opts,
+                &mut Silent,
+            )
+            .unwrap();
             let fraction = nested.summary.contact_count as f64 / (n * n) as f64;
             assert!(
                 (0.05..0.3).contains(&fraction),

@@ -192,4 +192,18 @@ impl SurfaceOperator for Operator {
             Operator::FreeLayer(op) => op.precondition(g, z),
         }
     }
+    fn add_point_loads(&mut self, idx: &[usize], values: &[f64], u: &mut [f64]) -> bool {
+        match self {
+            Operator::Free(op) => op.add_point_loads(idx, values, u),
+            Operator::Periodic(op) => op.add_point_loads(idx, values, u),
+            Operator::FreeLayer(op) => op.add_point_loads(idx, values, u),
+        }
+    }
+    fn point_load_limit(&self) -> usize {
+        match self {
+            Operator::Free(op) => op.point_load_limit(),
+            Operator::Periodic(op) => op.point_load_limit(),
+            Operator::FreeLayer(op) => op.point_load_limit(),
+        }
+    }
 }

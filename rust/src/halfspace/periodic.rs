@@ -46,13 +46,11 @@ pub struct PeriodicOperator {
     fft: FftOperator,
     /// The preconditioner's spectrum, dx / K(q), in the operator's layout.
     inverse: Vec<f64>,
-    /// Deflection (m at G = 1) of a unit pressure on element (0, 0), made on the first
-    /// `submatrix` call.
-    response: Option<Vec<f64>>,
 }
 
 /// Memory of a periodic operator per element (bytes): spectrum, preconditioner spectrum and
-/// column buffer (16 per element of the half spectrum), the unit response, the workers' rows.
+/// column buffer (16 per element of the half spectrum), the kernel in real space (the unit
+/// response), the workers' rows.
 pub const BYTES_PER_ELEMENT: f64 = 28.0;
 
 impl PeriodicOperator {
@@ -99,11 +97,7 @@ impl PeriodicOperator {
             let k = symbol(kx, ky);
             dx / if k > 0.0 { k } else { mean_mode }
         });
-        Ok(PeriodicOperator {
-            fft,
-            inverse,
-            response: None,
-        })
+        Ok(PeriodicOperator { fft, inverse })
     }
 
     /// Cell size (m) along x and y.
@@ -163,18 +157,20 @@ impl SurfaceOperator for PeriodicOperator {
         self.fft.convolve_with(&mut self.inverse, g, z);
     }
 
+    /// The cell's kernel in real space, even and periodic (`FftOperator::kernel`).
+    fn add_point_loads(&mut self, idx: &[usize], values: &[f64], u: &mut [f64]) -> bool {
+        self.fft.add_point_loads(idx, values, u)
+    }
+
+    fn point_load_limit(&self) -> usize {
+        self.fft.point_load_limit()
+    }
+
     /// Entries K[i, j] = response to a unit pressure at the periodic offset of i from j
-    /// (the response is computed once, by one apply).
+    /// (the kernel in real space, made once, `FftOperator::kernel`).
     fn submatrix(&mut self, idx: &[usize]) -> Result<Mat<f64>> {
         let (nx, ny) = (self.nx(), self.ny());
-        if self.response.is_none() {
-            let mut unit = vec![0.0; nx * ny];
-            unit[0] = 1.0;
-            let mut u = vec![0.0; nx * ny];
-            self.apply(&unit, &mut u);
-            self.response = Some(u);
-        }
-        let k = self.response.as_deref().unwrap_or_default();
+        let k = self.fft.kernel();
         let offset = |a: usize, b: usize, n: usize| (a + n - b) % n;
         Ok(Mat::from_fn(idx.len(), idx.len(), |i, j| {
             let (a, b) = (idx[i], idx[j]);

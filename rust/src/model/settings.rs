@@ -123,7 +123,7 @@ impl Integrator {
 }
 
 /// Largest BEM grid side (elements).
-pub const MAX_BEM_N: usize = 4096;
+pub const MAX_BEM_N: usize = 8192;
 
 /// Largest MDR element count.
 pub const MAX_MDR_N: usize = 1 << 26;

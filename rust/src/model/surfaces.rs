@@ -55,8 +55,9 @@ pub struct SelfAffine {
     pub roughness: Roughness,
 }
 
-/// Largest surface (elements): 4096 x 4096.
-pub const MAX_SURFACE_ELEMENTS: usize = 1 << 24;
+/// Largest surface (elements): 8192 x 8192, the largest grid of a BEM run
+/// (`crate::model::settings::MAX_BEM_N`).
+pub const MAX_SURFACE_ELEMENTS: usize = 1 << 26;
 
 impl SelfAffine {
     /// Fails with a message naming the parameter unless the sizes are 1..`MAX_SURFACE_ELEMENTS`,

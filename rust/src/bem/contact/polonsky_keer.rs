@@ -8,6 +8,7 @@ use crate::halfspace::operator::SurfaceOperator;
 use crate::model::settings::SolverOptions;
 use crate::support::error::{Error, Result};
 use crate::support::monitor::Monitor;
+use rayon::prelude::*;
 
 impl<O: SurfaceOperator> ContactSolver<O> {
     /// Polonsky–Keer on `pb`: starts from the solver's pressure with `warm` (rescaled to the
@@ -248,15 +249,15 @@ impl<O: SurfaceOperator> ContactSolver<O> {
                 }
                 acc
             });
-            let overlap = overlaps > 0.0;
-            let mut clamped = clamps > 0.0;
             let mut factor = 1.0;
+            // the pressure was set anew rather than stepped
+            let mut reset = false;
             match force {
                 Some(w) if sum > 0.0 => factor = w / area / sum,
                 Some(w) => {
                     let imin = argmin_gap(&self.g, allowed);
                     self.p[imin] = w / area;
-                    clamped = true;
+                    reset = true;
                 }
                 // Everything released while elements still overlap: restart from the
                 // pressures that close each overlap alone.
@@ -264,13 +265,34 @@ impl<O: SurfaceOperator> ContactSolver<O> {
                     for i in (0..n).filter(|&i| allowed[i]) {
                         self.p[i] = (-self.g[i]).max(0.0) / (compliance * self_influence);
                     }
-                    clamped = true;
+                    reset = true;
                 }
                 None => {}
             }
+            let changed = overlaps + clamps;
+            let mut refresh = reset || changed > 0.0 || it % tuning.refresh_every == 0;
+            // Where the set changed, the step p - tau t differs from the new pressure on
+            // the elements that entered or left it alone: a few are added to u by direct
+            // summation (`SurfaceOperator::add_point_loads`), cheaper than an apply, and
+            // u = K[p] exactly as after one.
+            if refresh
+                && !reset
+                && it % tuning.refresh_every != 0
+                && changed <= self.op.point_load_limit() as f64
+            {
+                let (p, p_old, t) = (&self.p, &self.p_old, &self.t);
+                let idx: Vec<usize> = (0..n)
+                    .into_par_iter()
+                    .filter(|&i| (p[i] > 0.0) != (p_old[i] > 0.0))
+                    .collect();
+                let missed: Vec<f64> = idx
+                    .iter()
+                    .map(|&i| p[i] - (p_old[i] - tau * t[i]))
+                    .collect();
+                refresh = !self.op.add_point_loads(&idx, &missed, &mut self.u);
+            }
             // Rescale to the force, measure the change, and follow u = K[p] linearly unless
             // it is refreshed, in one pass; a linear update also sums the next mean gap.
-            let refresh = overlap || clamped || it % tuning.refresh_every == 0;
             let [total, change, gap_sum, count] = self.pass_sums(|c| {
                 let mut acc = [0.0; 4];
                 for j in 0..c.p.len() {
