@@ -601,7 +601,7 @@ mod tests {
     fn numeric_radius_matches_closed_forms() {
         let p = Indenter::Paraboloid { c: 0.7, edge: None };
         let a = p.radius_at_load(0.3).unwrap();
-        let numeric = bisect_radius(p.reach(), |a| p.mdr_load(a), 0.3, "load").unwrap();
+        let numeric = bisect_radius(p.reach(), |a| p.load_at_radius(a), 0.3, "load").unwrap();
         assert!((numeric - a).abs() < 1e-9 * a);
         let d = p.radius_at_depth(0.2).unwrap();
         let bisected = bisect_radius(p.reach(), |a| p.profile_1d(a), 0.2, "depth").unwrap();
