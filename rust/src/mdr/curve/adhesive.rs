@@ -485,6 +485,21 @@ impl Curve {
 mod tests {
     use super::*;
 
+    /// A drive (m) over `k_samples` samples: from `start` up to `top` over the first half,
+    /// then down at `down` times the approach's rate of a drive from 0.
+    fn drive(k_samples: usize, start: f64, top: f64, down: f64) -> Vec<f64> {
+        (0..k_samples)
+            .map(|i| {
+                let s = i as f64 / (k_samples - 1) as f64;
+                if s < 0.5 {
+                    start + 2.0 * s * (top - start)
+                } else {
+                    top - 2.0 * (s - 0.5) * down * top
+                }
+            })
+            .collect()
+    }
+
     /// A paraboloid g = x^2 / R, sampled finely.
     fn paraboloid(
         n: usize,
@@ -579,16 +594,7 @@ mod tests {
         let (r, e, w) = (1.0, 1.0, 0.001);
         let k_samples = 4001;
         let (stiffness, u_max) = (1.0, 0.05);
-        let values: Vec<f64> = (0..k_samples)
-            .map(|i| {
-                let s = i as f64 / (k_samples - 1) as f64;
-                if s < 0.5 {
-                    2.0 * s * u_max
-                } else {
-                    u_max - 2.0 * (s - 0.5) * 8.0 * u_max
-                }
-            })
-            .collect();
+        let values = drive(k_samples, 0.0, u_max, 8.0);
         let times = (1..=k_samples).map(|i| i as f64).collect();
         let curve = paraboloid(20000, 0.4, r, times, values, Control::Spring(stiffness));
         let out = curve.evaluate_jkr(e, w, 0.0, Approach::Touch).unwrap();
@@ -677,16 +683,7 @@ mod tests {
         let (r, e, w) = (1.0, 1.0, 0.001);
         let k_samples = 4001;
         let (stiffness, u_max) = (1.0, 0.05);
-        let values: Vec<f64> = (0..k_samples)
-            .map(|i| {
-                let s = i as f64 / (k_samples - 1) as f64;
-                if s < 0.5 {
-                    -0.01 + 2.0 * s * (u_max + 0.01)
-                } else {
-                    u_max - 2.0 * (s - 0.5) * 8.0 * u_max
-                }
-            })
-            .collect();
+        let values = drive(k_samples, -0.01, u_max, 8.0);
         let times = (1..=k_samples).map(|i| i as f64).collect();
         let curve = paraboloid(20000, 0.4, r, times, values, Control::Spring(stiffness));
         let out = curve
@@ -788,16 +785,7 @@ mod tests {
         let (r, e, p): (f64, f64, f64) = (1.0, 1.0, 0.01);
         let k_samples = 2001;
         let (stiffness, u_max) = (1.0, 0.05);
-        let values: Vec<f64> = (0..k_samples)
-            .map(|i| {
-                let s = i as f64 / (k_samples - 1) as f64;
-                if s < 0.5 {
-                    -0.01 + 2.0 * s * (u_max + 0.01)
-                } else {
-                    u_max - 2.0 * (s - 0.5) * 2.0 * u_max
-                }
-            })
-            .collect();
+        let values = drive(k_samples, -0.01, u_max, 2.0);
         let times: Vec<f64> = (1..=k_samples).map(|i| i as f64).collect();
         let hertz = |d: f64| 4.0 / 3.0 * e * r.sqrt() * d.max(0.0).powf(1.5);
         let depth = paraboloid(20000, 0.4, r, times.clone(), values.clone(), Control::Depth);
