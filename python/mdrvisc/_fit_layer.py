@@ -66,36 +66,36 @@ def fit_thickness(inner: Callable, values: Callable, layer: Layer, radius: float
     fit at the initial thickness. Returns the inner fit at the fitted thickness with the
     joint standard errors, correlations, Jacobian and warnings, and ``body`` the fitted layer."""
     base = layer.base
+    usable = int(np.count_nonzero(root_w > 0))
+    dof = usable - len(first.free) - 1
+    if dof < 1:
+        raise DataError(f"fit: {usable} samples with positive weight for {len(first.free) + 1} free "
+                        f"parameters ({first.free + ['thickness']}); a fit needs more samples than "
+                        "parameters")
     u0 = math.log(layer.thickness)
     fits: dict[float, object] = {u0: first}
 
     def cost(u: float) -> float:
-        if u in fits:
-            return fits[u].cost
-        start = fits[min(fits, key=lambda v: abs(v - u))].medium if fits else None
-        try:
-            with warnings.catch_warnings():
-                warnings.simplefilter("ignore", IdentifiabilityWarning)
-                fits[u] = inner(Layer(math.exp(u), base), start)
-        except DataError:
-            return math.inf  # a layer so thin that the contact goes beyond MDR's reach
+        if u not in fits:
+            start = fits[min(fits, key=lambda v: abs(v - u))].medium
+            try:
+                with warnings.catch_warnings():
+                    warnings.simplefilter("ignore", IdentifiabilityWarning)
+                    fits[u] = inner(Layer(math.exp(u), base), start)
+            except DataError:
+                return math.inf  # a layer so thin that the contact goes beyond MDR's reach
         return fits[u].cost if fits[u].success else math.inf
 
     lo, hi = math.log(THINNEST * radius), max(math.log(THICKEST * radius), u0)
     lo = min(lo, u0)
     a, b, c = _bracket(cost, u0, lo, hi)
-    u = _golden(cost, a, b, c) if a < c else b
+    u = _golden(cost, a, b, c)
     best = fits[u]
     h = math.exp(u)
     up, down = (values(Layer(h * math.exp(s * DIFFERENCE_STEP), base), best.medium) for s in (1, -1))
     column = root_w * (up - down) / (2.0 * DIFFERENCE_STEP * h)
     jac = np.column_stack([best.jac.reshape(column.size, -1), column])
-    free = best.free + ["thickness"]
-    usable = int(np.count_nonzero(root_w > 0))
-    dof = usable - len(free)
-    if dof < 1:
-        raise DataError(f"fit: {usable} samples with positive weight for {len(free)} free parameters "
-                        f"({free}); a fit needs more samples than parameters")
+    free = best.free + ["thickness"]  # a Prony's terms renamed in the order of their times
     variance = float(np.sum((root_w * best.residuals) ** 2)) / dof
     err, correlation, undetermined = covariance(jac, variance)
     stderr = dict(best.stderr)
