@@ -26,10 +26,10 @@ STANDARD_SOLID = dict(G_inf=1.0, G1=2.0, tau1=0.2)
 
 
 @functools.cache
-def elastic_curve(layered: bool) -> tuple[np.ndarray, np.ndarray]:
-    """Depths of an incompressible elastic layer (G = 1) of thickness H, or the half-space,
+def elastic_curve(layered: bool, thickness: float = H) -> tuple[np.ndarray, np.ndarray]:
+    """Depths of an incompressible elastic layer (G = 1) of ``thickness``, or the half-space,
     under FORCES by static BEM solves, and the forces with 1 % noise (of the largest)."""
-    body = mv.Layer(H) if layered else None
+    body = mv.Layer(thickness) if layered else None
     depth = np.array([mv.solve(mv.Scene(indenter=TIP, medium=mv.Elastic(G=1.0, nu=0.5), force=f, body=body),
                                "bem", 65).depth[-1] for f in FORCES])
     noise = NOISE * FORCES.max() * np.random.default_rng(7).standard_normal(FORCES.size)
@@ -112,6 +112,20 @@ def test_a_half_spaces_curve_claims_no_thickness():
     assert not fit.stderr["thickness"] < 0.5 * fit.body.thickness
     assert fit.body.thickness > 10 * H
     assert abs(fit.parameters["G"] - 1.0) < 3 * fit.stderr["G"] + BEM_ERROR
+
+
+def test_a_contact_small_against_the_thickness_is_reported():
+    """A layer 8 H thick, the contact below 0.2 thicknesses: the fit warns that the
+    thickness is weakly determined (here from noise-free data, so it is still found, within
+    BEM's error over the thickness's leverage on the force, ~ a/h)."""
+    depth, _ = elastic_curve(True, 8 * H)
+    t = np.arange(1.0, FORCES.size + 1)
+    with pytest.warns(IdentifiabilityWarning, match="weakly determined"):
+        fit = mv.fit(TIP, mv.Elastic, t, depth=depth, force=FORCES, body=mv.Layer(4 * H), fit_thickness=True,
+                     n=200)
+    reach = TIP.contact_radius_at_depth(depth.max()) / (8 * H)
+    assert reach < 0.2
+    assert abs(fit.body.thickness / (8 * H) - 1) < BEM_ERROR / reach, fit
 
 
 def test_what_a_thickness_fit_does_not_take_is_refused():
