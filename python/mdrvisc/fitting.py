@@ -27,6 +27,7 @@ from numpy.typing import ArrayLike
 from ._afm_raw import BASELINE_SAMPLES, BASELINES, RAW_NAMES, AfmCurve, raw_input
 from ._fit_adhesion import WORK_OF_ADHESION, AdhesiveProblem, check_contact, reach_margin, tip_radius
 from ._fit_checks import array, check_times, covariance, identifiability
+from ._fit_layer import fit_thickness as _fit_thickness
 from ._fit_model import Problem, curves, moduli, parameters
 from ._guesses import estimate
 from ._least_squares import Solution, levenberg_marquardt
@@ -134,6 +135,11 @@ class FitResult:
         Adhesive fits only (``contact=mv.JKR(...)``): the fitted law; its work of adhesion
         (J/m^2) is also ``parameters["work_of_adhesion"]``, with its standard error in
         ``stderr``.
+    body : Layer or None
+        Fits on a layer (``body=``) only: the layer, with the fitted thickness (m) under
+        ``fit_thickness=True``; its standard error is ``stderr["thickness"]`` (0 when held),
+        its correlations with the medium's parameters in ``correlation`` (row "thickness" of
+        ``free``).
     """
 
     medium: _Medium
@@ -166,6 +172,7 @@ class FitResult:
     spring_constant: float | None = None
     baseline_slope: float | None = None
     contact: ContactLaw | None = None
+    body: Layer | None = None
 
     def __repr__(self) -> str:
         unit = "N" if self.control == "depth" else "m"
@@ -192,6 +199,10 @@ class FitResult:
                 err = self.stderr[name]
                 rel = "held" if name not in self.free else ("m/m" if name == "baseline_slope" else "m")
                 lines.append(f"  {name:<14}{value:>14.6g}{err:>14.3g}{rel:>11}")
+        if self.body is not None:
+            h, err = self.body.thickness, self.stderr.get("thickness", 0.0)
+            rel = f"{err / h:.2e}" if "thickness" in self.free else "held"
+            lines.append(f"  {'thickness':<14}{h:>14.6g}{err:>14.3g}{rel:>13}")
         if not self.success:
             lines.append(f"  not converged: {self.message}")
         return "\n".join(lines)
@@ -219,7 +230,8 @@ def fit(indenter: Indenter, model: _Medium | type, t: ArrayLike, *, depth: Array
         baseline: float | None = None, control: str = "depth", weights: ArrayLike | None = None,
         fixed: tuple[str, ...] = (), nu: float | None = None, terms: int = 2, n: int = 500,
         substeps: int = 1, max_iter: int = 100, baseline_model: str = "offset",
-        contact: ContactLaw | None = None, body: Layer | None = None) -> FitResult:
+        contact: ContactLaw | None = None, body: Layer | None = None,
+        fit_thickness: bool = False) -> FitResult:
     """Fit a medium to an indentation curve: depth and force, or a raw AFM curve, at times ``t``.
 
     Parameters
@@ -319,6 +331,19 @@ def fit(indenter: Indenter, model: _Medium | type, t: ArrayLike, *, depth: Array
         contact radius; ``docs/layers.md``) as a half-space's foundation in a stretched
         coordinate, so Ting's solution and its millisecond path carry over. The contact
         may reach 8 thicknesses.
+    fit_thickness : bool
+        With ``body=mv.Layer(h0)``: fit the layer's thickness too, h0 its initial guess
+        (default False: the thickness is known and held). The thickness minimises the
+        profile cost (the fit's cost on a layer of that thickness, the medium fitted), by a
+        bracket from h0 and golden-section search in log h to 0.1 %; each step is one
+        ordinary fit. Its standard error (``stderr["thickness"]``) and correlations come
+        from the joint Jacobian at the solution (d(model)/dh by a central difference).
+        Depth and force data (not a raw AFM curve), hard contact. The data tell the
+        thickness only where the contact reaches a sizeable fraction of it: a largest
+        contact radius below 0.3 thicknesses, a relative standard error above 0.5 or a
+        correlation with a modulus beyond 0.999, or a curve that is a half-space's within
+        its residuals (the search runs to 1000 contact radii) raise an
+        :class:`IdentifiabilityWarning` (``docs/layers.md``).
 
     Returns
     -------
@@ -334,6 +359,13 @@ def fit(indenter: Indenter, model: _Medium | type, t: ArrayLike, *, depth: Array
         fit.success, fit.message                   # stopped at a minimum, and why
         fit.young_moduli["E_inf"], fit.young_stderr["E_inf"]   # Pa
         fit.contact_point, fit.baseline_slope      # m, m/m
+
+    A cell of unknown height on a dish, its thickness fitted from a guess of 5 um::
+
+        fit = mv.fit(mv.Sphere(radius=5e-6), mv.StandardSolid, t, depth=d, force=f,
+                     body=mv.Layer(5e-6), fit_thickness=True)
+        fit.body.thickness, fit.stderr["thickness"]            # m
+        fit.correlation[fit.free.index("G_inf"), fit.free.index("thickness")]
 
     Raises
     ------
@@ -392,6 +424,9 @@ def fit(indenter: Indenter, model: _Medium | type, t: ArrayLike, *, depth: Array
     if law is not None and body is not None:
         raise InvalidInputError("fit: an adhesive fit (contact=) on a layer (body=) is not available: "
                                 "the adhesive forward model is JKR/DMT on a half-space")
+    if fit_thickness:
+        return _fitted_thickness(indenter, model, t, depth, force, piezo, deflection, control, weights, fixed,
+                                 nu, terms, n, substeps, max_iter, body, start)
     if law is not None:
         fixed = tuple(name for name in fixed if name != WORK_OF_ADHESION)
     problem, data, scale = _problem(indenter, model, t, depth, force, piezo, deflection, spring_constant,
@@ -404,8 +439,42 @@ def fit(indenter: Indenter, model: _Medium | type, t: ArrayLike, *, depth: Array
     floor = ROUND_OFF_RESIDUALS * float(np.linalg.norm(problem.root_w * data.measured))
     solution = levenberg_marquardt(problem, problem.x0(), max_iter=max_iter, residual_floor=floor)
     result = _result(problem, solution, data, control, scale, start)
+    result.body = body
     for message in result.warnings:
         warnings.warn(message, IdentifiabilityWarning, stacklevel=2)
+    return result
+
+
+def _fitted_thickness(indenter, model, t, depth, force, piezo, deflection, control, weights, fixed, nu, terms,
+                      n, substeps, max_iter, body, start) -> FitResult:
+    """:func:`fit` with ``fit_thickness=True`` (its arguments checked here, the search in
+    :mod:`mdrvisc._fit_layer`)."""
+    if not isinstance(body, Layer):
+        raise InvalidInputError(f"fit: fit_thickness needs body=mv.Layer(h0), h0 the initial guess of the "
+                                f"thickness (m), got body={body!r:.200}")
+    if piezo is not None or deflection is not None:
+        raise InvalidInputError("fit: fit_thickness takes depth and force; a raw AFM curve's layer "
+                                "thickness is not fitted (fit its depth and force, or give the thickness)")
+
+    def inner(layer: Layer, medium: _Medium | None) -> FitResult:
+        return fit(indenter, model if medium is None else medium, t, depth=depth, force=force,
+                   control=control, weights=weights, fixed=fixed, nu=nu if medium is None else None,
+                   terms=terms, n=n, substeps=substeps, max_iter=max_iter, body=layer)
+
+    def values(layer: Layer, medium: _Medium) -> np.ndarray:
+        problem, _, _ = _problem(indenter, medium, t, depth, force, None, None, None, None, None, control,
+                                 weights, fixed, None, terms, n, substeps, body=layer)
+        return problem.solution(problem.x0())[1]
+
+    with warnings.catch_warnings():  # the search's own fits: what the data identify is judged at its end
+        warnings.simplefilter("ignore", IdentifiabilityWarning)
+        first = inner(body, None)  # checks the data; its fit at h0 starts the search
+    deepest = float(np.max(np.asarray(depth, dtype=float)))
+    root_w = np.sqrt(np.ones(first.t.size) if weights is None else np.asarray(weights, dtype=float))
+    result = _fit_thickness(inner, values, body, indenter.contact_radius_at_depth(deepest), root_w, first)
+    result.wall_time = time.perf_counter() - start
+    for message in result.warnings:
+        warnings.warn(message, IdentifiabilityWarning, stacklevel=3)
     return result
 
 
