@@ -10,7 +10,9 @@ Maugis's pull-off at lambda over JKR's (mv.analytic.maugis_pull_off); fast, BEM 
 glassy body's Maugis pull-off while MDR's relaxed critical opening gives G_0 / G_inf times
 JKR's, so their ratio is Maugis's at the glassy lambda over G_0 / G_inf JKR. The allowance,
 3 % of the ratio, is the BEM discretisation the cohesive verification states for a zone a few
-elements wide at the pull-off (1-2 %) plus the depth step's sampling of the least force."""
+elements wide at the pull-off (1-2 %) plus the depth step's sampling of the least force and,
+slow, the cohesive zone's own rate effect, which reaches slower cycles than MDR's (see the
+adhesion page's comparison over the speed)."""
 
 import math
 
@@ -45,7 +47,7 @@ def largest_tension(speed, method):
     scene = mv.Scene(indenter=indenter, medium=mv.StandardSolid(G_inf=G_INF, G1=G1, tau1=TAU),
                      contact=contact, depth=([0.0, t_in, t_end], [0.0, D_MAX, D_MIN]),
                      duration=t_end, times=times)
-    options = {"tol": 1e-6} if method == "bem" else {}
+    options = {"tol": 1e-4} if method == "bem" else {}  # the forces as at 1e-6, to 1e-5
     return -mv.solve(scene, method, n, **options).force.min()
 
 
