@@ -513,8 +513,6 @@ fn coarsened(grid: &Grid) -> Option<Grid> {
     coarse.allowed.contains(&true).then_some(coarse)
 }
 
-/// The pressure (Pa) of a cell coarsened by two repeated over each element's four children
-/// on the `nx` x `ny` cell.
 /// The pressure `fine` (Pa) of an nx x ny cell averaged over 2 x 2 elements: the pressure
 /// on the cell coarsened by two (`coarsened`), with the same force.
 fn averaged(fine: &[f64], nx: usize, ny: usize) -> Vec<f64> {
@@ -530,6 +528,8 @@ fn averaged(fine: &[f64], nx: usize, ny: usize) -> Vec<f64> {
         .collect()
 }
 
+/// The pressure (Pa) of a cell coarsened by two repeated over each element's four children
+/// on the `nx` x `ny` cell.
 fn refined(coarse: &[f64], nx: usize, ny: usize) -> Vec<f64> {
     let cx = nx / 2;
     (0..nx * ny)
