@@ -33,7 +33,7 @@
 //! precision.
 
 use crate::halfspace::influence::{quarter_kernel, KernelTable};
-use crate::halfspace::operator::{fast_size, FftOperator, FftPlans, SurfaceOperator};
+use crate::halfspace::operator::{FftOperator, FftPlans, SpectralInverse, SurfaceOperator};
 use crate::model::body::{Base, Layer};
 use crate::support::error::{check_positive, Error, Result};
 use faer::Mat;
@@ -290,54 +290,19 @@ pub fn least_coefficient(dx: f64, layer: Layer, nu: f64) -> f64 {
     LEAST_MARGIN * lowest * dx * dx / layer.thickness
 }
 
-/// The free grids' spectral preconditioner on a layer: dx / C(q), the inverse of the layer's
-/// continuum compliance C(q) = ratio(|q| h) / (2 |q|) (G' = 1, `compliance`), applied as a
-/// circular convolution on the grid padded to fast FFT lengths (the residual zero beyond
-/// it; its mean mode at the longest wave's value, as the half-space's spectral inverse).
-/// Where the layer is thin against a wavelength its compliance falls below the half-space's
-/// (to q^2 h^3 / 3 for the incompressible bonded layer), which the half-space's
-/// preconditioners, flat or growing like |q| at long waves, do not see.
-struct LayerInverse {
-    fft: FftOperator,
-    spectrum: Vec<f64>,
-}
-
-impl LayerInverse {
-    /// The preconditioner of an `nx` x `ny` grid of elements of side `dx` (m) on `layer` of
-    /// Poisson ratio `nu`.
-    fn new(nx: usize, ny: usize, dx: f64, layer: Layer, nu: f64) -> Self {
-        let period = (fast_size(nx), fast_size(ny));
-        let wave = |k: usize, m: usize| {
-            let k = if k <= m / 2 { k } else { m - k };
-            2.0 * std::f64::consts::PI * k as f64 / (m as f64 * dx)
-        };
-        let q = |kx, ky| wave(kx, period.0).hypot(wave(ky, period.1));
-        let longest = q(1, 0).min(q(0, 1));
-        let fft =
-            FftOperator::with_symbol(nx, ny, dx, period, |_, _| 0.0, &mut FftPlans::default());
-        let spectrum = fft.spectrum_of(|kx, ky| {
-            let q = q(kx, ky);
-            dx / compliance(if q > 0.0 { q } else { longest }, layer, nu)
-        });
-        LayerInverse { fft, spectrum }
-    }
-
-    /// z = dx C^-1 g.
-    fn apply(&mut self, g: &[f64], z: &mut [f64]) {
-        self.fft.convolve_with(&mut self.spectrum, g, z);
-    }
-}
-
 /// The surface operator of a free (non-periodic) grid, or of a window of one, on a layer:
 /// the DC-FFT of the layer's influence coefficients (`kernel_table`), dense submatrices from
-/// the same coefficients, and the layer's spectral inverse (`LayerInverse`) as the conjugate
-/// gradients' preconditioner.
+/// the same coefficients, and the layer's spectral inverse (`SpectralInverse` of the layer's
+/// continuum compliance, `compliance`) as the conjugate gradients' preconditioner. Where the
+/// layer is thin against a wavelength its compliance falls below the half-space's (to
+/// q^2 h^3 / 3 for the incompressible bonded layer), which the half-space's preconditioners,
+/// flat or growing like |q| at long waves, do not see.
 pub struct FreeLayerOperator {
     fft: FftOperator,
     table: KernelTable,
     layer: Layer,
     nu: f64,
-    inverse: Option<Box<LayerInverse>>,
+    inverse: Option<Box<SpectralInverse>>,
 }
 
 impl FreeLayerOperator {
@@ -412,11 +377,19 @@ impl SurfaceOperator for FreeLayerOperator {
             table.get((a % nx).abs_diff(b % nx), (a / nx).abs_diff(b / nx))
         }))
     }
-    /// The layer's spectral inverse (`LayerInverse`), made on first use per grid size.
+    /// The layer's spectral inverse (`SpectralInverse`), made on first use per grid size.
     fn precondition(&mut self, g: &[f64], z: &mut [f64]) {
         let (nx, ny, dx, layer, nu) = (self.nx(), self.ny(), self.dx(), self.layer, self.nu);
         self.inverse
-            .get_or_insert_with(|| Box::new(LayerInverse::new(nx, ny, dx, layer, nu)))
+            .get_or_insert_with(|| {
+                Box::new(SpectralInverse::of_kernel(
+                    nx,
+                    ny,
+                    dx,
+                    &mut FftPlans::default(),
+                    |q| compliance(q, layer, nu),
+                ))
+            })
             .apply(g, z);
     }
 }

@@ -154,18 +154,31 @@ pub struct FftOperator {
     kernel: Option<Vec<f64>>,
 }
 
-/// The free grids' spectral preconditioner: dx / K(q) = 2 |q| dx, the inverse of the
-/// half-space's continuum kernel 1 / (2 |q|) (G = 1), applied as a circular convolution on
-/// the grid padded to fast FFT lengths (the residual zero beyond it; its mean mode at the
-/// longest wave's value).
-struct SpectralInverse {
+/// A free grid's spectral preconditioner: dx / K(q), the inverse of a body's continuum
+/// kernel K(q) (m/Pa at G = 1; the half-space's 1 / (2 |q|), a layer's compliance), applied
+/// as a circular convolution on the grid padded to fast FFT lengths (the residual zero
+/// beyond it; its mean mode at the longest wave's value).
+pub(crate) struct SpectralInverse {
     fft: FftOperator,
     spectrum: Vec<f64>,
 }
 
 impl SpectralInverse {
-    /// The preconditioner of an `nx` x `ny` grid of elements of side `dx` (m).
+    /// The half-space's preconditioner 2 |q| dx of an `nx` x `ny` grid of elements of side
+    /// `dx` (m).
     fn new(nx: usize, ny: usize, dx: f64, plans: &mut FftPlans) -> Self {
+        Self::of_kernel(nx, ny, dx, plans, |q| 0.5 / q)
+    }
+
+    /// The preconditioner dx / K(|q|) of an `nx` x `ny` grid of elements of side `dx` (m)
+    /// for the continuum kernel `kernel` of the wavenumber |q| (1/m).
+    pub(crate) fn of_kernel(
+        nx: usize,
+        ny: usize,
+        dx: f64,
+        plans: &mut FftPlans,
+        kernel: impl Fn(f64) -> f64,
+    ) -> Self {
         let period = (fast_size(nx), fast_size(ny));
         let wave = |k: usize, m: usize| {
             let k = if k <= m / 2 { k } else { m - k };
@@ -176,13 +189,13 @@ impl SpectralInverse {
         let fft = FftOperator::with_symbol(nx, ny, dx, period, |_, _| 0.0, plans);
         let spectrum = fft.spectrum_of(|kx, ky| {
             let q = q(kx, ky);
-            2.0 * dx * if q > 0.0 { q } else { longest }
+            dx / kernel(if q > 0.0 { q } else { longest })
         });
         SpectralInverse { fft, spectrum }
     }
 
     /// z = dx K^-1 g.
-    fn apply(&mut self, g: &[f64], z: &mut [f64]) {
+    pub(crate) fn apply(&mut self, g: &[f64], z: &mut [f64]) {
         self.fft.convolve_with(&mut self.spectrum, g, z);
     }
 }
