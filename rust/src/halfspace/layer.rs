@@ -377,6 +377,14 @@ impl SurfaceOperator for FreeLayerOperator {
             table.get((a % nx).abs_diff(b % nx), (a / nx).abs_diff(b / nx))
         }))
     }
+    /// Direct summation of the layer's coefficients in real space, as the half-space's
+    /// operator does (the same padded circulant kernel).
+    fn add_point_loads(&mut self, idx: &[usize], values: &[f64], u: &mut [f64]) -> bool {
+        self.fft.add_point_loads(idx, values, u)
+    }
+    fn point_load_limit(&self) -> usize {
+        self.fft.point_load_limit()
+    }
     /// The layer's spectral inverse (`SpectralInverse`), made on first use per grid size.
     fn precondition(&mut self, g: &[f64], z: &mut [f64]) {
         let (nx, ny, dx, layer, nu) = (self.nx(), self.ny(), self.dx(), self.layer, self.nu);
@@ -574,7 +582,7 @@ mod contact_tests {
     use super::*;
     use crate::bem::contact::Target;
     use crate::bem::static_contact::{solve, StaticContact};
-    use crate::halfspace::operator::SurfaceOperator;
+    use crate::halfspace::operator::{padded_size, SurfaceOperator};
     use crate::halfspace::periodic::mean_separation;
     use crate::model::body::Body;
     use crate::model::grid::Grid;
@@ -912,6 +920,41 @@ mod contact_tests {
         assert_eq!(in_contact(&free), in_contact(&per));
         assert!((per.summary.depth / depth - 1.0).abs() < 2e-3);
         assert!(worst < 1e-2 * peak && l1 < 7e-3 * norm);
+    }
+
+    /// Point loads summed in real space (`add_point_loads`) give the FFT convolution's
+    /// deflection on a layer, whose kernel changes sign (bonded, incompressible, h = 2 dx),
+    /// on the whole grid and on a window of it.
+    #[test]
+    fn point_loads_match_the_convolution_on_a_layer() {
+        let l = layer(2.0, Base::Bonded);
+        let (nx, ny) = (23, 17);
+        let mut op = FreeLayerOperator::new(nx, ny, 1.0, l, 0.5).unwrap();
+        let same_padding = |n: usize| {
+            (1..n)
+                .rev()
+                .find(|&w| padded_size(w) != padded_size(n))
+                .map_or(n, |w| w + 1)
+        };
+        let window = (same_padding(nx), same_padding(ny));
+        assert!(window.0 * window.1 < nx * ny);
+        for (wx, wy) in [(nx, ny), window] {
+            op.resize(wx, wy).unwrap();
+            let idx = [0, 5 * wx + 7, wx * wy - 1, 3 * wx + wx - 1];
+            let values = [1.0, -0.4, 2.5, 0.7];
+            let mut p = vec![0.0; wx * wy];
+            idx.iter().zip(&values).for_each(|(&i, &v)| p[i] = v);
+            let mut convolved = vec![0.0; wx * wy];
+            op.apply(&p, &mut convolved);
+            let mut summed = vec![0.0; wx * wy];
+            assert!(op.add_point_loads(&idx, &values, &mut summed));
+            let scale = convolved.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+            assert!(convolved.iter().any(|&v| v < 0.0));
+            for (a, b) in convolved.iter().zip(&summed) {
+                assert!((a - b).abs() < 1e-12 * scale, "{a} vs {b}");
+            }
+        }
+        assert!(op.point_load_limit() > 0);
     }
 
     /// `least_coefficient` bounds a layer's influence coefficients from below at every
