@@ -4,6 +4,7 @@
 
 use crate::mdr::foundation::Foundation;
 use crate::model::grid::Grid;
+use crate::model::indenter::Footprint;
 use crate::model::{Medium, Scene};
 use crate::support::error::{Error, Result};
 use std::f64::consts::PI;
@@ -121,11 +122,22 @@ fn adhesive_radius_at_force(scene: &Scene, force: f64, e_star: f64) -> Result<f6
 }
 
 /// Half-width (m) of the square the BEM grid covers: the footprint, or for an unbounded
-/// indenter `UNBOUNDED_MARGIN` times its largest contact radius.
+/// indenter `UNBOUNDED_MARGIN` times its largest contact radius; a sphere's grid takes the
+/// smaller of the two (its contact grows with depth inside the footprint, and a grid over
+/// the whole footprint would spend its elements where nothing touches).
 pub fn bem_half_width(scene: &Scene) -> Result<f64> {
-    match scene.indenter.half_width() {
-        Some(h) => Ok(h),
-        None => unbounded_extent(scene),
+    match scene.indenter.footprint() {
+        Footprint::Unbounded => unbounded_extent(scene),
+        Footprint::Disc { radius, rim: false } => Ok(match sizing_radius(scene) {
+            // no contact radius below the footprint's (a contact that reaches the rim, or
+            // no load): the footprint holds every contact the sphere makes
+            Ok(a) if a > 0.0 => (UNBOUNDED_MARGIN * a).min(radius),
+            _ => radius,
+        }),
+        _ => Ok(scene
+            .indenter
+            .half_width()
+            .expect("a bounded footprint has a half-width")),
     }
 }
 
