@@ -274,7 +274,8 @@ class Sphere(Indenter):
 
     Footprint: the open disc r < R. MDR profile (closed form)
     g(x) = (``|x|``/2) ln((R + ``|x|``) / (R - ``|x|``)) for ``|x|`` < R, growing without bound at the rim;
-    the contact radius at a depth by bisection on it, to the last bit.
+    the contact radius at a depth by bisection on it, to the last bit. BEM grid: 1.2 times
+    the scene's largest contact radius (as for unbounded indenters), at most the footprint.
     """
 
     def __init__(self, radius: float) -> None:

@@ -51,7 +51,9 @@ def solve(scene: Scene, method: str = "bem", n: int | None = None, tol: float = 
     scene : Scene
     method : {"bem", "mdr"}
     n : int, optional
-        BEM: elements across the footprint (n x n grid, at most 8192); MDR: elements of the
+        BEM: elements across the grid (n x n, at most 8192), which covers the footprint, or
+        1.2 times the largest contact radius for an unbounded indenter and for a sphere whose
+        contact stays inside its footprint; MDR: elements of the
         1D indenter. Default 257 (BEM) or 66049 (MDR), the paper's resolutions. A
         :class:`~mdrvisc.HeightMap` fixes the grid: its ``n`` (the longer side) by default,
         and any other is refused.
