@@ -23,6 +23,7 @@ const G: f64 = 0.25;
 fn jkr() -> ContactLaw {
     ContactLaw::Jkr {
         work_of_adhesion: W,
+        stress: None,
     }
 }
 
