@@ -121,9 +121,7 @@ impl AdhesiveElements {
             ContactLaw::Jkr {
                 work_of_adhesion,
                 stress: Some(stress),
-            } if m > 0 || medium.eta > 0.0 => {
-                Some(CrackTip::new(work_of_adhesion, stress, medium))
-            }
+            } if m > 0 || medium.eta > 0.0 => Some(CrackTip::new(work_of_adhesion, stress, medium)),
             _ => None,
         };
         AdhesiveElements {
