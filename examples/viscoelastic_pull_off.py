@@ -130,7 +130,7 @@ def main():
     ax.set_xlabel("approach and retract speed v (m/s)")
     ax.set_ylabel("force / (3/2 pi w R)")
     ax.set_title(f"sphere R = {R * 1e6:g} um, w = {W * 1e3:g} mJ/m^2, tau = {MEDIUM.tau1 * 1e3:g} ms")
-    ax.legend(loc="upper right", fontsize=7)
+    ax.legend(loc="upper left", fontsize=7)
     fig.tight_layout()
     fig.savefig(args.out, dpi=110)
     plt.close(fig)
