@@ -125,6 +125,21 @@ def test_round_trips(tmp_path):
     np.testing.assert_array_equal(loaded.jump_out, r.jump_out)
 
 
+def test_the_process_zone_stress_round_trips_and_an_elastic_body_does_not_use_it(tmp_path):
+    """JKR's zone stress survives TOML and JSON; on an elastic body the edge lets go by Heß's
+    rule with or without it (the crack's criterion is Heß's there: C_eff = 1 / E*)."""
+    law = mv.JKR(work_of_adhesion=W, stress=2.0)
+    scene = adhesive_scene(law)
+    assert json.loads(scene.to_json())["contact"] == {"type": "jkr", "work_of_adhesion": W, "stress": 2.0}
+    path = tmp_path / "jkr.toml"
+    scene.to_toml("mdr", 401, path)
+    assert mv.Scene.from_toml(path).contact == law
+    with_zone = mv.solve(scene, "mdr", 401)
+    without = mv.solve(adhesive_scene(mv.JKR(work_of_adhesion=W)), "mdr", 401)
+    np.testing.assert_array_equal(with_zone.force, without.force)
+    np.testing.assert_array_equal(with_zone.depth, without.depth)
+
+
 def test_command_line_runs_an_adhesive_scene_file(tmp_path):
     path = tmp_path / "dmt.toml"
     path.write_text('method = "mdr"\nn = 501\nduration = 2.0\ndt = 0.001\n'
@@ -144,6 +159,8 @@ def test_command_line_runs_an_adhesive_scene_file(tmp_path):
 def test_refusals():
     with pytest.raises(InvalidInputError, match="work_of_adhesion"):
         mv.JKR(work_of_adhesion=-1.0)
+    with pytest.raises(InvalidInputError, match="stress"):
+        mv.JKR(work_of_adhesion=W, stress=0.0)
     with pytest.raises(InvalidInputError, match="contact"):
         mv.Scene(indenter=mv.Paraboloid(c=0.5), medium=mv.Elastic(G=0.25), force=1.0, contact="jkr")
     with pytest.raises(InvalidInputError, match="forces must be >= 0"):

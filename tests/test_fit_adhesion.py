@@ -379,6 +379,7 @@ def test_a_raw_curve_whose_contact_jumps_in_gives_the_medium_and_the_contact_poi
     (dict(model=mv.Maxwell), "elastic"),
     (dict(model=mv.StandardSolid, contact=mv.JKR(work_of_adhesion=W, approach="equilibrium")), "elastic"),
     (dict(model=mv.StandardSolid, contact=mv.DMT(work_of_adhesion=W)), "elastic"),
+    (dict(model=mv.StandardSolid, contact=mv.JKR(work_of_adhesion=W, stress=1.0)), "for scenes"),
     (dict(control="force"), "depth-controlled"),
     (dict(contact=mv.Hard), "mv.JKR"),
     (dict(body=mv.Layer(thickness=50 * R)), "on a layer"),

@@ -71,6 +71,10 @@ def check_contact(contact: object, model: object, control: str, indenter: Indent
         raise InvalidInputError(f"fit: an adhesive fit takes an elastic medium (mv.Elastic), or with "
                                 f"mv.JKR(approach='touch') on a depth-controlled curve one of "
                                 f"{', '.join(c.__name__ for c in VISCOELASTIC)}; got {cls.__name__}")
+    if isinstance(contact, JKR) and contact.stress is not None and cls is not Elastic:
+        raise InvalidInputError("fit: a viscoelastic JKR fit lets the edge go by Heß's rule with the "
+                                "relaxed modulus; the process zone's stress (mv.JKR(stress=...)) is "
+                                "for scenes (mv.solve)")
     if control != "depth":
         raise InvalidInputError(f"fit: an adhesive fit is depth-controlled (or a raw AFM curve); "
                                 f"control={control!r}")
@@ -111,6 +115,7 @@ class AdhesiveProblem(Problem):
         self.free = self.medium_free + ([] if held else [WORK_OF_ADHESION])
         self.w0, self.law, self.radius, self.given = law.work_of_adhesion, type(law), radius, law
         self.approach = law.approach if isinstance(law, JKR) else None
+        self.stress = law.stress if isinstance(law, JKR) else None
 
     def x0(self) -> np.ndarray:
         """The initial coordinates: the medium's initial values, and the work of adhesion of
@@ -182,7 +187,9 @@ class AdhesiveProblem(Problem):
     def contact_at(self, x: np.ndarray) -> JKR | DMT:
         """The contact law at ``x``."""
         w = self.contact_parameters(x)[WORK_OF_ADHESION]
-        return DMT(work_of_adhesion=w) if self.law is DMT else JKR(work_of_adhesion=w, approach=self.approach)
+        if self.law is DMT:
+            return DMT(work_of_adhesion=w)
+        return JKR(work_of_adhesion=w, approach=self.approach, stress=self.stress)
 
     def raw_at(self, x: np.ndarray) -> tuple[float, float, float]:
         """The raw AFM curve's contact point, baseline and slope at ``x``."""

@@ -61,25 +61,44 @@ class JKR(ContactLaw):
     what boundary elements with a Maugis–Dugdale law of large transition parameter give).
     Fits (:func:`~mdrvisc.fit`) take both; scenes step the touch rule.
 
+    ``stress`` (Pa, optional) is the cohesive stress sigma0 of the crack tip's process zone
+    (a Dugdale zone of range w / sigma0, as :class:`MaugisDugdale`'s). A viscoelastic body
+    needs it to let its edge go by the crack's speed: the zone, pi K^2 / (8 sigma0^2) long
+    for the edge's stress intensity K, is crossed in a time dt at the edge's speed, and the
+    edge lets go when K^2 C_eff(dt) / 2 reaches w, C_eff the creep compliance of the
+    contact modulus averaged over the zone (Schapery; Greenwood & Johnson 1981): the relaxed
+    body's JKR for slow cracks, the glassy body's for fast ones. Without it a viscoelastic
+    body lets go by Heß's rule with the relaxed modulus, right only for cycles slow against
+    its relaxation (see the adhesion page). An elastic body does not use it; fits refuse it
+    on viscoelastic media.
+
     >>> import mdrvisc as mv
     >>> mv.JKR(work_of_adhesion=0.05, approach="equilibrium").approach
     'equilibrium'
+    >>> mv.JKR(work_of_adhesion=0.05, stress=1e6).stress
+    1000000.0
     """
 
     work_of_adhesion: float
     approach: str = "touch"
+    stress: float | None = None
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "work_of_adhesion",
                            _positive("JKR", "work_of_adhesion", self.work_of_adhesion))
         if self.approach not in ("touch", "equilibrium"):
             raise InvalidInputError(f"JKR: approach must be 'touch' or 'equilibrium', got {self.approach!r}")
+        if self.stress is not None:
+            object.__setattr__(self, "stress", _positive("JKR", "stress", self.stress))
 
     def _model(self):
         if self.approach != "touch":
             raise InvalidInputError("JKR: scenes grow a JKR contact by the touch rule; "
                                     "approach='equilibrium' is for fits (mv.fit(..., contact=...))")
-        return {"type": "jkr", "work_of_adhesion": self.work_of_adhesion}
+        model = {"type": "jkr", "work_of_adhesion": self.work_of_adhesion}
+        if self.stress is not None:
+            model["stress"] = self.stress
+        return model
 
 
 @dataclass(frozen=True)

@@ -20,6 +20,7 @@
 //! stepped one by one (none on an elastic body, where a released element is at rest at
 //! once); the untouched ones are at rest and wait in the order of their heights.
 
+use crate::mdr::adhesion_crack::CrackTip;
 use crate::mdr::foundation::Fields1D;
 use crate::model::contact_law::ContactLaw;
 use crate::model::loading::Loading;
@@ -76,11 +77,19 @@ pub struct AdhesiveElements {
     since: Vec<f64>,
     /// The released elements.
     released: Vec<usize>,
+    /// The edge's crack when it lets go by its process zone (a JKR law with a zone stress on
+    /// a viscoelastic body) instead of Heß's rule with `e_star`.
+    crack: Option<CrackTip>,
 }
 
 /// One step's view of the elements: the rule, and the free surfaces of the attached set.
 struct Settling<'a> {
     rule: &'a StepRule,
+    /// The step's end time (s) and its number of attached elements at the start.
+    t: f64,
+    start_count: usize,
+    /// Whether the edge carries tension after the last check of `release`.
+    tensile: bool,
     /// Number of attached elements and the sum (m) of their free surfaces.
     count: usize,
     sum: f64,
@@ -108,6 +117,13 @@ impl AdhesiveElements {
             rank[i] = r;
         }
         let m = medium.internal();
+        let crack = match law {
+            ContactLaw::Jkr {
+                work_of_adhesion,
+                stress: Some(stress),
+            } if m > 0 || medium.eta > 0.0 => Some(CrackTip::new(work_of_adhesion, stress, medium)),
+            _ => None,
+        };
         AdhesiveElements {
             law,
             e_star,
@@ -129,6 +145,7 @@ impl AdhesiveElements {
             q: vec![0.0; n * m],
             since: vec![0.0; n],
             released: Vec::new(),
+            crack,
         }
     }
 
@@ -185,7 +202,7 @@ impl AdhesiveElements {
 
     /// Starts a step by `rule`: the attached set's sum of free surfaces, the released
     /// elements' surfaces in order.
-    fn begin<'a>(&self, rule: &'a StepRule) -> Settling<'a> {
+    fn begin<'a>(&self, rule: &'a StepRule, t: f64) -> Settling<'a> {
         let count = self.count();
         let w_sum = count as f64 * self.depth - self.sum_g;
         let r_sum = if count > 0 {
@@ -201,6 +218,9 @@ impl AdhesiveElements {
         candidates.sort_by(|a, b| a.0.total_cmp(&b.0));
         Settling {
             rule,
+            t,
+            start_count: count,
+            tensile: false,
             count,
             sum: self.sum_g - r_sum / rule.g_eff,
             joined: Vec::new(),
@@ -243,11 +263,20 @@ impl AdhesiveElements {
             let i = self.order[top];
             let d = depth(s.count, s.sum);
             let a = 0.5 * s.count as f64 * self.dx;
-            if self.g[i] - d <= self.law.detachment_elongation(a, self.e_star) {
-                break;
-            }
             // its state is still the step's start: its surface is that of this step
             let surface = self.surface(s.rule, i);
+            let holds = match &self.crack {
+                Some(crack) => {
+                    let tension = 4.0 * s.rule.g_eff * (surface - d);
+                    s.tensile = tension > 0.0;
+                    let a0 = 0.5 * s.start_count as f64 * self.dx;
+                    !crack.lets_go(tension, a, a0, self.t, s.t)
+                }
+                None => self.g[i] - d <= self.law.detachment_elongation(a, self.e_star),
+            };
+            if holds {
+                break;
+            }
             self.attached.remove(&top);
             if let Some(k) = s.joined.iter().position(|&j| j == i) {
                 s.joined.swap_remove(k);
@@ -266,7 +295,7 @@ impl AdhesiveElements {
     /// every touched element attaches, then elements let go from the outside in; the
     /// compression sum_i (d - surface_i) (m) of the attached ones (negative when they pull).
     pub fn at_depth(&mut self, rule: &StepRule, t: f64, d: f64) -> f64 {
-        let mut s = self.begin(rule);
+        let mut s = self.begin(rule, t);
         while let Some(next) = self.next_touch(&s) {
             if next.0 >= d {
                 break;
@@ -288,7 +317,7 @@ impl AdhesiveElements {
     /// element stays attached under a tensile load (the indenter has come off). A zero load
     /// without contact touches the lowest free surface.
     pub fn under_load(&mut self, rule: &StepRule, t: f64, load: f64) -> Option<f64> {
-        let mut s = self.begin(rule);
+        let mut s = self.begin(rule, t);
         let depth = |count: usize, sum: f64| (load + sum) / count as f64;
         let result = loop {
             while let Some(next) = self.next_touch(&s) {
@@ -408,6 +437,10 @@ impl AdhesiveElements {
             self.w[i] = 0.0;
             self.untouched_from = self.untouched_from.min(self.rank[i]);
         }
+        if let Some(crack) = &mut self.crack {
+            let a = |count: usize| 0.5 * count as f64 * self.dx;
+            crack.record(self.t, a(s.start_count), t, a(s.count), s.tensile);
+        }
         if s.count > 0 {
             self.depth = d;
         }
@@ -520,6 +553,7 @@ mod tests {
         let dx = 2.0 * a / n as f64;
         let law = ContactLaw::Jkr {
             work_of_adhesion: w,
+            stress: None,
         };
         let medium = Rheology::new(e / 4.0, vec![], 0.0).unwrap();
         let rule = medium.step(1.0);

@@ -23,6 +23,7 @@ const G: f64 = 0.25;
 fn jkr() -> ContactLaw {
     ContactLaw::Jkr {
         work_of_adhesion: W,
+        stress: None,
     }
 }
 
@@ -209,6 +210,57 @@ fn kendall_flat_punch() {
     let f = s.jumps.unwrap().pull_off.unwrap()[2];
     let kendall = -(8.0 * PI * a.powi(3) * W * 4.0 * G).sqrt();
     assert!((f / kendall - 1.0).abs() < 1e-4, "{f} vs {kendall}");
+}
+
+/// A JKR edge with a process zone (`stress`) on a standard solid: Kendall's flat punch lets
+/// go at -sqrt(8 pi a^3 w E*) with the relaxed modulus when pulled slowly against the
+/// relaxation, with the glassy one when pressed and pulled fast (the crack's criterion
+/// T^2 C_eff = 2 pi a w with the zone's compliance at its two ends), while without the zone
+/// stress the glassy punch lets go at the relaxed critical elongation (Heß's rule with the
+/// relaxed modulus: F = -2 a E*_0 sqrt(2 pi a w / E*_inf)).
+#[test]
+fn a_process_zone_lets_a_flat_punch_go_by_the_relaxed_or_the_glassy_modulus() {
+    let (a, n) = (1.0, 200);
+    let g = vec![0.0; n];
+    let dx = 2.0 * a / n as f64;
+    let (g_inf, g1, tau) = (G, 3.0 * G, 1.0);
+    let medium = Rheology::new(g_inf, vec![(g1, tau)], 0.0).unwrap();
+    let zone = ContactLaw::Jkr {
+        work_of_adhesion: W,
+        stress: Some(1.0),
+    };
+    let kendall = |e: f64| -(8.0 * PI * a.powi(3) * W * e).sqrt();
+    let relaxed_limit = (2.0 * PI * a * W / (4.0 * g_inf)).sqrt();
+    let pull_off = |law: ContactLaw, duration: f64| {
+        let depth = DepthHistory::piecewise_linear(
+            vec![0.0, 0.5 * duration, duration],
+            vec![0.1, 0.0, -1.1 * relaxed_limit],
+        )
+        .unwrap();
+        let times: Vec<f64> = (1..=20000).map(|k| duration * k as f64 / 20000.0).collect();
+        let s = run(
+            &g,
+            dx,
+            &medium,
+            law,
+            0.0,
+            &Loading::Depth(depth),
+            &times,
+            duration,
+            &[],
+        );
+        s.jumps.unwrap().pull_off.unwrap()[2]
+    };
+    let (e_inf, e_0) = (4.0 * g_inf, 4.0 * (g_inf + g1));
+    let slow = pull_off(zone, 1e6 * tau);
+    assert!((slow / kendall(e_inf) - 1.0).abs() < 1e-3, "{slow}");
+    let fast = pull_off(zone, 1e-6 * tau);
+    assert!((fast / kendall(e_0) - 1.0).abs() < 1e-3, "{fast}");
+    let hess = pull_off(jkr(), 1e-6 * tau);
+    assert!(
+        (hess / (2.0 * a * e_0 * -relaxed_limit) - 1.0).abs() < 1e-3,
+        "{hess}"
+    );
 }
 
 /// DMT's pull-off force 2 pi w R under force control, and its jump-in under depth control:

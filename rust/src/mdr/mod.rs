@@ -4,6 +4,7 @@
 //! its parameter derivatives (`curve`).
 
 pub mod adhesion;
+pub mod adhesion_crack;
 pub mod curve;
 pub mod foundation;
 pub mod layer;

@@ -37,11 +37,12 @@ pub fn run_mdr(
 /// `ContactLaw::attraction`). An adhesive law reports its jumps and pull-off (`Series::jumps`);
 /// under force control the depth is NaN while a tensile force finds no contact (after a
 /// pull-off). JKR lets its elements go by Heß's rule with the relaxed contact modulus
-/// 4 G_inf: the critical elongation is a critical opening of the contact's edge, the
-/// relaxed JKR solution when the body relaxes faster than it is pulled and up to
-/// G_0 / G_inf times JKR's work of adhesion when it is pulled too fast to relax (Greenwood
-/// & Johnson 1981's bounds for an opening crack). A medium without a relaxed modulus
-/// (G_inf = 0) never lets go under it and is refused.
+/// 4 G_inf (a critical opening of the contact's edge: the relaxed JKR solution when the body
+/// relaxes faster than it is pulled, up to G_0 / G_inf times JKR's work of adhesion when it
+/// is pulled too fast to relax), or, with the law's zone stress, by the crack's process zone
+/// (`mdr::adhesion_crack`: the relaxed JKR solution for slow cracks, the glassy one for fast
+/// ones). A medium without a relaxed modulus (G_inf = 0) never lets go under either and is
+/// refused.
 #[allow(clippy::too_many_arguments)]
 pub fn run_mdr_adhesive(
     g: &[f64],

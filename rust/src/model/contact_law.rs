@@ -40,6 +40,14 @@ pub enum ContactLaw {
     Jkr {
         /// Work of adhesion w (J/m^2), > 0.
         work_of_adhesion: f64,
+        /// Cohesive stress sigma0 (Pa, > 0) of the crack tip's process zone (Dugdale), or
+        /// None. On a viscoelastic body it sets the zone's length and, with the crack's
+        /// speed, the time the zone's material is stretched over: the edge then lets go by
+        /// the energy release rate with the creep compliance of that time
+        /// (`mdr::adhesion_crack`); None keeps Heß's rule with the relaxed modulus. An
+        /// elastic body does not use it.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        stress: Option<f64>,
     },
     /// DMT adhesion: a hard contact plus the attraction 2 pi w R of a rounded tip of radius
     /// R while the surfaces touch (w in J/m^2).
@@ -192,7 +200,9 @@ impl ContactLaw {
     pub fn work_of_adhesion(self) -> f64 {
         match self {
             ContactLaw::Hard => 0.0,
-            ContactLaw::Jkr { work_of_adhesion }
+            ContactLaw::Jkr {
+                work_of_adhesion, ..
+            }
             | ContactLaw::Dmt { work_of_adhesion }
             | ContactLaw::MaugisDugdale {
                 work_of_adhesion, ..
@@ -215,6 +225,13 @@ impl ContactLaw {
             ContactLaw::Exponential { range, .. } => {
                 check_positive("contact work_of_adhesion (J/m^2)", self.work_of_adhesion())?;
                 check_positive("contact range (m)", range)
+            }
+            ContactLaw::Jkr {
+                stress: Some(stress),
+                ..
+            } => {
+                check_positive("contact work_of_adhesion (J/m^2)", self.work_of_adhesion())?;
+                check_positive("contact stress (Pa)", stress)
             }
             _ => check_positive("contact work_of_adhesion (J/m^2)", self.work_of_adhesion()),
         }
@@ -270,9 +287,9 @@ impl ContactLaw {
     /// sqrt(2 pi a w / E*) under JKR, 0 (no tension) otherwise.
     pub fn detachment_elongation(self, a: f64, e_star: f64) -> f64 {
         match self {
-            ContactLaw::Jkr { work_of_adhesion } => {
-                (2.0 * PI * a * work_of_adhesion / e_star).sqrt()
-            }
+            ContactLaw::Jkr {
+                work_of_adhesion, ..
+            } => (2.0 * PI * a * work_of_adhesion / e_star).sqrt(),
             _ => 0.0,
         }
     }

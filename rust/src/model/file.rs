@@ -14,6 +14,7 @@
 //! dt = 0.01               # s, optional: longest step of the viscoelastic stepping
 //! contact = "hard"        # optional: "hard" (default), or adhesion by MDR:
 //!                         # { type = "jkr" | "dmt", work_of_adhesion = 0.05 }  (J/m^2)
+//!                         # (jkr: stress = 1e6, Pa, optional: its process zone's stress)
 //!
 //! [indenter]
 //! type = "paraboloid"     # rod (radius) | paraboloid (c, edge) | cone (slope, edge)
