@@ -402,7 +402,7 @@ const LOADING_TOL: f64 = 1e-3;
 /// the iteration can end released. Force control projects that mode out. The force starts
 /// at the cold start's and moves by factors of 4 until the separation is bracketed, then by
 /// secant steps in ln F (the separation falls about linearly in ln F), each solve at
-/// tolerance max(tol, `LOADING_SOLVE_TOL`) and warm-started from the last, until the separation is
+/// tolerance max(tol, `NESTED_TOL`) and warm-started from the last, until the separation is
 /// within `LOADING_TOL`.
 #[allow(clippy::too_many_arguments)]
 pub fn load_to_separation<O: SurfaceOperator>(
@@ -424,7 +424,7 @@ pub fn load_to_separation<O: SurfaceOperator>(
             .map(|(&h, _)| (depth - h).max(0.0))
             .sum::<f64>();
     let loose = SolverOptions {
-        tol: opts.tol.max(LOADING_SOLVE_TOL),
+        tol: opts.tol.max(NESTED_TOL),
         ..*opts
     };
     // (ln F, separation) with the separation above (shallow) and below (deep) the target
@@ -480,17 +480,14 @@ pub fn load_to_separation<O: SurfaceOperator>(
 const NESTED_COARSEST: usize = 128;
 
 /// Relative tolerance of the coarse levels of a nested solve at most: their pressure only
-/// starts the next level, and the finest level's iterations do not depend on how far the
-/// coarse ones were converged beyond that. On held-out self-affine surfaces (Hurst 0.8 at 5 %
-/// and 0.3 at 2 % contact, tol 1e-8) the finest level of a 1024 x 1024 grid or cell took the
-/// same iterations (+-2) from coarse levels solved to 1e-2 as to 1e-4 or 1e-8, and 2-3 more
-/// from 1e-1 on free grids; a cold start took 36-43. From 1e-4 to 1e-2 the coarse levels'
-/// iterations roughly halve (11-14 -> 5-9 per level).
-const NESTED_TOL: f64 = 1e-2;
-
-/// Relative tolerance of `load_to_separation`'s force-controlled solves at most: their
-/// depth, and so the mean separation, must be known to better than `LOADING_TOL`.
-const LOADING_SOLVE_TOL: f64 = 1e-4;
+/// starts the next level. On the benchmark's 2048 x 2048 self-affine cell (5 % contact, tol
+/// 1e-8) the finest level took 60 iterations from a uniform start, 38–42 from coarse levels
+/// solved to 1e-6..1e-3. On held-out self-affine surfaces (Hurst 0.8 at 5 % and 0.3 at 2 %
+/// contact, tol 1e-8) up to 2048 x 2048 the finest level took the same iterations (+-2) from
+/// coarse levels solved to 1e-2 as to 1e-4 or 1e-8, with half the coarse iterations at 1e-2,
+/// but on a free 4096 x 4096 grid 37-38 instead of 35 from 1e-3 or 1e-2, which costs more than
+/// the coarse levels save.
+const NESTED_TOL: f64 = 1e-4;
 
 /// The grid (or periodic cell) `grid` coarsened by two in each direction (heights averaged
 /// over 2 x 2 elements, an element allowed where all four are), when its sides are even,
