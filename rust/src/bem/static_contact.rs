@@ -37,6 +37,11 @@ pub struct StaticContact {
     pub window: Window,
     /// Solves run (more than one when a depth bound was exceeded).
     pub solves: usize,
+    /// Iterations of each level of a nested solve, coarsest first, the finest level's last
+    /// (a level's repeated window solves summed into its entry; a periodic cell's loading to
+    /// a separation into its level's); one entry without coarse levels. They sum to the
+    /// summary's iterations.
+    pub level_iterations: Vec<usize>,
 }
 
 /// Solves the static contact of `grid` (compliance in m/Pa per unit kernel, 1/G for an
@@ -142,12 +147,14 @@ pub fn solve_from(
                 refined(&solved.pressure, nx, ny),
                 solved.summary.iterations,
                 solved.solves,
+                solved.level_iterations,
             ))
         }
         None => None,
     };
     let start = start.or(coarse.as_ref().map(|c| c.0.as_slice()));
     let (mut iterations, mut solves) = coarse.as_ref().map_or((0, 0), |c| (c.1, c.2));
+    let coarse_iterations = iterations;
     let mut bound = match target {
         Target::Depth(d) => Some(d),
         Target::Force(_) => depth_bound,
@@ -229,6 +236,8 @@ pub fn solve_from(
             _ => {}
         }
         summary.iterations = iterations;
+        let mut level_iterations = coarse.as_ref().map_or(vec![], |c| c.3.clone());
+        level_iterations.push(iterations - coarse_iterations);
         let mut pressure = vec![0.0; n];
         window.scatter(solver.pressure(), &mut pressure);
         let deflection = match (deflection, window.is_full()) {
@@ -249,6 +258,7 @@ pub fn solve_from(
             deflection,
             window,
             solves,
+            level_iterations,
         });
     }
 }
@@ -380,6 +390,10 @@ fn solve_whole_from(
         opts,
         monitor,
     )?;
+    let mut level_iterations = coarse
+        .as_ref()
+        .map_or(vec![], |c| c.level_iterations.clone());
+    level_iterations.push(summary.iterations + loading);
     summary.iterations += loading + coarse.as_ref().map_or(0, |c| c.summary.iterations);
     Ok(StaticContact {
         summary,
@@ -387,6 +401,7 @@ fn solve_whole_from(
         deflection: deflection.then(|| solver.deflection().to_vec()),
         window: Window::full(nx, ny),
         solves: 1 + coarse.map_or(0, |c| c.solves),
+        level_iterations,
     })
 }
 
@@ -898,6 +913,12 @@ mod periodic_tests {
                 "contact fraction {fraction}"
             );
             assert_eq!((nested.solves, single.solves), (2, 1));
+            assert_eq!(nested.level_iterations.len(), 2);
+            assert_eq!(
+                nested.level_iterations.iter().sum::<usize>(),
+                nested.summary.iterations
+            );
+            assert_eq!(single.level_iterations, vec![single.summary.iterations]);
             let peak = nested.pressure.iter().fold(0.0f64, |m, &v| m.max(v));
             let diff = nested
                 .pressure
@@ -944,6 +965,12 @@ mod periodic_tests {
                 "contact fraction {fraction}"
             );
             assert_eq!((nested.solves, single.solves), (2, 1));
+            assert_eq!(nested.level_iterations.len(), 2);
+            assert_eq!(
+                nested.level_iterations.iter().sum::<usize>(),
+                nested.summary.iterations
+            );
+            assert_eq!(single.level_iterations, vec![single.summary.iterations]);
             assert!(single.window.is_full());
             let peak = nested.pressure.iter().fold(0.0f64, |m, &v| m.max(v));
             let diff = nested
