@@ -126,6 +126,23 @@ def test_rough_elastic_contact_keeps_the_invariants():
     assert r.mean_gap[0] == pytest.approx(f.gap.mean(), rel=1e-12)
 
 
+@pytest.mark.parametrize("periodic", [False, True])
+def test_a_large_map_reports_the_iterations_of_each_nested_level(periodic):
+    # a 512 x 512 map is solved on nested grids (coarse levels first); each level's
+    # iterations are reported and add up to the solve's (a map too small to nest reports one
+    # level, MDR none)
+    n, dx = 512, 1.0 / 512
+    hm = mv.HeightMap(_rough_map(n, dx, seed=2, rms=1e-3).heights, dx, periodic=periodic)
+    r = mv.solve(mv.Scene(indenter=hm, medium=mv.Elastic(G=1.0), force=2e-3))
+    assert len(r.level_iterations) >= 2
+    assert sum(r.level_iterations) == r.iterations and min(r.level_iterations) > 0
+    small = mv.solve(mv.Scene(indenter=_rough_map(64, 1.0 / 64, seed=2, rms=1e-3),
+                              medium=mv.Elastic(G=1.0), force=2e-3))
+    assert small.level_iterations == (small.iterations,)
+    assert mv.solve(mv.Scene(indenter=mv.Paraboloid(c=1.0), medium=mv.Elastic(G=1.0),
+                             force=1.0), "mdr", 101).level_iterations is None
+
+
 def test_the_resolution_warning_of_a_rough_contact_measures_its_patches():
     # the same 128 x 128 map: many small patches warn (measured: 98 patches of 1.9 elements'
     # mean diameter at 1.7 % contact), one large contact (65 % of the map) does not

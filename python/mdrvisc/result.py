@@ -96,7 +96,9 @@ class Result:
 
     The run: ``method`` ("bem"/"mdr"), ``n``, ``dx`` (m), ``grid_shape`` (BEM), ``integrator``,
     ``steps``, ``solves``, ``iterations``, ``residual`` (largest final relative residual),
-    ``solver`` and ``window`` (static BEM solves), ``wall_time`` (s), ``warnings``.
+    ``solver``, ``window`` and ``level_iterations`` (static BEM solves: the iterations of each
+    nested grid level, coarsest first, the solved grid last; they sum to ``iterations``),
+    ``wall_time`` (s), ``warnings``.
 
     An adhesive contact (:class:`~mdrvisc.JKR`, :class:`~mdrvisc.DMT`): ``pull_off_force`` (N,
     negative: the tension the contact carried in its last state before it first let go),
@@ -113,7 +115,7 @@ class Result:
                  stiffness_length=None, central_pressure=None,
                  contact_fraction=None, patches=None, mean_gap=None, saturated=None, at_edge=None,
                  fields=None, grid_shape=None, integrator: str = "implicit",
-                 solver: str | None = None, window=None, steps: int = 0, solves: int = 0,
+                 solver: str | None = None, window=None, level_iterations=None, steps: int = 0, solves: int = 0,
                  iterations: int = 0, residual: float = 0.0, wall_time: float = 0.0,
                  warnings=(), pull_off_force=None, pull_off_depth=None, pull_off_time=None,
                  jump_in=None, jump_out=None) -> None:
@@ -130,6 +132,8 @@ class Result:
         self.fields = None if not fields else dict(fields)
         self.grid_shape = None if grid_shape is None else tuple(int(v) for v in grid_shape)
         self.window = None if window is None else tuple(int(v) for v in window)
+        self.level_iterations = (None if level_iterations is None
+                                 else tuple(int(v) for v in level_iterations))
         self.integrator, self.solver = str(integrator), None if solver is None else str(solver)
         self.steps, self.solves, self.iterations = int(steps), int(solves), int(iterations)
         self.residual, self.wall_time = float(residual), float(wall_time)

@@ -36,7 +36,7 @@ impl QuantityKind {
 /// Every quantity of a `Report` and its `FieldSet`s but the fields list and the warnings:
 /// name, unit (SI; empty for counts, flags and labels) and kind. Each kind in the order the
 /// Python `Result` lists it.
-pub const QUANTITIES: [(&str, &str, QuantityKind); 40] = [
+pub const QUANTITIES: [(&str, &str, QuantityKind); 41] = [
     ("t", "s", QuantityKind::Series),
     ("depth", "m", QuantityKind::Series),
     ("contact_length", "m", QuantityKind::Series),
@@ -67,6 +67,7 @@ pub const QUANTITIES: [(&str, &str, QuantityKind); 40] = [
     ("pull_off_time", "s", QuantityKind::Scalar),
     ("grid_shape", "", QuantityKind::Shape),
     ("window", "", QuantityKind::Shape),
+    ("level_iterations", "", QuantityKind::Shape),
     ("jump_in", "s", QuantityKind::Events),
     ("jump_out", "s", QuantityKind::Events),
     ("x", "m", QuantityKind::Coordinate),

@@ -164,6 +164,12 @@ impl PyReport {
     fn window(&self) -> Option<(usize, usize, usize, usize)> {
         self.inner.window.map(|[a, b, c, d]| (a, b, c, d))
     }
+    /// Iterations of each grid level of a static BEM solve (coarsest first, the solved grid
+    /// last), or None.
+    #[getter]
+    fn level_iterations(&self) -> Option<Vec<usize>> {
+        self.inner.level_iterations.clone()
+    }
     /// Pull-off force (N, tensile: negative) of an adhesive contact, or None.
     #[getter]
     fn pull_off_force(&self) -> Option<f64> {

@@ -75,6 +75,7 @@ fn report(settings: &RunSettings, dx: f64, integrator: &str, t: Vec<f64>) -> Rep
         iterations: 0,
         solver: None,
         window: None,
+        level_iterations: None,
         residual: 0.0,
         wall_time: 0.0,
         warnings: vec![],
@@ -267,6 +268,7 @@ pub fn bem_static_report(
     out.grid_shape = Some([grid.ny, grid.nx]);
     out.solver = Some(static_solver_name(r.summary.dense).into());
     out.window = Some([r.window.y0, r.window.x0, r.window.wy, r.window.wx]);
+    out.level_iterations = Some(r.level_iterations.clone());
     let u = r.deflection.as_deref();
     if wanted.height_map {
         let mean_u = u.map_or(f64::NAN, mean);

@@ -144,6 +144,9 @@ pub struct Report {
     pub solver: Option<String>,
     /// Window (y0, x0, rows, columns) of the grid the last static solve ran on.
     pub window: Option<[usize; 4]>,
+    /// Iterations of each grid level of a static BEM solve, coarsest first and the solved
+    /// grid last (one entry without nested levels); they sum to `iterations`.
+    pub level_iterations: Option<Vec<usize>>,
     /// Largest final relative residual of the contact solves.
     pub residual: f64,
     /// Wall time of the run (s).
