@@ -115,8 +115,8 @@ class Result:
                  stiffness_length=None, central_pressure=None,
                  contact_fraction=None, patches=None, mean_gap=None, saturated=None, at_edge=None,
                  fields=None, grid_shape=None, integrator: str = "implicit",
-                 solver: str | None = None, window=None, level_iterations=None, steps: int = 0, solves: int = 0,
-                 iterations: int = 0, residual: float = 0.0, wall_time: float = 0.0,
+                 solver: str | None = None, window=None, level_iterations=None, steps: int = 0,
+                 solves: int = 0, iterations: int = 0, residual: float = 0.0, wall_time: float = 0.0,
                  warnings=(), pull_off_force=None, pull_off_depth=None, pull_off_time=None,
                  jump_in=None, jump_out=None) -> None:
         self.method, self.n, self.dx = str(method), int(n), float(dx)
