@@ -219,6 +219,25 @@ def test_rough_cell_pull_off_bounded_by_the_smooth_sphere():
     assert deficit[0.03] < 0.2 * deficit[0.3], deficit
 
 
+def test_maugis_dugdale_rough_cell_converges_and_is_bounded_by_the_smooth_sphere():
+    """The rough periodic cell of the test above under Maugis–Dugdale (range h0 = 0.02 m,
+    the element 0.09 of the law's resolution limit) at roughness of rms 0.1 and 0.3 h0,
+    where many elements sit on the law's step at once (the element-wise Newton sweeps ended
+    at their limit there): the mixed sweeps converge, and the pull-off is at most the smooth
+    cap's and falls as the roughness grows."""
+    n, side, h0 = 32, 0.8, 0.02
+    law = mv.MaugisDugdale(work_of_adhesion=W, range=h0)
+    cap, dx = sphere(n, side)
+    rough = mv.surfaces.self_affine((n, n), dx, hurst=0.8, rms_height=h0, rolloff=0.2,
+                                    short_cutoff=4 * dx, seed=3)
+    pull_off = []
+    for eps in (0.0, 0.1, 0.3):
+        h = cap + eps * rough
+        pull_off.append(-mv.arrays.adhesive_pull_off(h - h.min(), dx, 1.0, law, 0.02, -0.12,
+                                                     periodic=True)["force"])
+    assert pull_off[0] > pull_off[1] > pull_off[2] > 0.0, pull_off
+
+
 def test_viscoelastic_pull_off_between_relaxed_and_glassy():
     """A standard solid (G_inf = 1 Pa, G_0 = 4 Pa, tau = 1 s) under the exponential law: the
     retract's least force tends to the relaxed elastic body's when slow (1e5 tau: measured
