@@ -33,8 +33,8 @@ force against Maugis and JKR, and a fit by ``contact=mv.JKR(..., approach="equil
 1 % noise (G and w relative errors).
 
 Run: ``python benchmarks/bench_adhesion.py [--sizes 501 2001 8001 32001] [--repeats 5]
-[--bem-sizes 32 64 128] [--lambdas 0.3 1 3] [--adhesion-sizes 32] [--adhesion-path DIR]
-[--jkr-lambdas 2 3 4] [--jkr-refinements 1.2 1.8]``.
+[--bem-sizes 32 64 128] [--lambdas 0.3 1 3] [--md-side 0.8] [--adhesion-sizes 32]
+[--adhesion-path DIR] [--jkr-lambdas 2 3 4] [--jkr-refinements 1.2 1.8]``.
 """
 
 from __future__ import annotations
@@ -76,8 +76,9 @@ def sphere(n: int, side: float) -> tuple[np.ndarray, float]:
     return (x[:, None] ** 2 + x[None, :] ** 2) / 2.0, dx
 
 
-def md_rows(lambdas, sizes):
-    """Maugis–Dugdale pull-off by BEM against Maugis, per lambda and grid."""
+def md_rows(lambdas, sizes, side=None):
+    """Maugis–Dugdale pull-off by BEM against Maugis, per lambda and grid (of ``side`` m, or
+    sized from the law's range)."""
     w, e_star = 0.01, 4.0
     k = 4.0 * e_star / 3.0
     rows = []
@@ -86,10 +87,10 @@ def md_rows(lambdas, sizes):
         law = mv.MaugisDugdale(work_of_adhesion=w, stress=stress)
         h0 = w / stress
         # the zone ends near the rigid gap h0 + |pull-off depth|; the grid spans 2.5 times it
-        side = max(1.2, 2.5 * math.sqrt(2 * (h0 + 0.05)))
+        span = side or max(1.2, 2.5 * math.sqrt(2 * (h0 + 0.05)))
         reference = mv.analytic.maugis_pull_off(lam)
         for n in sizes:
-            h, dx = sphere(n, side)
+            h, dx = sphere(n, span)
             t0 = time.perf_counter()
             try:
                 r = mv.arrays.adhesive_pull_off(h, dx, 1.0, law, 0.02, -0.1, steps=30)
@@ -267,6 +268,8 @@ def main(argv=None) -> None:
     parser.add_argument("--repeats", type=int, default=5)
     parser.add_argument("--bem-sizes", type=int, nargs="+", default=[32, 64, 128])
     parser.add_argument("--lambdas", type=float, nargs="+", default=[0.3, 1.0, 3.0])
+    parser.add_argument("--md-side", type=float, default=None,
+                        help="grid side (m) of the Maugis-Dugdale rows (default: from the range)")
     parser.add_argument("--adhesion-sizes", type=int, nargs="+", default=[32],
                         help="grids on which the Adhesion package runs too (it is slow)")
     parser.add_argument("--adhesion-path", default=None,
@@ -283,7 +286,7 @@ def main(argv=None) -> None:
           ["{:g}", "{}", "{:.2e}", "{:.4f}", "{}", "{:.4f}", "{:.4f}", "{:+.2e}", "{:+.2e}", "{:.1f}"])
     header("Maugis-Dugdale by BEM: sphere, pull-off against Maugis (units of pi w R)")
     table(["lambda", "n", "BEM", "Maugis", "rel. error", "zone width (dx)", "solves", "s"],
-          md_rows(args.lambdas, args.bem_sizes),
+          md_rows(args.lambdas, args.bem_sizes, args.md_side),
           ["{:g}", "{}", "{:.4f}", "{:.4f}", "{:+.2e}", "{:.1f}", "{}", "{:.2f}"])
     rows, have_package = exponential_rows(args.bem_sizes, args.adhesion_sizes, args.adhesion_path)
     header("Exponential law by BEM (w = 0.01 J/m^2, rho = 0.02 m) against the Adhesion package"

@@ -7,10 +7,17 @@
 //! for the Maugis–Dugdale zone): with q frozen, the surface lifted by compliance * K[q]
 //! meets the indenter in a hard contact, solved by the hard-contact solver
 //! (`ContactSolver`, Polonsky–Keer or the dense active set, warm-started) on the separation
-//! h + compliance * K[q]; its gap gives the next traction. Each element's traction takes
-//! one Newton step on its own equation q_i = -t(g_i), its gap following q_i through the
-//! self-compliance s: q_i <- q_i - (q_i + t(g_i)) / (1 - s t'(g_i)) (a Jacobi–Newton sweep),
-//! and the sweeps end when the traction changes by less than `opts.tol` of t(0).
+//! h + compliance * K[q]; its gap g gives the next traction q = -t(g). The law's potential
+//! is concave in the gap, so each sweep is a step of the difference-of-convex algorithm
+//! (DCA, Tao & An 1997; the convex-concave procedure): the concave part replaced by its
+//! tangent, the convex problem left (a hard contact) solved exactly, the total energy
+//! never rises. The plain steps converge slowly, and an element-wise Newton step on them
+//! (q_i + t(g_i) = 0 through the self-compliance alone) cycles where the elements of the
+//! zone's edge move together (their joint compliance exceeds each one's own at large
+//! Tabor parameters); so the sweeps are Anderson-mixed (`Anderson`), and a mixed iterate
+//! that raises the energy is replaced by the plain step from the last accepted one. The
+//! sweeps end when the traction the law gives differs from the iterate's by less than
+//! `opts.tol` of t(0); the hard solves run to `INNER_TOL` of that tolerance.
 //! Maugis–Dugdale's step at h0 is applied as a ramp of twice an element's self-lift
 //! (`Element`), so that each element's equation has one root (no lattice trapping).
 //!
@@ -35,9 +42,6 @@ use std::f64::consts::PI;
 
 /// Most fixed-point sweeps of one cohesive solve.
 pub const SWEEPS: usize = 400;
-
-/// Sweeps with full Newton steps before they are halved.
-const UNDAMPED: usize = 50;
 
 /// The law as an element applies it: the exponential law as it is; Maugis–Dugdale's step at
 /// h0 as a ramp from sigma0 at h0 - delta / 2 to 0 at h0 + delta / 2, delta twice the gap an
@@ -73,20 +77,6 @@ impl Element {
         }
     }
 
-    /// -d traction / d gap (Pa/m, >= 0) at gap `g` (m).
-    fn stiffness(self, g: f64) -> f64 {
-        match self.law {
-            ContactLaw::MaugisDugdale { stress, .. } => {
-                if (g - self.law.range()).abs() < 0.5 * self.ramp {
-                    stress / self.ramp
-                } else {
-                    0.0
-                }
-            }
-            law => law.traction(g) / law.range(),
-        }
-    }
-
     /// Interaction energy per unit area (J/m^2) at gap `g` (m), whose derivative is the
     /// traction.
     fn potential(self, g: f64) -> f64 {
@@ -103,6 +93,126 @@ impl Element {
             }
             law => law.potential(g),
         }
+    }
+}
+
+/// The hard solves' tolerance as a fraction of the sweeps'.
+const INNER_TOL: f64 = 1e-2;
+
+/// Relative rise of the energy beyond which a mixed iterate is refused (the hard solves'
+/// round-off).
+const ENERGY_SLACK: f64 = 1e-9;
+
+/// History kept by the Anderson mixing of the cohesive sweeps.
+const MIXING_DEPTH: usize = 6;
+
+/// Anderson mixing (Anderson 1965; Walker & Ni 2011) of the sweeps' fixed point
+/// q = q + f(q), f the plain step -t(g(q)) - q: the next traction combines the last `depth`
+/// iterates so that their steps' combination is least, a secant method on the whole zone
+/// (GMRES on the sweeps' map where it is affine, once the zone's elements keep their
+/// branches), which also converges where the plain map alone is unstable (a ring of edge
+/// elements on the law's descending branch).
+struct Anderson {
+    depth: usize,
+    /// The last iterate and its step.
+    last: Option<(Vec<f64>, Vec<f64>)>,
+    /// Differences of consecutive iterates and of their steps, oldest first.
+    dq: Vec<Vec<f64>>,
+    df: Vec<Vec<f64>>,
+}
+
+impl Anderson {
+    fn new(depth: usize) -> Self {
+        Anderson {
+            depth,
+            last: None,
+            dq: Vec::new(),
+            df: Vec::new(),
+        }
+    }
+
+    /// Forgets the history.
+    fn clear(&mut self) {
+        self.last = None;
+        self.dq.clear();
+        self.df.clear();
+    }
+
+    /// Moves `q` on from its step `f`: q + f - sum_j gamma_j (dq_j + df_j), gamma the
+    /// least-squares coefficients of f on the steps' differences.
+    fn step(&mut self, q: &mut [f64], f: &[f64]) {
+        if let Some((q0, f0)) = self.last.take() {
+            if self.dq.len() == self.depth {
+                self.dq.remove(0);
+                self.df.remove(0);
+            }
+            self.dq
+                .push(q.iter().zip(&q0).map(|(a, b)| a - b).collect());
+            self.df
+                .push(f.iter().zip(&f0).map(|(a, b)| a - b).collect());
+        }
+        self.last = Some((q.to_vec(), f.to_vec()));
+        let m = self.df.len();
+        let gamma = if m == 0 {
+            Vec::new()
+        } else {
+            let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
+            let mut a = vec![0.0; m * m];
+            let mut b = vec![0.0; m];
+            for j in 0..m {
+                for k in 0..=j {
+                    let v = dot(&self.df[j], &self.df[k]);
+                    a[j * m + k] = v;
+                    a[k * m + j] = v;
+                }
+                b[j] = dot(&self.df[j], f);
+            }
+            let trace: f64 = (0..m).map(|j| a[j * m + j]).sum();
+            for j in 0..m {
+                a[j * m + j] += 1e-12 * trace.max(f64::MIN_POSITIVE);
+            }
+            solve_small(&mut a, &mut b, m);
+            b
+        };
+        for i in 0..q.len() {
+            let mut v = q[i] + f[i];
+            for (j, g) in gamma.iter().enumerate() {
+                v -= g * (self.dq[j][i] + self.df[j][i]);
+            }
+            q[i] = v;
+        }
+    }
+}
+
+/// Solves the symmetric positive definite m x m system `a` x = `b` in place (Gaussian
+/// elimination with partial pivoting), x left in `b`.
+fn solve_small(a: &mut [f64], b: &mut [f64], m: usize) {
+    for c in 0..m {
+        let p = (c..m)
+            .max_by(|&i, &j| a[i * m + c].abs().total_cmp(&a[j * m + c].abs()))
+            .unwrap_or(c);
+        if p != c {
+            for k in 0..m {
+                a.swap(c * m + k, p * m + k);
+            }
+            b.swap(c, p);
+        }
+        let d = a[c * m + c];
+        if d == 0.0 {
+            continue;
+        }
+        for i in c + 1..m {
+            let l = a[i * m + c] / d;
+            for k in c..m {
+                a[i * m + k] -= l * a[c * m + k];
+            }
+            b[i] -= l * b[c];
+        }
+    }
+    for c in (0..m).rev() {
+        let d = a[c * m + c];
+        let s: f64 = (c + 1..m).map(|k| a[c * m + k] * b[k]).sum();
+        b[c] = if d == 0.0 { 0.0 } else { (b[c] - s) / d };
     }
 }
 
@@ -245,6 +355,17 @@ impl CohesiveSolver {
         }
         let (mut iterations, mut residual) = (0, 0.0);
         let mut started = warm;
+        // the hard solves' pressure tighter than the sweeps' tolerance: their error reaches
+        // the zone's edge amplified by the ramp's stiffness (by about range / h0-scale)
+        let inner = SolverOptions {
+            tol: (opts.tol * INNER_TOL).max(f64::EPSILON),
+            ..*opts
+        };
+        let mut mixing = Anderson::new(MIXING_DEPTH);
+        let mut step = vec![0.0; n];
+        // the energy of the last accepted iterate and the plain step from it
+        let mut accepted: Option<(f64, Vec<f64>)> = None;
+        let mut mixed = false;
         for sweep in 1..=SWEEPS {
             hard.operator().apply(&self.q, &mut self.kq);
             for ((lifted, &h), &kq) in self.lifted.iter_mut().zip(h).zip(&self.kq) {
@@ -260,7 +381,7 @@ impl CohesiveSolver {
                         dx,
                         compliance,
                         mean_sep,
-                        opts,
+                        &inner,
                         monitor,
                     )?;
                     started = true;
@@ -273,20 +394,18 @@ impl CohesiveSolver {
                 Target::Depth(depth),
                 started,
                 0.0,
-                opts,
+                &inner,
                 monitor,
             )?;
             started = r.contact_count > 0;
             iterations += r.iterations;
             residual = r.residual;
             let (pc, u) = (hard.pressure(), hard.deflection());
-            let mut change = 0.0f64;
-            // full Newton steps first; halved after `UNDAMPED` sweeps, which ends the
-            // two-cycles an element crossing the ramp's end can fall into
-            let relax = if sweep <= UNDAMPED { 1.0 } else { 0.5 };
+            let (mut change, mut energy) = (0.0f64, 0.0);
             for i in 0..n {
                 if !allowed[i] {
                     self.gap[i] = 0.0;
+                    step[i] = 0.0;
                     continue;
                 }
                 let g = if pc[i] > 0.0 {
@@ -295,19 +414,42 @@ impl CohesiveSolver {
                     (u[i] + self.lifted[i] - depth).max(0.0)
                 };
                 self.gap[i] = g;
-                let next = if pc[i] > 0.0 {
-                    -t0
-                } else {
-                    // one Newton step on q + t(g(q)) = 0, g moving by s per unit q
-                    let t = element.traction(g);
-                    let slope = 1.0 - self_compliance * element.stiffness(g);
-                    self.q[i] - relax * (self.q[i] + t) / slope.max(0.5)
-                };
-                change = change.max((next - self.q[i]).abs());
-                self.q[i] = next;
+                let deflection = u[i] + compliance * self.kq[i];
+                energy += 0.5 * (pc[i] + self.q[i]) * deflection + element.potential(g);
+                // the traction the law gives at this gap (the tangent of its concave
+                // potential, the next convex problem's load)
+                step[i] = -element.traction(g) - self.q[i];
+                change = change.max(step[i].abs());
             }
             monitor.progress("cohesive sweeps", sweep, SWEEPS)?;
-            if change <= opts.tol * t0 {
+            let converged = change <= opts.tol * t0;
+            if !converged {
+                match accepted.as_mut() {
+                    // a mixed iterate that raised the energy is replaced by the plain
+                    // step from the last accepted one, and the history restarts
+                    Some((last, plain)) if mixed && energy > *last + ENERGY_SLACK * last.abs() => {
+                        self.q.copy_from_slice(plain);
+                        mixing.clear();
+                        mixed = false;
+                        continue;
+                    }
+                    _ => {}
+                }
+                let plain: Vec<f64> = self
+                    .q
+                    .iter()
+                    .zip(&step)
+                    .map(|(q, f)| (q + f).clamp(-t0, 0.0))
+                    .collect();
+                accepted = Some((energy, plain));
+                mixing.step(&mut self.q, &step);
+                for q in self.q.iter_mut() {
+                    *q = q.clamp(-t0, 0.0);
+                }
+                mixed = true;
+                continue;
+            }
+            {
                 let (mut force, mut energy) = (0.0, 0.0);
                 let (mut contact_count, mut zone_count) = (0, 0);
                 let range = law.range();
