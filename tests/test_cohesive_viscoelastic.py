@@ -55,7 +55,7 @@ def largest_tension(speed, method, stress=None):
     scene = mv.Scene(indenter=indenter, medium=mv.StandardSolid(G_inf=G_INF, G1=G1, tau1=TAU),
                      contact=contact, depth=([0.0, t_in, t_end], [0.0, D_MAX, D_MIN]),
                      duration=t_end, times=times)
-    options = {"tol": 1e-4} if method == "bem" else {}  # the forces as at 1e-6, to 1e-5
+    options = {"tol": 1e-6} if method == "bem" else {}
     return -mv.solve(scene, method, n, **options).force.min()
 
 
