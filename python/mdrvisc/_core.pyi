@@ -298,7 +298,12 @@ def parse_scene_file(text: str, source: str) -> tuple[Scene, str, int]: ...
 def parse_scene_table(text: str, source: str) -> tuple[Scene, str, int]: ...
 def read_scene_file(path: str) -> Scene: ...
 def run_memory(
-    scene: Scene, method: str, n: int, integrator: str = ..., dt: float | None = None, precondition: bool = ...
+    scene: Scene,
+    method: str,
+    n: int,
+    integrator: str = ...,
+    dt: float | None = None,
+    precondition: bool = ...,
 ) -> float:
     """The memory (bytes) ``run_scene`` with these arguments reaches at its peak, as checked
     before it allocates."""
