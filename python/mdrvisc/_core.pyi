@@ -34,6 +34,7 @@ __all__ = [
     "parse_scene_file",
     "parse_scene_table",
     "read_scene_file",
+    "run_memory",
     "run_scene",
     "run_loads",
     "self_affine",
@@ -298,6 +299,16 @@ def load_scene_file(path: str) -> tuple[Scene, str, int]: ...
 def parse_scene_file(text: str, source: str) -> tuple[Scene, str, int]: ...
 def parse_scene_table(text: str, source: str) -> tuple[Scene, str, int]: ...
 def read_scene_file(path: str) -> Scene: ...
+def run_memory(
+    scene: Scene,
+    method: str,
+    n: int,
+    integrator: str = ...,
+    dt: float | None = None,
+    precondition: bool = ...,
+) -> float:
+    """The memory (bytes) ``run_scene`` with these arguments reaches at its peak, as checked
+    before it allocates."""
 def run_scene(
     scene: Scene,
     method: str,

@@ -99,7 +99,7 @@ pub fn solve_from(
     }
     crate::support::memory::check(
         &format!("a {} x {} contact solve", grid.nx, grid.ny),
-        solve_bytes(grid),
+        solve_bytes(grid.body, grid.nx, grid.ny, opts.precondition),
     )?;
     if !grid.body.windows() {
         if depth_bound.is_some() {
@@ -268,21 +268,28 @@ pub fn solve_from(
 const RISE_ALLOWANCE: f64 = 1.25;
 
 /// Bytes per element a solve holds besides the operator: the contact solver's buffers
-/// (`ContactSolver::BYTES_PER_ELEMENT`), the start and the pressure returned (16), and on a
-/// body with windows the window's heights and mask (9).
-fn solve_bytes_per_element(body: Body) -> f64 {
-    let copies = if body.windows() { 25.0 } else { 16.0 };
-    ContactSolver::<crate::halfspace::body::Operator>::BYTES_PER_ELEMENT + copies
+/// (`ContactSolver::BYTES_PER_ELEMENT`), the pressure returned (8), with `precondition` the
+/// nested levels' start (8), and on a body with windows the window's heights and mask (9)
+/// and the windows' kernel table (8).
+fn solve_bytes_per_element(body: Body, precondition: bool) -> f64 {
+    let windows = if body.windows() { 17.0 } else { 0.0 };
+    let start = if precondition { 8.0 } else { 0.0 };
+    ContactSolver::<crate::halfspace::body::Operator>::BYTES_PER_ELEMENT + 8.0 + start + windows
 }
 
-/// The memory (bytes) a solve of `grid` reaches at its peak, the grid itself aside: the
-/// whole grid's operator (`Body::operator_bytes`) and `solve_bytes_per_element`; coarse
-/// levels are freed before the finest starts. Measured on the benchmark's self-affine
-/// surface (growth of the resident peak during `mdrvisc.arrays.contact`): 0.96 of it free
-/// at 1024^2 and 2048^2, 0.8-0.9 periodic.
-pub fn solve_bytes(grid: &Grid) -> f64 {
-    let (nx, ny) = (grid.nx, grid.ny);
-    grid.body.operator_bytes(nx, ny) + solve_bytes_per_element(grid.body) * (nx * ny) as f64
+/// The memory (bytes) a solve of an `nx` x `ny` grid on `body` reaches at its peak, the
+/// grid itself aside: the whole grid's operator (`Body::operator_bytes`; on a body with
+/// windows without its spectral preconditioner unless `precondition`) and
+/// `solve_bytes_per_element`; coarse levels are freed before the finest starts. The check
+/// before a solve and the measured peak (`tests/test_memory.py`) use it.
+pub fn solve_bytes(body: Body, nx: usize, ny: usize, precondition: bool) -> f64 {
+    let unused = if body.windows() && !precondition {
+        crate::halfspace::operator::inverse_bytes(nx, ny)
+    } else {
+        0.0
+    };
+    body.operator_bytes(nx, ny) - unused
+        + solve_bytes_per_element(body, precondition) * (nx * ny) as f64
 }
 
 /// Solves the static contact of a body without windows, a periodic cell: `grid` is one

@@ -64,6 +64,18 @@ pub fn run_bem_with(
     monitor: &mut dyn Monitor,
 ) -> Result<Series<Fields>> {
     request.check()?;
+    crate::support::memory::check(
+        &format!("a {} x {} viscoelastic BEM run", grid.nx, grid.ny),
+        run_bytes(
+            grid.body,
+            grid.nx,
+            grid.ny,
+            medium.internal(),
+            request.fields_at.len(),
+            request.field_rates,
+            law.is_cohesive(),
+        ),
+    )?;
     let mut cohesive = match law {
         ContactLaw::Hard => None,
         _ if law.is_cohesive() => Some(CohesiveStepper::new(law, grid.nx * grid.ny)?),
@@ -275,4 +287,29 @@ pub fn run_bem_with(
     out.solves = out.steps;
     out.jumps = cohesive.map(|c| c.jumps().clone());
     Ok(out)
+}
+
+/// The memory (bytes) [`run_bem_with`] reaches on an `nx` x `ny` grid on `body`, the grid
+/// itself aside: the whole grid's operator (`Body::operator_bytes`) and contact solver
+/// (`ContactSolver::BYTES_PER_ELEMENT`); per element the state x and the medium's
+/// `internal` variables (8 each), the history, its deflection and the separation, the last
+/// pressure and the guess (40), with `field_rates` the trail of two earlier states (16), a
+/// cohesive zone's buffers (`cohesive`, 40) and 24 per field (pressure, velocity,
+/// deflection) of the `fields` asked for. The check before a run and the measured peak
+/// (`tests/test_memory.py`) use it.
+pub fn run_bytes(
+    body: crate::model::body::Body,
+    nx: usize,
+    ny: usize,
+    internal: usize,
+    fields: usize,
+    field_rates: bool,
+    cohesive: bool,
+) -> f64 {
+    let solver = ContactSolver::<crate::halfspace::body::Operator>::BYTES_PER_ELEMENT;
+    let rates = if field_rates { 16.0 } else { 0.0 };
+    let zone = if cohesive { 40.0 } else { 0.0 };
+    let per_element =
+        solver + 8.0 * (1 + internal) as f64 + 40.0 + rates + zone + 24.0 * fields as f64;
+    body.operator_bytes(nx, ny) + per_element * (nx * ny) as f64
 }

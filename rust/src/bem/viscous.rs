@@ -159,6 +159,33 @@ impl Series<Fields> {
     }
 }
 
+/// The memory (bytes) a viscous BEM run of an `nx` x `ny` grid on `body` reaches, the grid
+/// itself aside: the whole grid's operator (`Body::operator_bytes`) and contact solver
+/// (`ContactSolver::BYTES_PER_ELEMENT`), 48 per element of state (separation, accumulated
+/// and incremental deflection, pressure step, contact, a window's copies) and 24 per field
+/// (pressure, velocity, deflection) of the `fields` asked for; `pooled` (the implicit
+/// stepping's `SolverPool`) adds the windows' kernel table (8 per element) and the solvers
+/// of its smaller windows, which hold at most half the whole grid's operator and solver
+/// (windows of other padded sizes than the whole grid's). The check before a run and the
+/// measured peak (`tests/test_memory.py`) use it.
+pub fn run_bytes(
+    body: crate::model::body::Body,
+    nx: usize,
+    ny: usize,
+    fields: usize,
+    pooled: bool,
+) -> f64 {
+    let elements = (nx * ny) as f64;
+    let whole = body.operator_bytes(nx, ny)
+        + ContactSolver::<crate::halfspace::body::Operator>::BYTES_PER_ELEMENT * elements;
+    let pool = if pooled && body.windows() {
+        0.5 * whole + 8.0 * elements
+    } else {
+        0.0
+    };
+    whole + pool + (48.0 + 24.0 * fields as f64) * elements
+}
+
 /// Runs the implicit impulse stepping of a viscous half-space (viscosity `eta`, Pa s) under
 /// the force `history` (N over s); depths (m), areas (m^2) and rates (m/s) per output time.
 ///
@@ -181,6 +208,10 @@ pub fn run_implicit(
     monitor: &mut dyn Monitor,
 ) -> Result<Series<Fields>> {
     check_request(request, eta)?;
+    crate::support::memory::check(
+        &format!("a {} x {} viscous BEM run", grid.nx, grid.ny),
+        run_bytes(grid.body, grid.nx, grid.ny, request.fields_at.len(), true),
+    )?;
     let mut pool = SolverPool::new(grid.body, grid.nx, grid.ny, grid.dx)?;
     let n = grid.nx * grid.ny;
     let mut full = ContactSolver::new(pool.whole()?);
@@ -311,6 +342,10 @@ pub fn run_explicit(
 ) -> Result<Series<Fields>> {
     check_request(request, eta)?;
     ctrl.validate()?;
+    crate::support::memory::check(
+        &format!("a {} x {} viscous BEM run", grid.nx, grid.ny),
+        run_bytes(grid.body, grid.nx, grid.ny, request.fields_at.len(), false),
+    )?;
     let n = grid.nx * grid.ny;
     let mut solver = ContactSolver::new(grid.body.operator(grid.nx, grid.ny, grid.dx)?);
     let hmin = (0..n)

@@ -48,7 +48,7 @@ mod core_module {
     #[pymodule_export]
     use super::scene::{
         load_scene_file, parse_scene_file, parse_scene_table, read_scene_file, run_loads,
-        run_scene, PyScene,
+        run_memory, run_scene, PyScene,
     };
 
     /// Imports NumPy's C API and adds the schema: `OUTPUTS`, `QUANTITIES`,

@@ -371,6 +371,51 @@ pub(crate) fn parse_scene_table(
         .map_err(|e| to_pyerr(py, e))
 }
 
+/// The memory (bytes) `run_scene` with these arguments reaches at its peak, as checked
+/// before it allocates (`crate::run::memory_needed`).
+#[pyfunction]
+#[pyo3(signature = (
+    scene,
+    method,
+    n,
+    integrator = Integrator::Implicit.name(),
+    dt = None,
+    precondition = SolverOptions::default().precondition,
+))]
+pub(crate) fn run_memory(
+    py: Python<'_>,
+    scene: &PyScene,
+    method: &str,
+    n: usize,
+    integrator: &str,
+    dt: Option<f64>,
+    precondition: bool,
+) -> PyResult<f64> {
+    let integrator = match integrator {
+        "implicit" => Integrator::Implicit,
+        "explicit" => Integrator::Explicit(ExplicitControl::default()),
+        other => {
+            return Err(to_pyerr(
+                py,
+                Error::InvalidInput(format!(
+                    "integrator must be 'implicit' or 'explicit', got {other:?}"
+                )),
+            ))
+        }
+    };
+    let settings = RunSettings {
+        method: parse_method(py, method)?,
+        n,
+        solver: SolverOptions {
+            precondition,
+            ..SolverOptions::default()
+        },
+        integrator,
+        dt,
+    };
+    Ok(crate::run::memory_needed(&scene.inner, &settings))
+}
+
 /// Solves `scene` by `method` ("bem" or "mdr") at resolution `n`; see `mdrvisc.solve`.
 /// The defaults are `SolverOptions::default()`'s and `ExplicitControl::default()`'s
 /// (`SOLVER_DEFAULTS`).
@@ -430,9 +475,10 @@ pub(crate) fn run_scene(
         integrator,
         dt,
     };
-    let scene = scene.inner.clone();
+    // borrowed, not copied: a height map's heights are as large as the run's grid
+    let scene = &scene.inner;
     let report =
-        PyMonitor::new(progress).run(py, |monitor| crate::run::run(&scene, &settings, monitor))?;
+        PyMonitor::new(progress).run(py, |monitor| crate::run::run(scene, &settings, monitor))?;
     Ok(PyReport { inner: report })
 }
 
@@ -472,9 +518,9 @@ pub(crate) fn run_loads(
         integrator: Integrator::Implicit,
         dt: None,
     };
-    let scene = scene.inner.clone();
+    let scene = &scene.inner;
     let reports = PyMonitor::new(progress).run(py, |monitor| {
-        crate::run::run_loads(&scene, &forces, &settings, monitor)
+        crate::run::run_loads(scene, &forces, &settings, monitor)
     })?;
     Ok(reports
         .into_iter()

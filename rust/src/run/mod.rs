@@ -164,22 +164,25 @@ fn run_from(
     Ok((report, pressure))
 }
 
-/// Bytes per BEM grid element of a run (buffers of the operator, the contact solver and the
-/// stepping; measured peak 140 elastic, 200-235 viscous and viscoelastic at n = 1024), before
-/// the internal variables of the medium and the fields.
-const BEM_BYTES_PER_ELEMENT: f64 = 256.0;
-
 /// Bytes per MDR element of a run, before the internal variables and the fields.
 const MDR_BYTES_PER_ELEMENT: f64 = 64.0;
 
-/// The memory (bytes) a run of `scene` as `settings` say will need, roughly: per element
-/// its buffers, 8 bytes per internal variable of the medium and per field array, and 16
-/// bytes per viscoelastic time step.
-fn memory_needed(scene: &Scene, settings: &RunSettings) -> f64 {
+/// Bytes per element of a BEM grid: heights and mask.
+const GRID_BYTES_PER_ELEMENT: f64 = 9.0;
+
+/// The memory (bytes) a run of `scene` as `settings` say reaches at its peak, checked before
+/// it allocates. BEM: the grid and the larger of what its solver holds while it runs (a
+/// static solve's `static_contact::solve_bytes` with a whole-grid deflection where one is
+/// asked for, a viscous run's `viscous::run_bytes`, a viscoelastic one's
+/// `viscoelastic::run_bytes`; each with the fields it keeps) and the fields it hands on (its
+/// own, those of the report and their copies for the caller, 8 bytes per element each).
+/// MDR: per element its buffers, 8 bytes per internal variable of the medium and per field
+/// array. Both add 16 bytes per viscoelastic time step.
+pub fn memory_needed(scene: &Scene, settings: &RunSettings) -> f64 {
     let internal = step_length(scene, settings)
         .map_or_else(|| scene.medium.rheology(), |dt| stepped_rheology(scene, dt))
-        .map_or(0, |r| r.internal()) as f64;
-    let fields = [
+        .map_or(0, |r| r.internal());
+    let wanted = [
         Output::Pressure,
         Output::SurfaceVelocity,
         Output::Deflection,
@@ -187,19 +190,56 @@ fn memory_needed(scene: &Scene, settings: &RunSettings) -> f64 {
     ]
     .iter()
     .filter(|&&o| scene.wants(o))
-    .count() as f64
-        * scene.field_times().len() as f64;
-    let n = settings.n as f64;
-    let (elements, per_element) = match settings.method {
-        Method::Bem => (n * n, BEM_BYTES_PER_ELEMENT),
-        Method::Mdr => (n, MDR_BYTES_PER_ELEMENT),
-    };
+    .count() as f64;
+    let field_times = scene.field_times().len();
     let steps = match (scene.duration, settings.dt.or(scene.dt)) {
         (Some(duration), Some(dt)) => duration / dt,
         (Some(_), None) => DEFAULT_STEPS,
         _ => 0.0,
     };
-    elements * (per_element + 8.0 * (internal + fields)) + 16.0 * steps
+    let per_step = 16.0 * steps;
+    let n = settings.n;
+    if settings.method == Method::Mdr {
+        let fields = wanted * field_times as f64;
+        return n as f64 * (MDR_BYTES_PER_ELEMENT + 8.0 * (internal as f64 + fields)) + per_step;
+    }
+    let (nx, ny) = scene.indenter.bem_shape(n);
+    let elements = nx as f64 * ny as f64;
+    let body = scene.body();
+    // the fields asked for, in the report and again in the caller's arrays
+    let handed_on = 2.0 * 8.0 * wanted * field_times as f64 * elements;
+    let (running, kept) = if scene.is_static() {
+        let deflection = scene.wants(Output::Deflection) || Wanted::of(scene).height_map;
+        let extra = if deflection { 8.0 * elements } else { 0.0 };
+        // the pressure kept for a load curve's warm start
+        (
+            static_contact::solve_bytes(body, nx, ny, settings.solver.precondition) + extra,
+            8.0 * elements,
+        )
+    } else {
+        // a stepping run's own fields: pressure, velocity and deflection
+        let kept = 24.0 * field_times as f64 * elements;
+        let viscous = matches!(scene.medium, Medium::Viscous { .. })
+            && scene.force.is_some()
+            && !scene.contact.is_adhesive();
+        let running = if viscous {
+            let implicit = matches!(settings.integrator, Integrator::Implicit);
+            let pooled = implicit && !scene.indenter.is_flat();
+            viscous::run_bytes(body, nx, ny, field_times, pooled)
+        } else {
+            viscoelastic::run_bytes(
+                body,
+                nx,
+                ny,
+                internal,
+                field_times,
+                scene.wants(Output::SurfaceVelocity),
+                scene.contact.is_cohesive(),
+            )
+        };
+        (running, kept)
+    };
+    GRID_BYTES_PER_ELEMENT * elements + running.max(kept + handed_on) + per_step
 }
 
 /// The longest viscoelastic time step (s) of a run: the settings', the scene's, or the

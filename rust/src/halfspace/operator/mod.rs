@@ -206,12 +206,18 @@ impl SpectralInverse {
 /// (16 per element of its grid).
 pub fn held_bytes(nx: usize, ny: usize) -> f64 {
     let padded = (padded_size(nx) * padded_size(ny)) as f64;
-    let inverse = if nx * ny >= SPECTRAL_MIN_ELEMENTS {
+    12.0 * padded + 8.0 * (nx * ny) as f64 + inverse_bytes(nx, ny)
+}
+
+/// Memory (bytes) of the spectral preconditioner of an `nx` x `ny` FFT operator, part of
+/// `held_bytes`: 16 per element of its grid on grids of at least `SPECTRAL_MIN_ELEMENTS`
+/// (made by the first `precondition`), none on smaller ones.
+pub fn inverse_bytes(nx: usize, ny: usize) -> f64 {
+    if nx * ny >= SPECTRAL_MIN_ELEMENTS {
         16.0 * (fast_size(nx) * fast_size(ny)) as f64
     } else {
         0.0
-    };
-    12.0 * padded + 8.0 * (nx * ny) as f64 + inverse
+    }
 }
 
 /// Smallest free grid (elements) preconditioned by the spectral inverse (`SpectralInverse`,

@@ -552,6 +552,20 @@ impl Indenter {
         }
     }
 
+    /// The elements (nx, ny) of the BEM grid `bem_grid` makes for the resolution `n`: a
+    /// height map's own; n x n, or for a flat face the odd 2 (n / 2) + 1 that centres an
+    /// element on its axis.
+    pub fn bem_shape(&self, n: usize) -> (usize, usize) {
+        match self {
+            Indenter::HeightMap(m) => {
+                let [ny, nx] = m.shape();
+                (nx, ny)
+            }
+            _ if self.is_flat() => (2 * (n / 2) + 1, 2 * (n / 2) + 1),
+            _ => (n, n),
+        }
+    }
+
     /// BEM grid over a square of half-width `half` (m) with n elements across. A flat face
     /// gets dx = 2 half / n on a grid centred on an element ((n + 1) x (n + 1) for even n:
     /// n = 200 puts 31417 elements in a disc); a height map its own grid (n must be its
@@ -563,10 +577,11 @@ impl Indenter {
             return m.grid();
         }
         let dx = 2.0 * half / n as f64;
-        let (m, offset) = if self.is_flat() {
-            (2 * (n / 2) + 1, (n / 2) as f64)
+        let (m, _) = self.bem_shape(n);
+        let offset = if self.is_flat() {
+            (n / 2) as f64
         } else {
-            (n, 0.5 * (n as f64 - 1.0))
+            0.5 * (n as f64 - 1.0)
         };
         let centre = |i: usize| (i as f64 - offset) * dx;
         let mut height = Vec::with_capacity(m * m);
