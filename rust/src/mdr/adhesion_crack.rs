@@ -15,7 +15,9 @@
 //! opening at the zone's end, delta_t E* integral_0^1 C(dt (1 - rho)) f'(rho) drho, reaches
 //! the range h0 = w / sigma0 when
 //!
-//!     T^2 C_eff(dt) = 2 pi a w,   C_eff(dt) = integral_0^1 C(dt (1 - rho)) artanh(sqrt rho) drho,
+//! ```text
+//! T^2 C_eff(dt) = 2 pi a w,   C_eff(dt) = integral_0^1 C(dt (1 - rho)) artanh(sqrt rho) drho,
+//! ```
 //!
 //! the edge's criterion: Heß's sqrt(2 pi a w / E*) on an elastic body (C = 1 / E*), the
 //! relaxed modulus's for a crack slow against the relaxation (C_eff -> 1 / E*_inf), the
