@@ -1,8 +1,9 @@
 """Cohesive-zone contact laws (Maugis–Dugdale, exponential) by BEM from Python and scene
 files: the laws and their round trips, the array API's pull-off near Maugis's (1992), a
 scene (height map, elastic) solving what the array API solves, force control letting go at
-Maugis's force-controlled pull-off, the contact and zone radii converging to Maugis's, the
-viscoelastic pull-off between the relaxed and glassy elastic ones, and what is refused.
+Maugis's force-controlled pull-off, the contact and zone radii converging to Maugis's, a flat
+punch and a cone converging to MDR's JKR pull-off as the zone shrinks, the viscoelastic
+pull-off between the relaxed and glassy elastic ones, and what is refused.
 
 Units: a sphere R = 1 m on a grid of side 1.2 m, G = 1 Pa (E* = 4 Pa), w = 0.01 J/m^2; the
 transition parameter lambda = 2 sigma0 (R / (pi w K^2))^(1/3), K = 4 E* / 3 (Johnson &
@@ -261,6 +262,75 @@ def test_maugis_dugdale_rough_cell_converges_and_is_bounded_by_the_smooth_sphere
         pull_off.append(-mv.arrays.adhesive_pull_off(h - h.min(), dx, 1.0, law, 0.02, -0.12,
                                                      periodic=True)["force"])
     assert pull_off[0] > pull_off[1] > pull_off[2] > 0.0, pull_off
+
+
+def mdr_least_force(indenter, d_max, d_min):
+    """The least force (N) of MDR's JKR (w = W, G = 1 Pa) over a depth-controlled approach to
+    ``d_max`` and retract to ``d_min`` (m), 4000 steps."""
+    scene = mv.Scene(indenter=indenter, medium=mv.Elastic(G=1.0), contact=mv.JKR(work_of_adhesion=W),
+                     depth=([0.0, 1.0, 2.0], [0.0, d_max, d_min]), duration=2.0,
+                     times=np.linspace(5e-4, 2.0, 4000))
+    return mv.solve(scene, "mdr", 20001).force.min()
+
+
+def zone_law(zone):
+    """The Maugis–Dugdale law (w = W, E* = 4 Pa) whose Dugdale zone at a crack tip is ``zone``
+    long (m): s = pi E* h0^2 / (8 w) with h0 = w / sigma0 (K^2 = E* w)."""
+    h0 = math.sqrt(8.0 * W * zone / (math.pi * 4.0))
+    return mv.MaugisDugdale(work_of_adhesion=W, stress=W / h0), h0
+
+
+@pytest.mark.filterwarnings("ignore::mdrvisc.ResolutionWarning")
+def test_a_flat_punch_lets_go_at_kendalls_pull_off_as_the_zone_shrinks():
+    # a flat punch of radius 1 m (the face only may touch): MDR's JKR lets go at Kendall's
+    # sqrt(8 pi a^3 E* w); BEM's Maugis–Dugdale zone lowers it by a first-order term in the
+    # zone's length over the radius (the crack at the rim is blunted over the zone), so the
+    # deficit halves with the zone, and removing that term (linear extrapolation of the two
+    # shorter zones to zero length) gives MDR's value to the grid's error (64 across the face:
+    # the zone of 0.05 m spans 1.6 elements; 128 moves the pull-off by 0.6 %)
+    kendall = math.sqrt(8.0 * math.pi * 4.0 * W)
+    mdr = mdr_least_force(mv.Rod(radius=1.0), 0.02, -0.3)
+    assert mdr == pytest.approx(-kendall, rel=1e-3)
+    n = 64
+    dx = 2.0 / n
+    x = (np.arange(n) - (n - 1) / 2) * dx
+    face = np.hypot(x[:, None], x[None, :]) < 1.0
+    bem = {}
+    for zone in (0.2, 0.1, 0.05):
+        law, _ = zone_law(zone)
+        bem[zone] = mv.arrays.adhesive_pull_off(np.zeros((n, n)), dx, 1.0, law, 0.02, -0.3,
+                                                mask=face, tol=1e-8)["force"]
+    deficit = {z: f / mdr - 1.0 for z, f in bem.items()}
+    assert all(d < 0 for d in deficit.values())
+    assert 1.6 < deficit[0.2] / deficit[0.1] < 2.4
+    assert 1.4 < deficit[0.1] / deficit[0.05] < 2.4
+    assert 2.0 * bem[0.05] - bem[0.1] == pytest.approx(mdr, rel=0.02)
+
+
+@pytest.mark.filterwarnings("ignore::mdrvisc.ResolutionWarning")
+def test_a_cone_lets_go_at_mdrs_jkr_pull_off_as_the_zone_shrinks():
+    # a cone h = r (slope 1): JKR's force-controlled pull-off, from F(a) = pi E* a^2 / 2 -
+    # sqrt(8 pi w E* a^3) at its least, is -54 w^2 / (pi E*) at a_c = 18 w / (pi E*); MDR
+    # (Heß's rule, depth control, the least force of the retract) gives it, and BEM's
+    # Maugis–Dugdale zone (a zone of 0.2 and 0.1 a_c, 64 elements over 8 a_c) lets go above it
+    # by an excess that falls as the zone shrinks (a finite range adds the zone's traction
+    # outside the contact, as Maugis's sphere exceeds JKR's 3/2 pi w R)
+    e_star = 4.0
+    a_c = 18.0 * W / (math.pi * e_star)
+    jkr = -54.0 * W * W / (math.pi * e_star)
+    d_max = math.pi * 2.5 * a_c / 2.0
+    assert mdr_least_force(mv.Cone(slope=1.0), d_max, -0.02) == pytest.approx(jkr, rel=3e-3)
+    n = 64
+    dx = 8.0 * a_c / n
+    x = (np.arange(n) - (n - 1) / 2) * dx
+    cone = np.hypot(x[:, None], x[None, :])
+    excess = []
+    for zone in (0.2, 0.1):
+        law, h0 = zone_law(zone * a_c)
+        force = mv.arrays.adhesive_pull_off(cone, dx, 1.0, law, d_max, -2.0 * h0, tol=1e-8)["force"]
+        excess.append(force / jkr - 1.0)
+    assert excess[0] > excess[1] > 0
+    assert 1.4 < excess[0] / excess[1] < 2.4
 
 
 def test_viscoelastic_pull_off_between_relaxed_and_glassy():
