@@ -353,7 +353,7 @@ impl CohesiveSolver {
             }
             hard.clear_pressure();
         }
-        let (mut iterations, mut residual) = (0, 0.0);
+        let mut iterations = 0;
         let mut started = warm;
         // the hard solves' pressure tighter than the sweeps' tolerance: their error reaches
         // the zone's edge amplified by the ramp's stiffness (by about range / h0-scale)
@@ -366,6 +366,8 @@ impl CohesiveSolver {
         // the energy of the last accepted iterate and the plain step from it
         let mut accepted: Option<(f64, Vec<f64>)> = None;
         let mut mixed = false;
+        // the last sweep's largest traction change over t(0), what the sweeps' tolerance bounds
+        let mut sweep_change = f64::NAN;
         for sweep in 1..=SWEEPS {
             hard.operator().apply(&self.q, &mut self.kq);
             for ((lifted, &h), &kq) in self.lifted.iter_mut().zip(h).zip(&self.kq) {
@@ -399,7 +401,7 @@ impl CohesiveSolver {
             )?;
             started = r.contact_count > 0;
             iterations += r.iterations;
-            residual = r.residual;
+            let residual = r.residual;
             let (pc, u) = (hard.pressure(), hard.deflection());
             let (mut change, mut energy) = (0.0f64, 0.0);
             for i in 0..n {
@@ -422,6 +424,7 @@ impl CohesiveSolver {
                 change = change.max(step[i].abs());
             }
             monitor.progress("cohesive sweeps", sweep, SWEEPS)?;
+            sweep_change = change / t0;
             let converged = change <= opts.tol * t0;
             if !converged {
                 match accepted.as_mut() {
@@ -479,9 +482,12 @@ impl CohesiveSolver {
             }
         }
         Err(Error::NotConverged {
-            what: format!("cohesive ({}) contact sweeps", law.name()),
+            what: format!(
+                "cohesive ({}) contact sweeps (residual: the last sweep's largest traction change over the law's peak traction)",
+                law.name()
+            ),
             iterations: SWEEPS,
-            residual,
+            residual: sweep_change,
         })
     }
 }
