@@ -32,6 +32,20 @@ fn parse_method(py: Python<'_>, name: &str) -> PyResult<Method> {
     }
 }
 
+/// The integrator named `name` ("implicit" or "explicit", the latter with `control`).
+fn parse_integrator(py: Python<'_>, name: &str, control: ExplicitControl) -> PyResult<Integrator> {
+    match name {
+        "implicit" => Ok(Integrator::Implicit),
+        "explicit" => Ok(Integrator::Explicit(control)),
+        other => Err(to_pyerr(
+            py,
+            Error::InvalidInput(format!(
+                "integrator must be 'implicit' or 'explicit', got {other:?}"
+            )),
+        )),
+    }
+}
+
 /// (scene, method, n) of a parsed scene file.
 fn unpack(f: SceneFile) -> (PyScene, &'static str, usize) {
     (
@@ -391,18 +405,7 @@ pub(crate) fn run_memory(
     dt: Option<f64>,
     precondition: bool,
 ) -> PyResult<f64> {
-    let integrator = match integrator {
-        "implicit" => Integrator::Implicit,
-        "explicit" => Integrator::Explicit(ExplicitControl::default()),
-        other => {
-            return Err(to_pyerr(
-                py,
-                Error::InvalidInput(format!(
-                    "integrator must be 'implicit' or 'explicit', got {other:?}"
-                )),
-            ))
-        }
-    };
+    let integrator = parse_integrator(py, integrator, ExplicitControl::default())?;
     let settings = RunSettings {
         method: parse_method(py, method)?,
         n,
@@ -452,22 +455,12 @@ pub(crate) fn run_scene(
     dense_limit: usize,
     active_limit: Option<usize>,
 ) -> PyResult<PyReport> {
-    let integrator = match integrator {
-        "implicit" => Integrator::Implicit,
-        "explicit" => Integrator::Explicit(ExplicitControl {
-            step,
-            area_change,
-            ..ExplicitControl::default()
-        }),
-        other => {
-            return Err(to_pyerr(
-                py,
-                Error::InvalidInput(format!(
-                    "integrator must be 'implicit' or 'explicit', got {other:?}"
-                )),
-            ))
-        }
+    let control = ExplicitControl {
+        step,
+        area_change,
+        ..ExplicitControl::default()
     };
+    let integrator = parse_integrator(py, integrator, control)?;
     let settings = RunSettings {
         method: parse_method(py, method)?,
         n,
