@@ -63,10 +63,10 @@ the height array + solve ("solve s" is their solve call alone). Best of ``--roun
 then each peer in its subprocess, then again, so that every code's runs spread over the same
 machine states; a run longer than ``--single-above`` (60 s) is not repeated ("[1 run]").
 mdrvisc runs its rayon pool on all cores, aspher OpenMP on all cores, tamaas and
-contactmechanics are serial. Iterations: mdrvisc's summed over its nested levels; CG
-iterations of the peers (contactmechanics does two operator applies per iteration; aspher's
-nested solves report the finest level, the notes give every level). "t / t_mv" is the row's
-wall time over mdrvisc's in the same case, mode and size.
+contactmechanics are serial. Iterations: the finest level's for mdrvisc
+(``Result.level_iterations``) and aspher's nested solves, the notes giving every level; CG
+iterations of the other peers (contactmechanics does two operator applies per iteration).
+"t / t_mv" is the row's wall time over mdrvisc's in the same case, mode and size.
 
 Limits: a peer run is skipped, with the reason printed, when its time predicted from its
 last size (wall x (n / n_last)^2 x 1.5) exceeds ``--peer-limit`` (300 s; ``--aspher-limit``,
@@ -287,8 +287,8 @@ def solve_case(args, case, n, mode, z, heights, force, p_ref, ref_file, folder, 
                     start = time.perf_counter()
                     r = mv_solve(z, mode, force, args.tol)
                     walls.append(time.perf_counter() - start)
-                res = dict(wall=min(walls), walls=walls, iterations=int(r.iterations),
-                           converged=True)
+                res = dict(wall=min(walls), walls=walls, iterations=int(r.level_iterations[-1]),
+                           levels=r.level_iterations, converged=True)
                 if prev is None:
                     p = pressure(r)
                     res.update(dev=deviation(p, p_ref), fraction=np.count_nonzero(p > 0) / p.size,
@@ -346,6 +346,9 @@ def solve_case(args, case, n, mode, z, heights, force, p_ref, ref_file, folder, 
                      None if code == "mdrvisc" else res["peak_bytes"] / 1e9,
                      None if code == "mdrvisc" else res["wall"] / wall_mv])
         if code == "mdrvisc":
+            notes.append(f"mdrvisc at n = {n}, {mode}, H {hurst:g}, fraction {fraction:g}: "
+                         f"levels {', '.join(map(str, res['levels']))} "
+                         f"({sum(res['levels'])} iterations in all)")
             continue
         extra = f"; levels {', '.join(res['stages'])}" if res.get("stages") else ""
         applies = f", {res['applies']} operator applies" if res.get("applies") else ""
