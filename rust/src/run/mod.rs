@@ -128,9 +128,7 @@ fn run_from(
         ),
         memory_needed(scene, settings),
     )?;
-    let viscous_force = matches!(scene.medium, Medium::Viscous { .. })
-        && scene.force.is_some()
-        && !scene.contact.is_adhesive();
+    let viscous_force = runs_viscous(scene);
     if matches!(settings.integrator, Integrator::Explicit(_))
         && !viscous_force
         && !scene.indenter.is_flat()
@@ -162,6 +160,15 @@ fn run_from(
     }
     report.wall_time = start.elapsed().as_secs_f64();
     Ok((report, pressure))
+}
+
+/// Whether a time-stepped scene runs on the viscous engine (`bem::viscous`,
+/// `mdr::foundation`'s viscous runs): a viscous medium under a force, without adhesion; every
+/// other stepped scene runs on the viscoelastic one.
+fn runs_viscous(scene: &Scene) -> bool {
+    matches!(scene.medium, Medium::Viscous { .. })
+        && scene.force.is_some()
+        && !scene.contact.is_adhesive()
 }
 
 /// Bytes per MDR element of a run, before the internal variables and the fields.
@@ -219,10 +226,7 @@ pub fn memory_needed(scene: &Scene, settings: &RunSettings) -> f64 {
     } else {
         // a stepping run's own fields: pressure, velocity and deflection
         let kept = 24.0 * field_times as f64 * elements;
-        let viscous = matches!(scene.medium, Medium::Viscous { .. })
-            && scene.force.is_some()
-            && !scene.contact.is_adhesive();
-        let running = if viscous {
+        let running = if runs_viscous(scene) {
             let implicit = matches!(settings.integrator, Integrator::Implicit);
             let pooled = implicit && !scene.indenter.is_flat();
             viscous::run_bytes(body, nx, ny, field_times, pooled)
