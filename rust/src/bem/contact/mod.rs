@@ -148,6 +148,11 @@ pub struct ContactSolver<O: SurfaceOperator> {
     p_old: Vec<f64>,
     /// Per-chunk sums of the parallel passes (`pass_sums`).
     partials: Vec<[f64; MAX_SUMS]>,
+    /// Per-chunk index lists of the parallel passes (`passes::Chunk::set`), each chunk's in
+    /// its own elements' slots.
+    set_list: Vec<u16>,
+    /// Lengths of the per-chunk index lists.
+    set_len: Vec<usize>,
     /// Elements of the flat punch's set (`unit_punch`).
     set_idx: Vec<usize>,
 }
@@ -191,14 +196,17 @@ impl ContactSolver<Operator> {
         }
         self.partials
             .resize(n.div_ceil(PASS_CHUNK), [0.0; MAX_SUMS]);
+        self.set_list.resize(n, 0);
+        self.set_len.clear();
+        self.set_len.resize(n.div_ceil(PASS_CHUNK), 0);
         Ok(())
     }
 }
 
 impl<O: SurfaceOperator> ContactSolver<O> {
-    /// Memory of the solver's work buffers per element (bytes): seven of f64 and the flat
-    /// punch's index capacity.
-    pub const BYTES_PER_ELEMENT: f64 = 64.0;
+    /// Memory of the solver's work buffers per element (bytes): seven of f64, the flat
+    /// punch's index capacity and the passes' index lists (u16).
+    pub const BYTES_PER_ELEMENT: f64 = 66.0;
 
     /// Wraps `op` with the default `Tuning`; buffers are sized to its grid.
     pub fn new(op: O) -> Self {
@@ -219,6 +227,8 @@ impl<O: SurfaceOperator> ContactSolver<O> {
             z: vec![0.0; n],
             p_old: vec![0.0; n],
             partials: vec![[0.0; MAX_SUMS]; n.div_ceil(PASS_CHUNK)],
+            set_list: vec![0; n],
+            set_len: vec![0; n.div_ceil(PASS_CHUNK)],
             set_idx: Vec::with_capacity(n),
         }
     }

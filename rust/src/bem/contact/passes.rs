@@ -1,6 +1,9 @@
 //! The contact solver's parallel passes over its work buffers: fixed chunks, so that every
 //! sum is taken in the same order whatever the number of threads (results repeat bit for
-//! bit).
+//! bit). Each chunk also holds an index list of some of its elements (`Chunk::set`, in
+//! increasing order): Polonsky–Keer keeps its contact set there, so that the passes that only
+//! concern the set touch the set's elements alone; a sum over the list adds the same terms
+//! in the same order as a sum over the whole chunk that skips the other elements.
 
 use super::ContactSolver;
 use crate::halfspace::operator::SurfaceOperator;
@@ -12,6 +15,8 @@ pub(super) const PASS_CHUNK: usize = 4096;
 /// Most sums one pass returns.
 pub(super) const MAX_SUMS: usize = 5;
 
+const _: () = assert!(PASS_CHUNK <= 1 << 16, "chunk-local indices are u16");
+
 /// One chunk of the solver's work buffers, starting at element `lo`.
 pub(super) struct Chunk<'a> {
     pub lo: usize,
@@ -22,6 +27,20 @@ pub(super) struct Chunk<'a> {
     pub r: &'a mut [f64],
     pub z: &'a mut [f64],
     pub p_old: &'a mut [f64],
+    /// Room for the chunk's index list (chunk-local indices): its first `len` entries.
+    pub set: &'a mut [u16],
+    /// Length of the index list.
+    pub len: &'a mut usize,
+}
+
+impl Chunk<'_> {
+    /// Appends chunk-local index `j` to the index list when `keep`, without a branch (the
+    /// list has room for every element of the chunk, and `j` follows the last entry).
+    #[inline(always)]
+    pub fn push_if(&mut self, j: usize, keep: bool) {
+        self.set[*self.len] = j as u16;
+        *self.len += usize::from(keep);
+    }
 }
 
 impl<O: SurfaceOperator> ContactSolver<O> {
@@ -40,25 +59,52 @@ impl<O: SurfaceOperator> ContactSolver<O> {
             .zip(self.r.par_chunks_mut(PASS_CHUNK))
             .zip(self.z.par_chunks_mut(PASS_CHUNK))
             .zip(self.p_old.par_chunks_mut(PASS_CHUNK))
+            .zip(self.set_list.par_chunks_mut(PASS_CHUNK))
+            .zip(self.set_len.par_iter_mut())
             .zip(self.partials.par_iter_mut())
             .enumerate()
-            .for_each(|(k, (((((((p, u), g), t), r), z), p_old), out))| {
-                let mut chunk = Chunk {
-                    lo: k * PASS_CHUNK,
-                    p,
-                    u,
-                    g,
-                    t,
-                    r,
-                    z,
-                    p_old,
-                };
-                out[..K].copy_from_slice(&f(&mut chunk));
-            });
+            .for_each(
+                |(k, (((((((((p, u), g), t), r), z), p_old), set), len), out))| {
+                    let mut chunk = Chunk {
+                        lo: k * PASS_CHUNK,
+                        p,
+                        u,
+                        g,
+                        t,
+                        r,
+                        z,
+                        p_old,
+                        set,
+                        len,
+                    };
+                    out[..K].copy_from_slice(&f(&mut chunk));
+                },
+            );
         let mut acc = [0.0; K];
         for part in &self.partials {
             acc.iter_mut().zip(part).for_each(|(a, v)| *a += v);
         }
         acc
+    }
+
+    /// The elements of the chunks' index lists, as indices into the work buffers, in
+    /// increasing order.
+    pub(super) fn listed(&self) -> impl Iterator<Item = usize> + '_ {
+        self.set_len.iter().enumerate().flat_map(move |(k, &len)| {
+            let lo = k * PASS_CHUNK;
+            self.set_list[lo..lo + len]
+                .iter()
+                .map(move |&j| lo + j as usize)
+        })
+    }
+
+    /// Sets p_old to zero off the index lists, where the passes keep it (Polonsky–Keer's
+    /// step leaves it valid on them alone).
+    pub(super) fn whole_p_old(&mut self) {
+        let kept: Vec<(usize, f64)> = self.listed().map(|i| (i, self.p_old[i])).collect();
+        self.p_old.fill(0.0);
+        for (i, v) in kept {
+            self.p_old[i] = v;
+        }
     }
 }

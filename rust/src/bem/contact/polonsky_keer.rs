@@ -8,7 +8,6 @@ use crate::halfspace::operator::SurfaceOperator;
 use crate::model::settings::SolverOptions;
 use crate::support::error::{Error, Result};
 use crate::support::monitor::Monitor;
-use rayon::prelude::*;
 
 impl<O: SurfaceOperator> ContactSolver<O> {
     /// Polonsky–Keer on `pb`: starts from the solver's pressure with `warm` (rescaled to the
@@ -75,6 +74,20 @@ impl<O: SurfaceOperator> ContactSolver<O> {
         // `refresh_every` iterations (bounding round-off drift); otherwise it follows p by the
         // same linear update, so most iterations cost one apply.
         self.op.apply(&self.p, &mut self.u);
+        // The contact set {p > 0} is kept in the chunks' index lists, and the passes that
+        // concern it alone run over those. Off the set, g (the preconditioner's input) and the
+        // direction t stay zero, as the FFTs read them whole: elements that leave the set have
+        // theirs zeroed as they leave.
+        self.pass_sums(|c| {
+            *c.len = 0;
+            c.g.fill(0.0);
+            c.t.fill(0.0);
+            for j in 0..c.p.len() {
+                let keep = c.p[j] > 0.0;
+                c.push_if(j, keep);
+            }
+            [0.0; 0]
+        });
         // Under force control, the mean gap over the set as the last linear update of u
         // left it (None after a refresh).
         let mut next_shift = None;
@@ -85,59 +98,53 @@ impl<O: SurfaceOperator> ContactSolver<O> {
                 (Target::Force(_), None) => {
                     let [s, k] = self.pass_sums(|c| {
                         let mut acc = [0.0; 2];
-                        for j in 0..c.p.len() {
-                            if c.p[j] > 0.0 {
-                                acc[0] += compliance * c.u[j] + h[c.lo + j];
-                                acc[1] += 1.0;
-                            }
+                        for &j in &c.set[..*c.len] {
+                            let j = usize::from(j);
+                            acc[0] += compliance * c.u[j] + h[c.lo + j];
+                            acc[1] += 1.0;
                         }
                         acc
                     });
                     mean(s, k)
                 }
             };
+            // The gap g = compliance u + h - shift of an element.
+            let gap = |u: &[f64], i: usize| compliance * u[i] + h[i] - shift;
             // The search direction follows z = M g on the contact set: M = 1, or the
             // operator's preconditioner (projected to zero mean under force control, where the
             // force constraint confines p's changes to that subspace). g is written on the
-            // allowed elements, its restriction to the set into r (free until the apply); the
-            // same pass sums g z_old for Polak–Ribière's beta and the last direction over the
-            // set, whose mean is removed under force control (a set change leaves it nonzero).
+            // set (the step's pass finds overlaps from the gap off it); the same pass sums
+            // g z_old for Polak–Ribière's beta and the last direction over the set, whose mean
+            // is removed under force control (a set change leaves it nonzero).
             let precondition = opts.precondition;
             let [gsum, gz_old, t_set, set_count] = self.pass_sums(|c| {
                 let mut acc = [0.0; 4];
-                for j in 0..c.p.len() {
-                    let i = c.lo + j;
+                for &j in &c.set[..*c.len] {
+                    let j = usize::from(j);
                     let z_old = if precondition {
                         c.z[j] - zbar_old
                     } else {
                         c.g[j]
                     };
-                    c.g[j] = if allowed[i] {
-                        compliance * c.u[j] + h[i] - shift
-                    } else {
-                        0.0
-                    };
-                    c.r[j] = if c.p[j] > 0.0 { c.g[j] } else { 0.0 };
-                    acc[0] += c.r[j] * c.r[j];
-                    acc[1] += c.r[j] * z_old;
-                    if c.p[j] > 0.0 {
-                        acc[2] += c.t[j];
-                        acc[3] += 1.0;
-                    }
+                    let g = compliance * c.u[j] + h[c.lo + j] - shift;
+                    c.g[j] = g;
+                    acc[0] += g * g;
+                    acc[1] += g * z_old;
+                    acc[2] += c.t[j];
+                    acc[3] += 1.0;
                 }
                 acc
             });
             let (zbar, gz) = if opts.precondition {
-                self.op.precondition(&self.r, &mut self.z);
+                self.op.precondition(&self.g, &mut self.z);
                 let [zsum, gz, g_lin, count] = self.pass_sums(|c| {
                     let mut acc = [0.0; 4];
-                    for j in 0..c.p.len() {
-                        if c.p[j] > 0.0 {
-                            acc[0] += c.z[j];
-                            acc[1] += c.g[j] * c.z[j];
-                            acc[2] += c.g[j];
-                            acc[3] += 1.0;
-                        }
+                    for &j in &c.set[..*c.len] {
+                        let j = usize::from(j);
+                        acc[0] += c.z[j];
+                        acc[1] += c.g[j] * c.z[j];
+                        acc[2] += c.g[j];
+                        acc[3] += 1.0;
                     }
                     acc
                 });
@@ -170,12 +177,9 @@ impl<O: SurfaceOperator> ContactSolver<O> {
             };
             self.pass_sums(|c| {
                 let z = if precondition { &*c.z } else { &*c.g };
-                for ((t, &p), &z) in c.t.iter_mut().zip(&*c.p).zip(z) {
-                    *t = if p > 0.0 {
-                        z - zbar + beta * (*t - tbar)
-                    } else {
-                        0.0
-                    };
+                for &j in &c.set[..*c.len] {
+                    let j = usize::from(j);
+                    c.t[j] = z[j] - zbar + beta * (c.t[j] - tbar);
                 }
                 [0.0; 0]
             });
@@ -184,14 +188,13 @@ impl<O: SurfaceOperator> ContactSolver<O> {
             // tau = sum g t / sum (c r - rbar) t, with rbar the mean of c r under force control.
             let [r_sum, count, num, rt, t_sum] = self.pass_sums(|c| {
                 let mut acc = [0.0; 5];
-                for j in 0..c.p.len() {
-                    if c.p[j] > 0.0 {
-                        acc[0] += c.r[j];
-                        acc[1] += 1.0;
-                        acc[2] += c.g[j] * c.t[j];
-                        acc[3] += c.r[j] * c.t[j];
-                        acc[4] += c.t[j];
-                    }
+                for &j in &c.set[..*c.len] {
+                    let j = usize::from(j);
+                    acc[0] += c.r[j];
+                    acc[1] += 1.0;
+                    acc[2] += c.g[j] * c.t[j];
+                    acc[3] += c.r[j] * c.t[j];
+                    acc[4] += c.t[j];
                 }
                 acc
             });
@@ -212,10 +215,11 @@ impl<O: SurfaceOperator> ContactSolver<O> {
                     (0..n)
                         .filter(|&i| allowed[i])
                         .fold((0.0, 0.0), |(l, d), i| {
+                            let g = gap(&self.u, i);
                             (
                                 l + self.p[i],
-                                if self.p[i] <= 0.0 && self.g[i] < -gap_tol {
-                                    d - self.g[i]
+                                if self.p[i] <= 0.0 && g < -gap_tol {
+                                    d - g
                                 } else {
                                     d
                                 },
@@ -227,25 +231,41 @@ impl<O: SurfaceOperator> ContactSolver<O> {
                     0.0
                 }
             };
+            // The step over every allowed element: the set steps along t, and the elements
+            // off it that overlap enter it. The index lists become the old set and the
+            // entering elements (p_old is kept on these alone), and g is written on the
+            // entering ones.
             let [sum, overlaps, clamps] = self.pass_sums(|c| {
                 let mut acc = [0.0; 3];
-                c.p_old.copy_from_slice(c.p);
+                *c.len = 0;
                 for j in 0..c.p.len() {
                     let i = c.lo + j;
                     if !allowed[i] {
                         continue;
                     }
-                    if c.p[j] > 0.0 {
-                        let v = c.p[j] - tau * c.t[j];
+                    let p = c.p[j];
+                    if p > 0.0 {
+                        c.p_old[j] = p;
+                        let v = p - tau * c.t[j];
                         if v <= 0.0 {
                             acc[2] += 1.0;
                         }
-                        c.p[j] = v.max(0.0);
-                    } else if c.g[j] < -gap_tol {
-                        c.p[j] = -tau_overlap * c.g[j];
-                        acc[1] += 1.0;
+                        let v = v.max(0.0);
+                        c.p[j] = v;
+                        acc[0] += v;
+                        c.push_if(j, true);
+                    } else {
+                        let g = compliance * c.u[j] + h[i] - shift;
+                        if g < -gap_tol {
+                            c.p_old[j] = p;
+                            let v = -tau_overlap * g;
+                            c.p[j] = v;
+                            c.g[j] = g;
+                            acc[0] += v;
+                            acc[1] += 1.0;
+                            c.push_if(j, true);
+                        }
                     }
-                    acc[0] += c.p[j];
                 }
                 acc
             });
@@ -255,19 +275,36 @@ impl<O: SurfaceOperator> ContactSolver<O> {
             match force {
                 Some(w) if sum > 0.0 => factor = w / area / sum,
                 Some(w) => {
-                    let imin = argmin_gap(&self.g, allowed);
+                    let imin = argmin(allowed, |i| gap(&self.u, i));
+                    self.whole_p_old();
                     self.p[imin] = w / area;
                     reset = true;
                 }
                 // Everything released while elements still overlap: restart from the
                 // pressures that close each overlap alone.
-                None if sum == 0.0 && (0..n).any(|i| allowed[i] && self.g[i] < -gap_tol) => {
+                None if sum == 0.0 && (0..n).any(|i| allowed[i] && gap(&self.u, i) < -gap_tol) => {
+                    self.whole_p_old();
                     for i in (0..n).filter(|&i| allowed[i]) {
-                        self.p[i] = (-self.g[i]).max(0.0) / (compliance * self_influence);
+                        self.p[i] = (-gap(&self.u, i)).max(0.0) / (compliance * self_influence);
                     }
                     reset = true;
                 }
                 None => {}
+            }
+            if reset {
+                // The index lists as the step leaves them: the old set and the new one, g
+                // written on the new one.
+                self.pass_sums(|c| {
+                    *c.len = 0;
+                    for j in 0..c.p.len() {
+                        if c.p[j] > 0.0 {
+                            c.g[j] = compliance * c.u[j] + h[c.lo + j] - shift;
+                        }
+                        let keep = c.p[j] > 0.0 || c.p_old[j] > 0.0;
+                        c.push_if(j, keep);
+                    }
+                    [0.0; 0]
+                });
             }
             let changed = overlaps + clamps;
             let mut refresh = reset || changed > 0.0 || it % tuning.refresh_every == 0;
@@ -281,8 +318,8 @@ impl<O: SurfaceOperator> ContactSolver<O> {
                 && changed <= self.op.point_load_limit() as f64
             {
                 let (p, p_old, t) = (&self.p, &self.p_old, &self.t);
-                let idx: Vec<usize> = (0..n)
-                    .into_par_iter()
+                let idx: Vec<usize> = self
+                    .listed()
                     .filter(|&i| (p[i] > 0.0) != (p_old[i] > 0.0))
                     .collect();
                 let missed: Vec<f64> = idx
@@ -292,22 +329,36 @@ impl<O: SurfaceOperator> ContactSolver<O> {
                 refresh = !self.op.add_point_loads(&idx, &missed, &mut self.u);
             }
             // Rescale to the force, measure the change, and follow u = K[p] linearly unless
-            // it is refreshed, in one pass; a linear update also sums the next mean gap.
+            // it is refreshed; a linear update also sums the next mean gap. Every element
+            // off the index lists keeps p = p_old = 0: the lists become the new set, and the
+            // elements that left it have g and t zeroed.
             let [total, change, gap_sum, count] = self.pass_sums(|c| {
                 let mut acc = [0.0; 4];
-                for j in 0..c.p.len() {
+                if !refresh {
+                    for (u, &r) in c.u.iter_mut().zip(&*c.r) {
+                        *u = factor * (*u - tau * r);
+                    }
+                }
+                let mut kept = 0;
+                for k in 0..*c.len {
+                    let j = usize::from(c.set[k]);
                     let v = c.p[j] * factor;
                     c.p[j] = v;
                     acc[0] += v;
                     acc[1] += (v - c.p_old[j]).abs();
-                    if !refresh {
-                        c.u[j] = factor * (c.u[j] - tau * c.r[j]);
-                        if v > 0.0 {
+                    if v > 0.0 {
+                        if !refresh {
                             acc[2] += compliance * c.u[j] + h[c.lo + j];
                             acc[3] += 1.0;
                         }
+                        c.set[kept] = c.set[k];
+                        kept += 1;
+                    } else {
+                        c.g[j] = 0.0;
+                        c.t[j] = 0.0;
                     }
                 }
+                *c.len = kept;
                 acc
             });
             if refresh {
@@ -367,11 +418,11 @@ fn mean(sum: f64, count: f64) -> f64 {
     }
 }
 
-/// Index of the allowed element with the smallest gap.
-fn argmin_gap(g: &[f64], allowed: &[bool]) -> usize {
-    (0..g.len())
+/// Index of the allowed element with the smallest `gap`.
+fn argmin(allowed: &[bool], gap: impl Fn(usize) -> f64) -> usize {
+    (0..allowed.len())
         .filter(|&i| allowed[i])
-        .min_by(|&a, &b| g[a].total_cmp(&g[b]))
+        .min_by(|&a, &b| gap(a).total_cmp(&gap(b)))
         .unwrap_or(0)
 }
 
