@@ -15,6 +15,10 @@ pub(super) const PASS_CHUNK: usize = 4096;
 /// Most sums one pass returns.
 pub(super) const MAX_SUMS: usize = 5;
 
+/// Listed elements below which `ContactSolver::set_sums` runs on one thread (about 50 us of
+/// work, several times a wake-up of the pool's threads).
+const SERIAL_SET: usize = 16384;
+
 const _: () = assert!(PASS_CHUNK <= 1 << 16, "chunk-local indices are u16");
 
 /// One chunk of the solver's work buffers, starting at element `lo`.
@@ -50,6 +54,27 @@ impl<O: SurfaceOperator> ContactSolver<O> {
         &mut self,
         f: impl Fn(&mut Chunk) -> [f64; K] + Sync,
     ) -> [f64; K] {
+        self.chunk_sums(1, f)
+    }
+
+    /// `pass_sums` for an `f` that works on the index lists alone: while the lists are short,
+    /// the chunks run one after the other on the calling thread, sparing the other threads'
+    /// wake-up (the sums are the same).
+    pub(super) fn set_sums<const K: usize>(
+        &mut self,
+        f: impl Fn(&mut Chunk) -> [f64; K] + Sync,
+    ) -> [f64; K] {
+        let listed: usize = self.set_len.iter().sum();
+        let min_len = if listed < SERIAL_SET { usize::MAX } else { 1 };
+        self.chunk_sums(min_len, f)
+    }
+
+    /// `pass_sums` with tasks of at least `min_len` chunks.
+    fn chunk_sums<const K: usize>(
+        &mut self,
+        min_len: usize,
+        f: impl Fn(&mut Chunk) -> [f64; K] + Sync,
+    ) -> [f64; K] {
         const { assert!(K <= MAX_SUMS) };
         self.p
             .par_chunks_mut(PASS_CHUNK)
@@ -63,6 +88,7 @@ impl<O: SurfaceOperator> ContactSolver<O> {
             .zip(self.set_len.par_iter_mut())
             .zip(self.partials.par_iter_mut())
             .enumerate()
+            .with_min_len(min_len)
             .for_each(
                 |(k, (((((((((p, u), g), t), r), z), p_old), set), len), out))| {
                     let mut chunk = Chunk {

@@ -2,6 +2,7 @@
 //! under force or depth control, optionally preconditioned by the operator's approximate
 //! inverse (`SurfaceOperator::precondition`), with Polak–Ribière's conjugation.
 
+use super::passes::Chunk;
 use super::{ContactSolver, ContactSummary, Problem, Target};
 use crate::halfspace::influence;
 use crate::halfspace::operator::SurfaceOperator;
@@ -96,7 +97,7 @@ impl<O: SurfaceOperator> ContactSolver<O> {
                 (Target::Depth(d), _) => d,
                 (Target::Force(_), Some(s)) => s,
                 (Target::Force(_), None) => {
-                    let [s, k] = self.pass_sums(|c| {
+                    let [s, k] = self.set_sums(|c| {
                         let mut acc = [0.0; 2];
                         for &j in &c.set[..*c.len] {
                             let j = usize::from(j);
@@ -117,7 +118,7 @@ impl<O: SurfaceOperator> ContactSolver<O> {
             // g z_old for Polak–Ribière's beta and the last direction over the set, whose mean
             // is removed under force control (a set change leaves it nonzero).
             let precondition = opts.precondition;
-            let [gsum, gz_old, t_set, set_count] = self.pass_sums(|c| {
+            let [gsum, gz_old, t_set, set_count] = self.set_sums(|c| {
                 let mut acc = [0.0; 4];
                 for &j in &c.set[..*c.len] {
                     let j = usize::from(j);
@@ -137,7 +138,7 @@ impl<O: SurfaceOperator> ContactSolver<O> {
             });
             let (zbar, gz) = if opts.precondition {
                 self.op.precondition(&self.g, &mut self.z);
-                let [zsum, gz, g_lin, count] = self.pass_sums(|c| {
+                let [zsum, gz, g_lin, count] = self.set_sums(|c| {
                     let mut acc = [0.0; 4];
                     for &j in &c.set[..*c.len] {
                         let j = usize::from(j);
@@ -175,7 +176,7 @@ impl<O: SurfaceOperator> ContactSolver<O> {
                 Target::Force(_) => mean(t_set, set_count),
                 _ => 0.0,
             };
-            self.pass_sums(|c| {
+            self.set_sums(|c| {
                 let z = if precondition { &*c.z } else { &*c.g };
                 for &j in &c.set[..*c.len] {
                     let j = usize::from(j);
@@ -186,7 +187,7 @@ impl<O: SurfaceOperator> ContactSolver<O> {
             self.op.apply(&self.t, &mut self.r);
             // Over the contact set, in one pass: sums of r, g t, r t and t; then the step
             // tau = sum g t / sum (c r - rbar) t, with rbar the mean of c r under force control.
-            let [r_sum, count, num, rt, t_sum] = self.pass_sums(|c| {
+            let [r_sum, count, num, rt, t_sum] = self.set_sums(|c| {
                 let mut acc = [0.0; 5];
                 for &j in &c.set[..*c.len] {
                     let j = usize::from(j);
@@ -235,12 +236,13 @@ impl<O: SurfaceOperator> ContactSolver<O> {
             // off it that overlap enter it. The index lists become the old set and the
             // entering elements (p_old is kept on these alone), and g is written on the
             // entering ones.
+            let every_allowed = n_allowed == n;
             let [sum, overlaps, clamps] = self.pass_sums(|c| {
                 let mut acc = [0.0; 3];
                 *c.len = 0;
                 for j in 0..c.p.len() {
                     let i = c.lo + j;
-                    if !allowed[i] {
+                    if !every_allowed && !allowed[i] {
                         continue;
                     }
                     let p = c.p[j];
@@ -332,7 +334,7 @@ impl<O: SurfaceOperator> ContactSolver<O> {
             // it is refreshed; a linear update also sums the next mean gap. Every element
             // off the index lists keeps p = p_old = 0: the lists become the new set, and the
             // elements that left it have g and t zeroed.
-            let [total, change, gap_sum, count] = self.pass_sums(|c| {
+            let rescale = |c: &mut Chunk| {
                 let mut acc = [0.0; 4];
                 if !refresh {
                     for (u, &r) in c.u.iter_mut().zip(&*c.r) {
@@ -360,7 +362,12 @@ impl<O: SurfaceOperator> ContactSolver<O> {
                 }
                 *c.len = kept;
                 acc
-            });
+            };
+            let [total, change, gap_sum, count] = if refresh {
+                self.set_sums(rescale)
+            } else {
+                self.pass_sums(rescale)
+            };
             if refresh {
                 self.op.apply(&self.p, &mut self.u);
             } else {
