@@ -123,14 +123,4 @@ impl<O: SurfaceOperator> ContactSolver<O> {
                 .map(move |&j| lo + j as usize)
         })
     }
-
-    /// Sets p_old to zero off the index lists, where the passes keep it (Polonsky–Keer's
-    /// step leaves it valid on them alone).
-    pub(super) fn whole_p_old(&mut self) {
-        let kept: Vec<(usize, f64)> = self.listed().map(|i| (i, self.p_old[i])).collect();
-        self.p_old.fill(0.0);
-        for (i, v) in kept {
-            self.p_old[i] = v;
-        }
-    }
 }

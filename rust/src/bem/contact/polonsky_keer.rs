@@ -233,43 +233,46 @@ impl<O: SurfaceOperator> ContactSolver<O> {
                 }
             };
             // The step over every allowed element: the set steps along t, and the elements
-            // off it that overlap enter it. The index lists become the old set and the
-            // entering elements (p_old is kept on these alone), and g is written on the
-            // entering ones.
+            // off it that overlap enter it, in a loop without branches (t = 0 off the set).
+            // Then the index lists become the old set and the new one, whose load is summed
+            // in the order of the elements, and g is written on the entering elements.
             let every_allowed = n_allowed == n;
             let [sum, overlaps, clamps] = self.pass_sums(|c| {
-                let mut acc = [0.0; 3];
-                *c.len = 0;
-                for j in 0..c.p.len() {
-                    let i = c.lo + j;
-                    if !every_allowed && !allowed[i] {
-                        continue;
-                    }
+                let m = c.p.len();
+                let (u, t, p_old) = (&c.u[..m], &c.t[..m], &mut c.p_old[..m]);
+                let (hc, ac) = (&h[c.lo..c.lo + m], &allowed[c.lo..c.lo + m]);
+                let (mut overlaps, mut clamps) = (0usize, 0usize);
+                for j in 0..m {
                     let p = c.p[j];
-                    if p > 0.0 {
-                        c.p_old[j] = p;
-                        let v = p - tau * c.t[j];
-                        if v <= 0.0 {
-                            acc[2] += 1.0;
-                        }
-                        let v = v.max(0.0);
-                        c.p[j] = v;
-                        acc[0] += v;
-                        c.push_if(j, true);
+                    let g = compliance * u[j] + hc[j] - shift;
+                    let inside = p > 0.0;
+                    let step = p - tau * t[j];
+                    let overlap = !inside && g < -gap_tol && (every_allowed || ac[j]);
+                    clamps += usize::from(inside && step <= 0.0);
+                    overlaps += usize::from(overlap);
+                    p_old[j] = p;
+                    c.p[j] = if inside {
+                        step.max(0.0)
+                    } else if overlap {
+                        -tau_overlap * g
                     } else {
-                        let g = compliance * c.u[j] + h[i] - shift;
-                        if g < -gap_tol {
-                            c.p_old[j] = p;
-                            let v = -tau_overlap * g;
-                            c.p[j] = v;
-                            c.g[j] = g;
-                            acc[0] += v;
-                            acc[1] += 1.0;
-                            c.push_if(j, true);
-                        }
+                        p
+                    };
+                }
+                *c.len = 0;
+                for j in 0..m {
+                    let keep = c.p_old[j] > 0.0 || c.p[j] > 0.0;
+                    c.push_if(j, keep);
+                }
+                let mut sum = 0.0;
+                for &j in &c.set[..*c.len] {
+                    let j = usize::from(j);
+                    sum += c.p[j];
+                    if c.p_old[j] <= 0.0 {
+                        c.g[j] = compliance * c.u[j] + h[c.lo + j] - shift;
                     }
                 }
-                acc
+                [sum, overlaps as f64, clamps as f64]
             });
             let mut factor = 1.0;
             // the pressure was set anew rather than stepped
@@ -278,14 +281,12 @@ impl<O: SurfaceOperator> ContactSolver<O> {
                 Some(w) if sum > 0.0 => factor = w / area / sum,
                 Some(w) => {
                     let imin = argmin(allowed, |i| gap(&self.u, i));
-                    self.whole_p_old();
                     self.p[imin] = w / area;
                     reset = true;
                 }
                 // Everything released while elements still overlap: restart from the
                 // pressures that close each overlap alone.
                 None if sum == 0.0 && (0..n).any(|i| allowed[i] && gap(&self.u, i) < -gap_tol) => {
-                    self.whole_p_old();
                     for i in (0..n).filter(|&i| allowed[i]) {
                         self.p[i] = (-gap(&self.u, i)).max(0.0) / (compliance * self_influence);
                     }
