@@ -437,8 +437,96 @@ fn argmin(allowed: &[bool], gap: impl Fn(usize) -> f64) -> usize {
 #[cfg(test)]
 mod tests {
     use crate::bem::contact::tests::{hertz_grid, max_abs_diff, solve_with};
-    use crate::bem::contact::Target;
+    use crate::bem::contact::{ContactSolver, Target};
+    use crate::halfspace::operator::FftOperator;
     use crate::model::settings::SolverOptions;
+    use crate::support::monitor::Silent;
+
+    /// A wavy surface on the unit square's n x n grid: three modes, amplitudes 1, 0.5 and
+    /// 0.25 mm, so that the contact splits into many patches that grow and shrink as the
+    /// iteration goes.
+    fn wavy_grid(n: usize) -> (Vec<f64>, f64) {
+        let dx = 1.0 / n as f64;
+        let tau = std::f64::consts::TAU;
+        let h = (0..n * n)
+            .map(|i| {
+                let (x, y) = ((i % n) as f64 * dx, (i / n) as f64 * dx);
+                1e-3 * ((tau * 3.0 * x).sin() * (tau * 2.0 * y).cos()
+                    + 0.5 * (tau * 7.0 * x + 1.0).sin() * (tau * 5.0 * y + 0.3).sin()
+                    + 0.25 * (tau * 13.0 * (x + y)).cos())
+            })
+            .collect();
+        (h, dx)
+    }
+
+    /// On a wavy surface (10^4 elements: three chunks of the passes), on the whole grid and
+    /// inside a disc, preconditioned and plain, under depth control and under force control
+    /// at the depth solve's force: the pressure repeats bit for bit with 1, 2 and 3 threads
+    /// (the passes' sums are added in a fixed order), the set's elements are allowed ones,
+    /// and the force-controlled solve finds the depth-controlled one's contact (to the
+    /// tolerance).
+    #[test]
+    fn rough_contact_repeats_bit_for_bit_across_thread_counts() {
+        let n = 100;
+        let (h, dx) = wavy_grid(n);
+        let whole = vec![true; n * n];
+        let disc: Vec<bool> = (0..n * n)
+            .map(|i| {
+                let (x, y) = ((i % n) as f64 - 49.5, (i / n) as f64 - 49.5);
+                x * x + y * y < 45.0 * 45.0
+            })
+            .collect();
+        let depth = 0.2e-3;
+        for allowed in [&whole, &disc] {
+            for precondition in [true, false] {
+                let opts = SolverOptions {
+                    active_limit: Some(0),
+                    precondition,
+                    ..SolverOptions::default()
+                };
+                let run = |target, threads| {
+                    let pool = rayon::ThreadPoolBuilder::new()
+                        .num_threads(threads)
+                        .build()
+                        .unwrap();
+                    pool.install(|| {
+                        let op = FftOperator::new(n, n, dx).unwrap();
+                        let mut solver = ContactSolver::new(op);
+                        let s = solver
+                            .solve(&h, allowed, 1.0, target, false, 0.0, &opts, &mut Silent)
+                            .unwrap();
+                        (s, solver.pressure().to_vec())
+                    })
+                };
+                let (by_depth, p_depth) = run(Target::Depth(depth), 1);
+                let count = p_depth.iter().filter(|&&p| p > 0.0).count();
+                assert!(count > 500 && count < 5000, "{count} elements in contact");
+                assert!(p_depth
+                    .iter()
+                    .zip(allowed.iter())
+                    .all(|(&p, &a)| a || p == 0.0));
+                let (by_force, p_force) = run(Target::Force(by_depth.force), 1);
+                let peak = p_depth.iter().fold(0.0f64, |m, &v| m.max(v));
+                let diff = max_abs_diff(&p_depth, &p_force);
+                assert!(diff < 1e-6 * peak, "force vs depth: {diff} of {peak}");
+                for (target, one) in [
+                    (Target::Depth(depth), &p_depth),
+                    (Target::Force(by_depth.force), &p_force),
+                ] {
+                    for threads in [2, 3] {
+                        let (s, p) = run(target, threads);
+                        let same = p.iter().zip(one).all(|(a, b)| a.to_bits() == b.to_bits());
+                        assert!(same, "{target:?}, {threads} threads, {precondition}");
+                        let iterations = match target {
+                            Target::Depth(_) => by_depth.iterations,
+                            Target::Force(_) => by_force.iterations,
+                        };
+                        assert_eq!(s.iterations, iterations);
+                    }
+                }
+            }
+        }
+    }
 
     /// Preconditioned and plain Polonsky–Keer reach the same contact (to the tolerance)
     /// under force and depth control, the preconditioned one in at most 1/2 (force) or 2/3
