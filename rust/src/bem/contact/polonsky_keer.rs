@@ -232,8 +232,8 @@ impl<O: SurfaceOperator> ContactSolver<O> {
                     0.0
                 }
             };
-            // The step over every allowed element: the set steps along t, and the elements
-            // off it that overlap enter it, in a loop without branches (t = 0 off the set).
+            // The step over every allowed element, in one loop of selects: the set steps
+            // along t, and the elements off it that overlap enter it (t = 0 off the set).
             // Then the index lists become the old set and the new one, whose load is summed
             // in the order of the elements, and g is written on the entering elements.
             let every_allowed = n_allowed == n;
