@@ -17,6 +17,7 @@
 
 use crate::bem::contact::{ContactSolver, ContactSummary, Target};
 use crate::bem::window::Window;
+use crate::halfspace::influence::KernelTable;
 use crate::halfspace::operator::{FftPlans, SurfaceOperator};
 use crate::halfspace::periodic;
 use crate::model::body::Body;
@@ -94,6 +95,34 @@ pub fn solve_from(
     opts: &SolverOptions,
     monitor: &mut dyn Monitor,
 ) -> Result<StaticContact> {
+    solve_sharing(
+        grid,
+        compliance,
+        target,
+        depth_bound,
+        deflection,
+        start,
+        None,
+        opts,
+        monitor,
+    )
+}
+
+/// [`solve_from`], its windows' kernel tables taken from `shared` (a finer level's) where it
+/// holds them (`KernelTable::part`): a nested solve evaluates Love's coefficients once, for
+/// its finest level's first window, and its coarse levels take them scaled.
+#[allow(clippy::too_many_arguments)]
+fn solve_sharing(
+    grid: &Grid,
+    compliance: f64,
+    target: Target,
+    depth_bound: Option<f64>,
+    deflection: bool,
+    start: Option<&[f64]>,
+    shared: Option<&KernelTable>,
+    opts: &SolverOptions,
+    monitor: &mut dyn Monitor,
+) -> Result<StaticContact> {
     if let Some(p) = start {
         check_len("starting pressure", p.len(), grid.nx * grid.ny)?;
     }
@@ -127,19 +156,45 @@ pub fn solve_from(
         w.wx.min(w.wy) >= 2 * NESTED_COARSEST
     };
     let nest = start.is_none() && opts.precondition && depth_bound.is_none_or(spans_levels);
+    let mut bound = match target {
+        Target::Depth(d) => Some(d),
+        Target::Force(_) => depth_bound,
+    };
+    let (h, allowed) = (&grid.height, &grid.allowed);
+    // the most the surface can rise under a force (m; 0 on a half-space), and under depth
+    // control the rise the window allows for, checked against the solved force
+    let least = grid.body.least_coefficient(grid.dx);
+    let rise = |force: f64| -compliance * force * least / (grid.dx * grid.dx);
+    let mut allowance = match target {
+        Target::Force(f) => rise(f),
+        Target::Depth(_) => 0.0,
+    };
+    // the window around the elements that can touch under `bound` with the surface raised
+    // by `allowance` (None: the whole grid)
+    let outer = |bound: Option<f64>, allowance: f64| {
+        let can = |i: usize, b: f64| allowed[i] && h[i] - allowance <= b;
+        bound
+            .filter(|&b| (0..n).any(|i| can(i, b)))
+            .map(|b| Window::around(nx, ny, 2, |i| can(i, b)))
+    };
+    // the first window's table, made before the coarse levels, which take parts of it
+    let extent = |w: Option<Window>| w.map_or((nx, ny), |w| (w.wx, w.wy));
+    let (wx, wy) = extent(outer(bound, allowance));
+    let mut table = window_table(grid, wx, wy, shared)?;
     let coarse = match coarsened(grid).filter(|_| nest) {
         Some(coarse) => {
             let loose = SolverOptions {
                 tol: opts.tol.max(NESTED_TOL),
                 ..*opts
             };
-            let solved = solve_from(
+            let solved = solve_sharing(
                 &coarse,
                 compliance,
                 target,
                 depth_bound,
                 false,
                 None,
+                Some(&table),
                 &loose,
                 monitor,
             )?;
@@ -155,44 +210,18 @@ pub fn solve_from(
     let start = start.or(coarse.as_ref().map(|c| c.0.as_slice()));
     let (mut iterations, mut solves) = coarse.as_ref().map_or((0, 0), |c| (c.1, c.2));
     let coarse_iterations = iterations;
-    let mut bound = match target {
-        Target::Depth(d) => Some(d),
-        Target::Force(_) => depth_bound,
-    };
-    let (h, allowed) = (&grid.height, &grid.allowed);
     let (mut h_w, mut allowed_w) = (vec![], vec![]);
     let mut plans = FftPlans::default();
-    // the most the surface can rise under a force (m; 0 on a half-space), and under depth
-    // control the rise the window allows for, checked against the solved force
-    let least = grid.body.least_coefficient(grid.dx);
-    let rise = |force: f64| -compliance * force * least / (grid.dx * grid.dx);
-    let mut allowance = match target {
-        Target::Force(f) => rise(f),
-        Target::Depth(_) => 0.0,
-    };
     loop {
-        let can = |i: usize, b: f64| allowed[i] && h[i] - allowance <= b;
-        let (window, table) = match bound {
-            Some(b) if (0..n).any(|i| can(i, b)) => {
-                let outer = Window::around(nx, ny, 2, |i| can(i, b));
-                let table = grid
-                    .body
-                    .window_kernel(outer.wx, outer.wy, grid.dx)?
-                    .expect("a body with windows has a window kernel");
-                let window = match target {
-                    Target::Force(f) => {
-                        Window::around_contact(nx, ny, h, allowed, b, compliance * f, &table, least)
-                    }
-                    Target::Depth(_) => outer,
-                };
-                (window, table)
+        let around = outer(bound, allowance);
+        let (wx, wy) = extent(around);
+        table = window_table(grid, wx, wy, Some(&table))?;
+        let window = match (around, bound, target) {
+            (Some(_), Some(b), Target::Force(f)) => {
+                Window::around_contact(nx, ny, h, allowed, b, compliance * f, &table, least)
             }
-            _ => (
-                Window::full(nx, ny),
-                grid.body
-                    .window_kernel(nx, ny, grid.dx)?
-                    .expect("a body with windows has a window kernel"),
-            ),
+            (Some(o), _, _) => o,
+            (None, _, _) => Window::full(nx, ny),
         };
         window.gather(h, &mut h_w);
         window.gather(allowed, &mut allowed_w);
@@ -260,6 +289,24 @@ pub fn solve_from(
             solves,
             level_iterations,
         });
+    }
+}
+
+/// The kernel table of a `wx` x `wy` window of `grid`: a part of `shared` (a finer level's or
+/// an earlier window's table) where it holds it (`KernelTable::part`), else the body's own
+/// (`Body::window_kernel`).
+fn window_table(
+    grid: &Grid,
+    wx: usize,
+    wy: usize,
+    shared: Option<&KernelTable>,
+) -> Result<KernelTable> {
+    match shared.and_then(|t| t.part(wx, wy, grid.dx)) {
+        Some(part) => Ok(part),
+        None => Ok(grid
+            .body
+            .window_kernel(wx, wy, grid.dx)?
+            .expect("a body with windows has a window kernel")),
     }
 }
 
