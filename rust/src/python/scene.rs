@@ -472,7 +472,7 @@ pub(crate) fn run_scene(
     let scene = &scene.inner;
     let report =
         PyMonitor::new(progress).run(py, |monitor| crate::run::run(scene, &settings, monitor))?;
-    Ok(PyReport { inner: report })
+    Ok(PyReport::from(report))
 }
 
 /// Solves the static scene `scene` under each of `forces` (N) in turn, each BEM solve
@@ -517,6 +517,6 @@ pub(crate) fn run_loads(
     })?;
     Ok(reports
         .into_iter()
-        .map(|inner| PyReport { inner })
+        .map(PyReport::from)
         .collect())
 }
