@@ -224,7 +224,10 @@ mod tests {
     fn roundoff(kx: usize, ky: usize, dx: f64) -> f64 {
         let c = |k: usize, s: f64| (k as f64 + s) * dx;
         let corners = [(0.5, 0.5), (-0.5, 0.5), (0.5, -0.5), (-0.5, -0.5)];
-        let size: f64 = corners.iter().map(|&(a, b)| phi(c(kx, a), c(ky, b)).abs()).sum();
+        let size: f64 = corners
+            .iter()
+            .map(|&(a, b)| phi(c(kx, a), c(ky, b)).abs())
+            .sum();
         4.0 * f64::EPSILON * size / (4.0 * PI)
     }
 

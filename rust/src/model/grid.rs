@@ -82,7 +82,8 @@ impl Grid {
         let (nx, ny) = (self.nx, self.ny);
         let rows = [0, ny.saturating_sub(1)];
         let columns = [0, nx.saturating_sub(1)];
-        rows.iter().any(|&iy| set[iy * nx..(iy + 1) * nx].contains(&true))
+        rows.iter()
+            .any(|&iy| set[iy * nx..(iy + 1) * nx].contains(&true))
             || (0..ny).any(|iy| columns.iter().any(|&ix| set[iy * nx + ix]))
     }
 }

@@ -515,8 +515,5 @@ pub(crate) fn run_loads(
     let reports = PyMonitor::new(progress).run(py, |monitor| {
         crate::run::run_loads(scene, &forces, &settings, monitor)
     })?;
-    Ok(reports
-        .into_iter()
-        .map(PyReport::from)
-        .collect())
+    Ok(reports.into_iter().map(PyReport::from).collect())
 }

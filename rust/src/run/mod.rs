@@ -355,7 +355,10 @@ fn run_static(
                 monitor,
             )?;
             let pressure = keep.then(|| r.pressure.clone());
-            Ok((bem_static_report(settings, &grid, force, r, wanted), pressure))
+            Ok((
+                bem_static_report(settings, &grid, force, r, wanted),
+                pressure,
+            ))
         }
         Method::Mdr => {
             let f = mdr_foundation(scene, n)?;
