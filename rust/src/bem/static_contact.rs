@@ -231,11 +231,17 @@ fn solve_sharing(
         let mut solver = ContactSolver::new(op);
         let warm = match start {
             Some(p) => {
+                // a whole grid's window is the grid: its start is not copied
                 let mut p_w = vec![];
-                window.gather(p, &mut p_w);
+                let p_w = if window.is_full() {
+                    p
+                } else {
+                    window.gather(p, &mut p_w);
+                    &p_w
+                };
                 let loaded = p_w.iter().zip(&allowed_w).any(|(&p, &a)| a && p > 0.0);
                 if loaded {
-                    solver.set_pressure(&p_w)?;
+                    solver.set_pressure(p_w)?;
                 }
                 loaded
             }
@@ -567,23 +573,29 @@ fn coarsened(grid: &Grid) -> Option<Grid> {
         return None;
     }
     let (cx, cy) = (nx / 2, ny / 2);
-    let children = |i: usize| {
-        let (ix, iy) = (2 * (i % cx), 2 * (i / cx));
-        [0, 1, nx, nx + 1].map(|o| iy * nx + ix + o)
-    };
     let coarse = Grid {
         nx: cx,
         ny: cy,
         dx: 2.0 * grid.dx,
-        height: (0..cx * cy)
-            .map(|i| 0.25 * children(i).iter().map(|&c| grid.height[c]).sum::<f64>())
-            .collect(),
-        allowed: (0..cx * cy)
-            .map(|i| children(i).iter().all(|&c| grid.allowed[c]))
-            .collect(),
+        height: of_children(&grid.height, nx, |a, b, c, d| 0.25 * (a + b + c + d)),
+        allowed: of_children(&grid.allowed, nx, |a, b, c, d| a && b && c && d),
         body: grid.body,
     };
     coarse.allowed.contains(&true).then_some(coarse)
+}
+
+/// `f` of the four children (row-major: a pair in each of two rows) of each element of the
+/// grid coarsened by two from `fine`, a grid of even sides `nx` wide.
+fn of_children<T: Copy + Default>(fine: &[T], nx: usize, f: impl Fn(T, T, T, T) -> T) -> Vec<T> {
+    let cx = nx / 2;
+    let mut coarse = vec![T::default(); fine.len() / 4];
+    for (row, pair) in coarse.chunks_exact_mut(cx).zip(fine.chunks_exact(2 * nx)) {
+        let (a, b) = pair.split_at(nx);
+        for ((v, a), b) in row.iter_mut().zip(a.chunks_exact(2)).zip(b.chunks_exact(2)) {
+            *v = f(a[0], a[1], b[0], b[1]);
+        }
+    }
+    coarse
 }
 
 /// The pressure `fine` (Pa) of an nx x ny cell averaged over 2 x 2 elements: the pressure
@@ -602,12 +614,17 @@ fn averaged(fine: &[f64], nx: usize, ny: usize) -> Vec<f64> {
 }
 
 /// The pressure (Pa) of a cell coarsened by two repeated over each element's four children
-/// on the `nx` x `ny` cell.
+/// on the `nx` x `ny` cell (sides even).
 fn refined(coarse: &[f64], nx: usize, ny: usize) -> Vec<f64> {
     let cx = nx / 2;
-    (0..nx * ny)
-        .map(|i| coarse[(i / nx / 2) * cx + (i % nx) / 2])
-        .collect()
+    let mut fine = vec![0.0; nx * ny];
+    for (iy, row) in fine.chunks_exact_mut(nx).enumerate() {
+        let from = &coarse[(iy / 2) * cx..(iy / 2 + 1) * cx];
+        for (pair, &v) in row.chunks_exact_mut(2).zip(from) {
+            pair.fill(v);
+        }
+    }
+    fine
 }
 
 #[cfg(test)]
@@ -725,6 +742,35 @@ mod tests {
                 .sum();
             assert!(diff < 1e-8 * total, "{diff} of {total}");
             assert!((nested.summary.depth - single.summary.depth).abs() < 1e-9 * d);
+        }
+    }
+
+    /// Coarsening averages each element's four children (allowed where all four are) and
+    /// refining repeats a coarse element over them, on a grid wider than tall.
+    #[test]
+    fn coarse_levels_average_and_repeat_the_children() {
+        let (nx, ny) = (2 * NESTED_COARSEST + 6, 2 * NESTED_COARSEST);
+        let value = |i: usize| ((i * 7919) % 1013) as f64 / 1013.0;
+        let height: Vec<f64> = (0..nx * ny).map(value).collect();
+        let allowed: Vec<bool> = (0..nx * ny).map(|i| i % 37 != 5).collect();
+        let grid = Grid::new(nx, ny, 0.1, height.clone(), allowed.clone()).unwrap();
+        let coarse = coarsened(&grid).unwrap();
+        let (cx, cy) = (nx / 2, ny / 2);
+        assert_eq!((coarse.nx, coarse.ny, coarse.dx), (cx, cy, 0.2));
+        for j in 0..cx * cy {
+            let c = (2 * (j / cx)) * nx + 2 * (j % cx);
+            let children = [c, c + 1, c + nx, c + nx + 1];
+            let mean = 0.25 * children.iter().map(|&k| height[k]).sum::<f64>();
+            assert_eq!(coarse.height[j], mean, "{j}");
+            assert_eq!(
+                coarse.allowed[j],
+                children.iter().all(|&k| allowed[k]),
+                "{j}"
+            );
+        }
+        let fine = refined(&coarse.height, nx, ny);
+        for (i, v) in fine.iter().enumerate() {
+            assert_eq!(*v, coarse.height[(i / nx / 2) * cx + (i % nx) / 2], "{i}");
         }
     }
 
