@@ -17,6 +17,7 @@
 
 use crate::bem::contact::{ContactSolver, ContactSummary, Target};
 use crate::bem::window::Window;
+use crate::halfspace::influence::KernelTable;
 use crate::halfspace::operator::{FftPlans, SurfaceOperator};
 use crate::halfspace::periodic;
 use crate::model::body::Body;
@@ -94,6 +95,34 @@ pub fn solve_from(
     opts: &SolverOptions,
     monitor: &mut dyn Monitor,
 ) -> Result<StaticContact> {
+    solve_sharing(
+        grid,
+        compliance,
+        target,
+        depth_bound,
+        deflection,
+        start,
+        None,
+        opts,
+        monitor,
+    )
+}
+
+/// [`solve_from`], its windows' kernel tables taken from `shared` (a finer level's) where it
+/// holds them (`KernelTable::part`): a nested solve evaluates Love's coefficients once, for
+/// its finest level's first window, and its coarse levels take them scaled.
+#[allow(clippy::too_many_arguments)]
+fn solve_sharing(
+    grid: &Grid,
+    compliance: f64,
+    target: Target,
+    depth_bound: Option<f64>,
+    deflection: bool,
+    start: Option<&[f64]>,
+    shared: Option<&KernelTable>,
+    opts: &SolverOptions,
+    monitor: &mut dyn Monitor,
+) -> Result<StaticContact> {
     if let Some(p) = start {
         check_len("starting pressure", p.len(), grid.nx * grid.ny)?;
     }
@@ -127,19 +156,45 @@ pub fn solve_from(
         w.wx.min(w.wy) >= 2 * NESTED_COARSEST
     };
     let nest = start.is_none() && opts.precondition && depth_bound.is_none_or(spans_levels);
+    let mut bound = match target {
+        Target::Depth(d) => Some(d),
+        Target::Force(_) => depth_bound,
+    };
+    let (h, allowed) = (&grid.height, &grid.allowed);
+    // the most the surface can rise under a force (m; 0 on a half-space), and under depth
+    // control the rise the window allows for, checked against the solved force
+    let least = grid.body.least_coefficient(grid.dx);
+    let rise = |force: f64| -compliance * force * least / (grid.dx * grid.dx);
+    let mut allowance = match target {
+        Target::Force(f) => rise(f),
+        Target::Depth(_) => 0.0,
+    };
+    // the window around the elements that can touch under `bound` with the surface raised
+    // by `allowance` (None: the whole grid)
+    let outer = |bound: Option<f64>, allowance: f64| {
+        let can = |i: usize, b: f64| allowed[i] && h[i] - allowance <= b;
+        bound
+            .filter(|&b| (0..n).any(|i| can(i, b)))
+            .map(|b| Window::around(nx, ny, 2, |i| can(i, b)))
+    };
+    // the first window's table, made before the coarse levels, which take parts of it
+    let extent = |w: Option<Window>| w.map_or((nx, ny), |w| (w.wx, w.wy));
+    let (wx, wy) = extent(outer(bound, allowance));
+    let mut table = window_table(grid, wx, wy, shared)?;
     let coarse = match coarsened(grid).filter(|_| nest) {
         Some(coarse) => {
             let loose = SolverOptions {
                 tol: opts.tol.max(NESTED_TOL),
                 ..*opts
             };
-            let solved = solve_from(
+            let solved = solve_sharing(
                 &coarse,
                 compliance,
                 target,
                 depth_bound,
                 false,
                 None,
+                Some(&table),
                 &loose,
                 monitor,
             )?;
@@ -155,44 +210,18 @@ pub fn solve_from(
     let start = start.or(coarse.as_ref().map(|c| c.0.as_slice()));
     let (mut iterations, mut solves) = coarse.as_ref().map_or((0, 0), |c| (c.1, c.2));
     let coarse_iterations = iterations;
-    let mut bound = match target {
-        Target::Depth(d) => Some(d),
-        Target::Force(_) => depth_bound,
-    };
-    let (h, allowed) = (&grid.height, &grid.allowed);
     let (mut h_w, mut allowed_w) = (vec![], vec![]);
     let mut plans = FftPlans::default();
-    // the most the surface can rise under a force (m; 0 on a half-space), and under depth
-    // control the rise the window allows for, checked against the solved force
-    let least = grid.body.least_coefficient(grid.dx);
-    let rise = |force: f64| -compliance * force * least / (grid.dx * grid.dx);
-    let mut allowance = match target {
-        Target::Force(f) => rise(f),
-        Target::Depth(_) => 0.0,
-    };
     loop {
-        let can = |i: usize, b: f64| allowed[i] && h[i] - allowance <= b;
-        let (window, table) = match bound {
-            Some(b) if (0..n).any(|i| can(i, b)) => {
-                let outer = Window::around(nx, ny, 2, |i| can(i, b));
-                let table = grid
-                    .body
-                    .window_kernel(outer.wx, outer.wy, grid.dx)?
-                    .expect("a body with windows has a window kernel");
-                let window = match target {
-                    Target::Force(f) => {
-                        Window::around_contact(nx, ny, h, allowed, b, compliance * f, &table, least)
-                    }
-                    Target::Depth(_) => outer,
-                };
-                (window, table)
+        let around = outer(bound, allowance);
+        let (wx, wy) = extent(around);
+        table = window_table(grid, wx, wy, Some(&table))?;
+        let window = match (around, bound, target) {
+            (Some(_), Some(b), Target::Force(f)) => {
+                Window::around_contact(nx, ny, h, allowed, b, compliance * f, &table, least)
             }
-            _ => (
-                Window::full(nx, ny),
-                grid.body
-                    .window_kernel(nx, ny, grid.dx)?
-                    .expect("a body with windows has a window kernel"),
-            ),
+            (Some(o), _, _) => o,
+            (None, _, _) => Window::full(nx, ny),
         };
         window.gather(h, &mut h_w);
         window.gather(allowed, &mut allowed_w);
@@ -202,11 +231,17 @@ pub fn solve_from(
         let mut solver = ContactSolver::new(op);
         let warm = match start {
             Some(p) => {
+                // a whole grid's window is the grid: its start is not copied
                 let mut p_w = vec![];
-                window.gather(p, &mut p_w);
+                let p_w = if window.is_full() {
+                    p
+                } else {
+                    window.gather(p, &mut p_w);
+                    &p_w
+                };
                 let loaded = p_w.iter().zip(&allowed_w).any(|(&p, &a)| a && p > 0.0);
                 if loaded {
-                    solver.set_pressure(&p_w)?;
+                    solver.set_pressure(p_w)?;
                 }
                 loaded
             }
@@ -260,6 +295,24 @@ pub fn solve_from(
             solves,
             level_iterations,
         });
+    }
+}
+
+/// The kernel table of a `wx` x `wy` window of `grid`: a part of `shared` (a finer level's or
+/// an earlier window's table) where it holds it (`KernelTable::part`), else the body's own
+/// (`Body::window_kernel`).
+fn window_table(
+    grid: &Grid,
+    wx: usize,
+    wy: usize,
+    shared: Option<&KernelTable>,
+) -> Result<KernelTable> {
+    match shared.and_then(|t| t.part(wx, wy, grid.dx)) {
+        Some(part) => Ok(part),
+        None => Ok(grid
+            .body
+            .window_kernel(wx, wy, grid.dx)?
+            .expect("a body with windows has a window kernel")),
     }
 }
 
@@ -520,23 +573,29 @@ fn coarsened(grid: &Grid) -> Option<Grid> {
         return None;
     }
     let (cx, cy) = (nx / 2, ny / 2);
-    let children = |i: usize| {
-        let (ix, iy) = (2 * (i % cx), 2 * (i / cx));
-        [0, 1, nx, nx + 1].map(|o| iy * nx + ix + o)
-    };
     let coarse = Grid {
         nx: cx,
         ny: cy,
         dx: 2.0 * grid.dx,
-        height: (0..cx * cy)
-            .map(|i| 0.25 * children(i).iter().map(|&c| grid.height[c]).sum::<f64>())
-            .collect(),
-        allowed: (0..cx * cy)
-            .map(|i| children(i).iter().all(|&c| grid.allowed[c]))
-            .collect(),
+        height: of_children(&grid.height, nx, |a, b, c, d| 0.25 * (a + b + c + d)),
+        allowed: of_children(&grid.allowed, nx, |a, b, c, d| a && b && c && d),
         body: grid.body,
     };
     coarse.allowed.contains(&true).then_some(coarse)
+}
+
+/// `f` of the four children (row-major: a pair in each of two rows) of each element of the
+/// grid coarsened by two from `fine`, a grid of even sides `nx` wide.
+fn of_children<T: Copy + Default>(fine: &[T], nx: usize, f: impl Fn(T, T, T, T) -> T) -> Vec<T> {
+    let cx = nx / 2;
+    let mut coarse = vec![T::default(); fine.len() / 4];
+    for (row, pair) in coarse.chunks_exact_mut(cx).zip(fine.chunks_exact(2 * nx)) {
+        let (a, b) = pair.split_at(nx);
+        for ((v, a), b) in row.iter_mut().zip(a.chunks_exact(2)).zip(b.chunks_exact(2)) {
+            *v = f(a[0], a[1], b[0], b[1]);
+        }
+    }
+    coarse
 }
 
 /// The pressure `fine` (Pa) of an nx x ny cell averaged over 2 x 2 elements: the pressure
@@ -555,12 +614,17 @@ fn averaged(fine: &[f64], nx: usize, ny: usize) -> Vec<f64> {
 }
 
 /// The pressure (Pa) of a cell coarsened by two repeated over each element's four children
-/// on the `nx` x `ny` cell.
+/// on the `nx` x `ny` cell (sides even).
 fn refined(coarse: &[f64], nx: usize, ny: usize) -> Vec<f64> {
     let cx = nx / 2;
-    (0..nx * ny)
-        .map(|i| coarse[(i / nx / 2) * cx + (i % nx) / 2])
-        .collect()
+    let mut fine = vec![0.0; nx * ny];
+    for (iy, row) in fine.chunks_exact_mut(nx).enumerate() {
+        let from = &coarse[(iy / 2) * cx..(iy / 2 + 1) * cx];
+        for (pair, &v) in row.chunks_exact_mut(2).zip(from) {
+            pair.fill(v);
+        }
+    }
+    fine
 }
 
 #[cfg(test)]
@@ -678,6 +742,35 @@ mod tests {
                 .sum();
             assert!(diff < 1e-8 * total, "{diff} of {total}");
             assert!((nested.summary.depth - single.summary.depth).abs() < 1e-9 * d);
+        }
+    }
+
+    /// Coarsening averages each element's four children (allowed where all four are) and
+    /// refining repeats a coarse element over them, on a grid wider than tall.
+    #[test]
+    fn coarse_levels_average_and_repeat_the_children() {
+        let (nx, ny) = (2 * NESTED_COARSEST + 6, 2 * NESTED_COARSEST);
+        let value = |i: usize| ((i * 7919) % 1013) as f64 / 1013.0;
+        let height: Vec<f64> = (0..nx * ny).map(value).collect();
+        let allowed: Vec<bool> = (0..nx * ny).map(|i| i % 37 != 5).collect();
+        let grid = Grid::new(nx, ny, 0.1, height.clone(), allowed.clone()).unwrap();
+        let coarse = coarsened(&grid).unwrap();
+        let (cx, cy) = (nx / 2, ny / 2);
+        assert_eq!((coarse.nx, coarse.ny, coarse.dx), (cx, cy, 0.2));
+        for j in 0..cx * cy {
+            let c = (2 * (j / cx)) * nx + 2 * (j % cx);
+            let children = [c, c + 1, c + nx, c + nx + 1];
+            let mean = 0.25 * children.iter().map(|&k| height[k]).sum::<f64>();
+            assert_eq!(coarse.height[j], mean, "{j}");
+            assert_eq!(
+                coarse.allowed[j],
+                children.iter().all(|&k| allowed[k]),
+                "{j}"
+            );
+        }
+        let fine = refined(&coarse.height, nx, ny);
+        for (i, v) in fine.iter().enumerate() {
+            assert_eq!(*v, coarse.height[(i / nx / 2) * cx + (i % nx) / 2], "{i}");
         }
     }
 

@@ -80,10 +80,11 @@ impl Grid {
     /// Whether any element of `set` lies on the outermost ring of the grid.
     pub fn touches_edge(&self, set: &[bool]) -> bool {
         let (nx, ny) = (self.nx, self.ny);
-        (0..nx * ny).any(|i| {
-            let (ix, iy) = (i % nx, i / nx);
-            set[i] && (ix == 0 || iy == 0 || ix + 1 == nx || iy + 1 == ny)
-        })
+        let rows = [0, ny.saturating_sub(1)];
+        let columns = [0, nx.saturating_sub(1)];
+        rows.iter()
+            .any(|&iy| set[iy * nx..(iy + 1) * nx].contains(&true))
+            || (0..ny).any(|iy| columns.iter().any(|&ix| set[iy * nx + ix]))
     }
 }
 
@@ -132,6 +133,23 @@ pub fn count_patches(nx: usize, ny: usize, set: &[bool], wrap: bool) -> usize {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A set touches the edge exactly when one of its elements is on the outermost ring:
+    /// every single element of wide, tall, square and one-element grids.
+    #[test]
+    fn a_set_touches_the_edge_where_an_element_is_on_the_ring() {
+        for (nx, ny) in [(5, 3), (3, 5), (4, 4), (1, 6), (6, 1), (1, 1)] {
+            let grid = Grid::new(nx, ny, 1.0, vec![0.0; nx * ny], vec![true; nx * ny]).unwrap();
+            assert!(!grid.touches_edge(&vec![false; nx * ny]));
+            for i in 0..nx * ny {
+                let mut set = vec![false; nx * ny];
+                set[i] = true;
+                let (ix, iy) = (i % nx, i / nx);
+                let ring = ix == 0 || iy == 0 || ix + 1 == nx || iy + 1 == ny;
+                assert_eq!(grid.touches_edge(&set), ring, "{nx} x {ny}, ({ix}, {iy})");
+            }
+        }
+    }
 
     /// Patches of a drawn set: diagonal neighbours stay apart; on a periodic cell the
     /// patches touching opposite edges join.

@@ -128,7 +128,7 @@ pub(crate) fn bem_viscous(
     let integrator = settings.integrator.name();
     let mut inner = bem_report(&settings, &grid, integrator, s, wanted, &fields);
     inner.wall_time = start.elapsed().as_secs_f64();
-    Ok(PyReport { inner })
+    Ok(PyReport::from(inner))
 }
 
 /// Flat punch on the footprint mask pressed by `force` (N) into a viscous half-space of
@@ -193,7 +193,7 @@ pub(crate) fn bem_punch(
         ..FieldSet::default()
     });
     out.wall_time = start.elapsed().as_secs_f64();
-    Ok(PyReport { inner: out })
+    Ok(PyReport::from(out))
 }
 
 /// An inverse MDR transform: (1D data, dx, radii) -> 3D values at the radii.
@@ -485,5 +485,5 @@ pub(crate) fn contact_solve(
         inner.at_edge = Some(vec![false]);
     }
     inner.wall_time = start.elapsed().as_secs_f64();
-    Ok(PyReport { inner })
+    Ok(PyReport::from(inner))
 }

@@ -4,11 +4,26 @@
 use crate::run::report::{FieldSet, Report};
 use numpy::{IntoPyArray, PyArray1, PyArrayMethods};
 use pyo3::prelude::*;
+use std::sync::Arc;
 
 /// What a run computed and how (see `mdrvisc.Result`, which wraps it).
 #[pyclass(name = "Report", module = "mdrvisc._core", frozen)]
 pub(crate) struct PyReport {
-    pub(crate) inner: Report,
+    /// The report, its fields moved to `fields`.
+    inner: Report,
+    /// The report's fields, shared with the `FieldSet`s handed out (a field map is as large
+    /// as the grid: handing it out copies it once, into its array).
+    fields: Vec<Arc<FieldSet>>,
+}
+
+impl From<Report> for PyReport {
+    fn from(mut inner: Report) -> Self {
+        let fields = std::mem::take(&mut inner.fields)
+            .into_iter()
+            .map(Arc::new)
+            .collect();
+        PyReport { inner, fields }
+    }
 }
 
 fn array<'py>(py: Python<'py>, v: &[f64]) -> Bound<'py, PyArray1<f64>> {
@@ -128,10 +143,11 @@ impl PyReport {
     /// Fields at the field times.
     #[getter]
     fn fields(&self) -> Vec<PyFieldSet> {
-        self.inner
-            .fields
+        self.fields
             .iter()
-            .map(|f| PyFieldSet { inner: f.clone() })
+            .map(|f| PyFieldSet {
+                inner: Arc::clone(f),
+            })
             .collect()
     }
     /// Time steps taken.
@@ -227,7 +243,7 @@ impl PyReport {
 /// Fields at one time: BEM maps (ny, nx) over `x`, `y`, or MDR radial profiles over `r`.
 #[pyclass(name = "FieldSet", module = "mdrvisc._core", frozen)]
 pub(crate) struct PyFieldSet {
-    inner: FieldSet,
+    inner: Arc<FieldSet>,
 }
 
 impl PyFieldSet {

@@ -472,7 +472,7 @@ pub(crate) fn run_scene(
     let scene = &scene.inner;
     let report =
         PyMonitor::new(progress).run(py, |monitor| crate::run::run(scene, &settings, monitor))?;
-    Ok(PyReport { inner: report })
+    Ok(PyReport::from(report))
 }
 
 /// Solves the static scene `scene` under each of `forces` (N) in turn, each BEM solve
@@ -515,8 +515,5 @@ pub(crate) fn run_loads(
     let reports = PyMonitor::new(progress).run(py, |monitor| {
         crate::run::run_loads(scene, &forces, &settings, monitor)
     })?;
-    Ok(reports
-        .into_iter()
-        .map(|inner| PyReport { inner })
-        .collect())
+    Ok(reports.into_iter().map(PyReport::from).collect())
 }

@@ -54,7 +54,7 @@ pub fn viscous_bem(
 
 /// Solves `scene` as `settings` say, reporting progress to `monitor`.
 pub fn run(scene: &Scene, settings: &RunSettings, monitor: &mut dyn Monitor) -> Result<Report> {
-    run_from(scene, settings, None, monitor).map(|(report, _)| report)
+    run_from(scene, settings, None, false, monitor).map(|(report, _)| report)
 }
 
 /// A load curve: the static scene `scene` (an elastic medium) solved under each of `forces`
@@ -85,7 +85,7 @@ pub fn run_loads(
         let mut at = scene.clone();
         at.force = Some(History::Constant(force));
         at.depth = None;
-        let (report, solved) = run_from(&at, settings, pressure.as_deref(), monitor)?;
+        let (report, solved) = run_from(&at, settings, pressure.as_deref(), true, monitor)?;
         pressure = solved;
         reports.push(report);
     }
@@ -93,11 +93,13 @@ pub fn run_loads(
 }
 
 /// [`run`], a static BEM solve started from the pressure `start` (Pa, on the scene's grid)
-/// when given; also returns that solve's pressure on the grid (None for other runs).
+/// when given; also returns, with `keep`, that solve's pressure on the grid (None for other
+/// runs, and without `keep`: a copy of the grid's size).
 fn run_from(
     scene: &Scene,
     settings: &RunSettings,
     start_pressure: Option<&[f64]>,
+    keep: bool,
     monitor: &mut dyn Monitor,
 ) -> Result<(Report, Option<Vec<f64>>)> {
     let start = Instant::now();
@@ -140,7 +142,7 @@ fn run_from(
     let (mut report, pressure) = if scene.layer.is_some() && settings.method == Method::Mdr {
         (mdr_layer::run(scene, settings, monitor)?, None)
     } else if scene.is_static() {
-        run_static(scene, settings, start_pressure, monitor)?
+        run_static(scene, settings, start_pressure, keep, monitor)?
     } else if viscous_force {
         (run_viscous(scene, settings, monitor)?, None)
     } else {
@@ -306,11 +308,12 @@ fn refuse(scene: &Scene, outputs: &[Output], why: &str) -> Result<()> {
 }
 
 /// A static solve (elastic medium), by BEM started from the pressure `start` (Pa, on the
-/// grid) when given; the report, and by BEM the solution's pressure on the grid.
+/// grid) when given; the report, and by BEM with `keep` the solution's pressure on the grid.
 fn run_static(
     scene: &Scene,
     settings: &RunSettings,
     start: Option<&[f64]>,
+    keep: bool,
     monitor: &mut dyn Monitor,
 ) -> Result<(Report, Option<Vec<f64>>)> {
     refuse(
@@ -351,10 +354,10 @@ fn run_static(
                 &settings.solver,
                 monitor,
             )?;
-            let pressure = r.pressure.clone();
+            let pressure = keep.then(|| r.pressure.clone());
             Ok((
                 bem_static_report(settings, &grid, force, r, wanted),
-                Some(pressure),
+                pressure,
             ))
         }
         Method::Mdr => {
