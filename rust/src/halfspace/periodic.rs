@@ -35,7 +35,9 @@
 //! spectral inverse needs 60 (the benchmark's 2048 x 2048 self-affine surface at 5 %
 //! contact, tol 1e-8), more than paying for the FFT pair.
 
-use crate::halfspace::operator::{FftOperator, FftPlans, SurfaceOperator, MAX_FFT_ELEMENTS};
+use crate::halfspace::operator::{
+    squared_waves, FftOperator, FftPlans, SurfaceOperator, MAX_FFT_ELEMENTS,
+};
 use crate::support::error::{check_positive, Error, Result};
 use faer::Mat;
 
@@ -67,7 +69,7 @@ impl PeriodicOperator {
         nx: usize,
         ny: usize,
         dx: f64,
-        compliance: impl Fn(f64) -> f64,
+        compliance: impl Fn(f64) -> f64 + Sync,
     ) -> Result<Self> {
         check_positive("element size dx", dx)?;
         match nx.checked_mul(ny) {
@@ -82,29 +84,22 @@ impl PeriodicOperator {
             &format!("a {nx} x {ny} periodic surface operator"),
             BYTES_PER_ELEMENT * (nx * ny) as f64,
         )?;
-        let symbol = |kx, ky| {
-            let q = wavenumber(kx, ky, nx, ny, dx);
-            if q > 0.0 {
-                compliance(q)
-            } else {
-                0.0
-            }
-        };
-        let mut plans = FftPlans::default();
-        let fft = FftOperator::with_symbol(nx, ny, dx, (nx, ny), symbol, &mut plans);
+        let symbol = |q: f64| if q > 0.0 { compliance(q) } else { 0.0 };
         // the mean mode takes the longest wave's value (a 1 x 1 cell, all mean mode, 1)
-        let longest = symbol(1, 0).max(symbol(0, 1));
+        let longest =
+            symbol(wavenumber(1, 0, nx, ny, dx)).max(symbol(wavenumber(0, 1, nx, ny, dx)));
         let mean_mode = if longest > 0.0 { longest } else { 1.0 };
-        let inverse = FftOperator::with_symbol(
+        let (qx, qy) = (squared_waves(nx, dx), squared_waves(ny, dx));
+        let (fft, inverse) = FftOperator::with_symbol_pair(
             nx,
             ny,
             dx,
             (nx, ny),
             |kx, ky| {
-                let k = symbol(kx, ky);
-                dx / if k > 0.0 { k } else { mean_mode }
+                let k = symbol((qx[kx] + qy[ky]).sqrt());
+                (k, dx / if k > 0.0 { k } else { mean_mode })
             },
-            &mut plans,
+            &mut FftPlans::default(),
         );
         Ok(PeriodicOperator { fft, inverse })
     }
