@@ -109,8 +109,8 @@ impl<O: SurfaceOperator> ContactSolver<O> {
                     mean(s, k)
                 }
             };
-            // The gap g = compliance u + h - shift of an element.
-            let gap = |u: &[f64], i: usize| compliance * u[i] + h[i] - shift;
+            // The gap g = compliance u + h - shift of element i with deflection u.
+            let gap = |u: f64, i: usize| compliance * u + h[i] - shift;
             // The search direction follows z = M g on the contact set: M = 1, or the
             // operator's preconditioner (projected to zero mean under force control, where the
             // force constraint confines p's changes to that subspace). g is written on the
@@ -127,7 +127,7 @@ impl<O: SurfaceOperator> ContactSolver<O> {
                     } else {
                         c.g[j]
                     };
-                    let g = compliance * c.u[j] + h[c.lo + j] - shift;
+                    let g = gap(c.u[j], c.lo + j);
                     c.g[j] = g;
                     acc[0] += g * g;
                     acc[1] += g * z_old;
@@ -216,7 +216,7 @@ impl<O: SurfaceOperator> ContactSolver<O> {
                     (0..n)
                         .filter(|&i| allowed[i])
                         .fold((0.0, 0.0), |(l, d), i| {
-                            let g = gap(&self.u, i);
+                            let g = gap(self.u[i], i);
                             (
                                 l + self.p[i],
                                 if self.p[i] <= 0.0 && g < -gap_tol {
@@ -240,11 +240,11 @@ impl<O: SurfaceOperator> ContactSolver<O> {
             let [sum, overlaps, clamps] = self.pass_sums(|c| {
                 let m = c.p.len();
                 let (u, t, p_old) = (&c.u[..m], &c.t[..m], &mut c.p_old[..m]);
-                let (hc, ac) = (&h[c.lo..c.lo + m], &allowed[c.lo..c.lo + m]);
+                let ac = &allowed[c.lo..c.lo + m];
                 let (mut overlaps, mut clamps) = (0usize, 0usize);
                 for j in 0..m {
                     let p = c.p[j];
-                    let g = compliance * u[j] + hc[j] - shift;
+                    let g = gap(u[j], c.lo + j);
                     let inside = p > 0.0;
                     let step = p - tau * t[j];
                     let overlap = !inside && g < -gap_tol && (every_allowed || ac[j]);
@@ -269,7 +269,7 @@ impl<O: SurfaceOperator> ContactSolver<O> {
                     let j = usize::from(j);
                     sum += c.p[j];
                     if c.p_old[j] <= 0.0 {
-                        c.g[j] = compliance * c.u[j] + h[c.lo + j] - shift;
+                        c.g[j] = gap(c.u[j], c.lo + j);
                     }
                 }
                 [sum, overlaps as f64, clamps as f64]
@@ -280,15 +280,17 @@ impl<O: SurfaceOperator> ContactSolver<O> {
             match force {
                 Some(w) if sum > 0.0 => factor = w / area / sum,
                 Some(w) => {
-                    let imin = argmin(allowed, |i| gap(&self.u, i));
+                    let imin = argmin(allowed, |i| gap(self.u[i], i));
                     self.p[imin] = w / area;
                     reset = true;
                 }
                 // Everything released while elements still overlap: restart from the
                 // pressures that close each overlap alone.
-                None if sum == 0.0 && (0..n).any(|i| allowed[i] && gap(&self.u, i) < -gap_tol) => {
+                None if sum == 0.0
+                    && (0..n).any(|i| allowed[i] && gap(self.u[i], i) < -gap_tol) =>
+                {
                     for i in (0..n).filter(|&i| allowed[i]) {
-                        self.p[i] = (-gap(&self.u, i)).max(0.0) / (compliance * self_influence);
+                        self.p[i] = (-gap(self.u[i], i)).max(0.0) / (compliance * self_influence);
                     }
                     reset = true;
                 }
@@ -301,7 +303,7 @@ impl<O: SurfaceOperator> ContactSolver<O> {
                     *c.len = 0;
                     for j in 0..c.p.len() {
                         if c.p[j] > 0.0 {
-                            c.g[j] = compliance * c.u[j] + h[c.lo + j] - shift;
+                            c.g[j] = gap(c.u[j], c.lo + j);
                         }
                         let keep = c.p[j] > 0.0 || c.p_old[j] > 0.0;
                         c.push_if(j, keep);
