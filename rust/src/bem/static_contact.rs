@@ -45,84 +45,77 @@ pub struct StaticContact {
     pub level_iterations: Vec<usize>,
 }
 
+/// One static solve's request: what to reach, the windows' depth bound, whether the
+/// deflection is returned, and where to start.
+#[derive(Clone, Copy)]
+pub struct StaticRequest<'a> {
+    /// The force (N) or depth (m) to reach.
+    pub target: Target,
+    /// Under force control, a depth bound (m) that sizes the windows (None: the whole grid).
+    pub depth_bound: Option<f64>,
+    /// Whether the deflection (m) on the whole grid is returned.
+    pub deflection: bool,
+    /// A starting pressure (Pa, row-major on the whole grid, rescaled to the target force),
+    /// e.g. the solution at a neighbouring load (None: a cold or nested start).
+    pub start: Option<&'a [f64]>,
+}
+
+impl StaticRequest<'_> {
+    /// A request for `target` on the whole grid, without a start or the deflection.
+    pub fn to(target: Target) -> Self {
+        StaticRequest {
+            target,
+            depth_bound: None,
+            deflection: false,
+            start: None,
+        }
+    }
+}
+
 /// Solves the static contact of `grid` (compliance in m/Pa per unit kernel, 1/G for an
-/// elastic half-space) for `target` on the window that can touch: under depth control the
-/// elements with h <= d, under force control those with h + u_low <= `depth_bound` (m; the
-/// whole grid without one). Windows get a margin of 2 elements. When the solved depth exceeds the
-/// bound, the bound grows by the excess and the solve repeats. `deflection` asks for the
-/// deflection on the whole grid, one extra whole-grid operator when the window is smaller.
-/// A body without windows (`Body::windows`) is solved whole by `solve_whole`; a depth
-/// bound, which sizes windows, is refused there.
+/// elastic half-space) for `req.target` on the window that can touch: under depth control
+/// the elements with h <= d, under force control those with h + u_low <= `req.depth_bound`
+/// (m; the whole grid without one). Windows get a margin of 2 elements. When the solved
+/// depth exceeds the bound, the bound grows by the excess and the solve repeats.
+/// `req.deflection` asks for the deflection on the whole grid, one extra whole-grid operator
+/// when the window is smaller. A body without windows (`Body::windows`) is solved whole by
+/// `solve_whole`; a depth bound, which sizes windows, is refused there.
+///
+/// A start (`req.start`, a load curve's warm start) gives the same solution as a cold
+/// start's, to the solver's tolerance. A periodic cell with nested coarse levels starts its
+/// coarsest level from it (averaged over 2 x 2 elements per level). Without a start, a grid
+/// whose halves are at least `NESTED_COARSEST` elements (under a depth bound: the window of
+/// the elements with h <= bound at least twice that each way) is started from its solution
+/// on the grid coarsened by two (`coarsened`, solved the same way, with the same depth bound,
+/// at tolerance max(tol, `NESTED_TOL`)), repeated over each element's four children; `solves`
+/// and the iterations count every level.
 pub fn solve(
     grid: &Grid,
     compliance: f64,
-    target: Target,
-    depth_bound: Option<f64>,
-    deflection: bool,
+    req: StaticRequest,
     opts: &SolverOptions,
     monitor: &mut dyn Monitor,
 ) -> Result<StaticContact> {
-    solve_from(
-        grid,
-        compliance,
-        target,
-        depth_bound,
-        deflection,
-        None,
-        opts,
-        monitor,
-    )
+    solve_sharing(grid, compliance, req, None, opts, monitor)
 }
 
-/// [`solve`] started from the pressure `start` (Pa, row-major on the whole grid, e.g. the
-/// solution at a neighbouring load; rescaled to the target force) instead of a cold start:
-/// a load curve's warm start. The solution is the same as a cold start's, to the solver's
-/// tolerance. A periodic cell with nested coarse levels starts its coarsest level from it
-/// (averaged over 2 x 2 elements per level). Without a start, a grid whose halves are at
-/// least `NESTED_COARSEST` elements (under a depth bound: the window of the elements with
-/// h <= bound at least twice that each way) is started from its solution on the grid
-/// coarsened by two (`coarsened`, solved the same way, with the same depth bound, at
-/// tolerance max(tol, `NESTED_TOL`)), repeated over each element's four children; `solves`
-/// and the iterations count every level.
-#[allow(clippy::too_many_arguments)]
-pub fn solve_from(
-    grid: &Grid,
-    compliance: f64,
-    target: Target,
-    depth_bound: Option<f64>,
-    deflection: bool,
-    start: Option<&[f64]>,
-    opts: &SolverOptions,
-    monitor: &mut dyn Monitor,
-) -> Result<StaticContact> {
-    solve_sharing(
-        grid,
-        compliance,
-        target,
-        depth_bound,
-        deflection,
-        start,
-        None,
-        opts,
-        monitor,
-    )
-}
-
-/// [`solve_from`], its windows' kernel tables taken from `shared` (a finer level's) where it
+/// [`solve`], its windows' kernel tables taken from `shared` (a finer level's) where it
 /// holds them (`KernelTable::part`): a nested solve evaluates Love's coefficients once, for
 /// its finest level's first window, and its coarse levels take them scaled.
-#[allow(clippy::too_many_arguments)]
 fn solve_sharing(
     grid: &Grid,
     compliance: f64,
-    target: Target,
-    depth_bound: Option<f64>,
-    deflection: bool,
-    start: Option<&[f64]>,
+    req: StaticRequest,
     shared: Option<&KernelTable>,
     opts: &SolverOptions,
     monitor: &mut dyn Monitor,
 ) -> Result<StaticContact> {
+    let StaticRequest {
+        target,
+        depth_bound,
+        deflection,
+        start,
+    } = req;
     if let Some(p) = start {
         check_len("starting pressure", p.len(), grid.nx * grid.ny)?;
     }
@@ -187,17 +180,12 @@ fn solve_sharing(
                 tol: opts.tol.max(NESTED_TOL),
                 ..*opts
             };
-            let solved = solve_sharing(
-                &coarse,
-                compliance,
-                target,
-                depth_bound,
-                false,
-                None,
-                Some(&table),
-                &loose,
-                monitor,
-            )?;
+            let below = StaticRequest {
+                deflection: false,
+                start: None,
+                ..req
+            };
+            let solved = solve_sharing(&coarse, compliance, below, Some(&table), &loose, monitor)?;
             Some((
                 refined(&solved.pressure, nx, ny),
                 solved.summary.iterations,
@@ -656,8 +644,14 @@ mod tests {
             active_limit: Some(0),
             ..SolverOptions::default()
         };
-        let run =
-            |target, bound| solve(&grid, 1.0, target, bound, true, &opts, &mut Silent).unwrap();
+        let run = |target, bound| {
+            let req = StaticRequest {
+                depth_bound: bound,
+                deflection: true,
+                ..StaticRequest::to(target)
+            };
+            solve(&grid, 1.0, req, &opts, &mut Silent).unwrap()
+        };
         let full = run(Target::Force(0.02), None);
         assert!(full.window.is_full() && full.solves == 1);
         let d = full.summary.depth;
@@ -715,23 +709,21 @@ mod tests {
             ..SolverOptions::default()
         };
         let force = Target::Force(0.01);
-        let free = solve(&grid, 1.0, force, None, false, &opts, &mut Silent).unwrap();
+        let free = solve(&grid, 1.0, StaticRequest::to(force), &opts, &mut Silent).unwrap();
         let d = free.summary.depth;
         let uniform = vec![1.0; n * n];
         {
             let bound = 1.5 * d;
-            let nested = solve(&grid, 1.0, force, Some(bound), false, &opts, &mut Silent).unwrap();
-            let single = solve_from(
-                &grid,
-                1.0,
-                force,
-                Some(bound),
-                false,
-                Some(&uniform),
-                &opts,
-                &mut Silent,
-            )
-            .unwrap();
+            let bounded = StaticRequest {
+                depth_bound: Some(bound),
+                ..StaticRequest::to(force)
+            };
+            let nested = solve(&grid, 1.0, bounded, &opts, &mut Silent).unwrap();
+            let started = StaticRequest {
+                start: Some(&uniform),
+                ..bounded
+            };
+            let single = solve(&grid, 1.0, started, &opts, &mut Silent).unwrap();
             assert_eq!((single.solves, nested.solves), (1, 2));
             let total: f64 = single.pressure.iter().sum();
             let diff: f64 = nested
@@ -781,9 +773,10 @@ mod tests {
         let r = solve(
             &grid,
             1.0,
-            Target::Force(0.02),
-            Some(f64::NAN),
-            false,
+            StaticRequest {
+                depth_bound: Some(f64::NAN),
+                ..StaticRequest::to(Target::Force(0.02))
+            },
             &SolverOptions::default(),
             &mut Silent,
         );
@@ -808,7 +801,7 @@ mod periodic_tests {
             body: Body::Periodic,
             ..grid.clone()
         };
-        solve(&cell, 1.0, target, None, false, opts, &mut Silent).unwrap()
+        solve(&cell, 1.0, StaticRequest::to(target), opts, &mut Silent).unwrap()
     }
 
     /// Westergaard's wavy surface h(x) = g (1 - cos(2 pi x / lambda)) on an n x ny cell of
@@ -1043,22 +1036,18 @@ mod periodic_tests {
             ..SolverOptions::default()
         };
         let force = 2e-3;
-        let run = |target| solve(&grid, 1.0, target, None, false, &opts, &mut Silent).unwrap();
+        let run =
+            |target| solve(&grid, 1.0, StaticRequest::to(target), &opts, &mut Silent).unwrap();
         let depth = run(Target::Force(force)).summary.depth;
         for target in [Target::Force(force), Target::Depth(depth)] {
             let nested = run(target);
             // a start (here a cold one) skips the coarse level
-            let single = solve_from(
-                &grid,
-                1.0,
-                target,
-                None,
-                false,
-                Some(&vec![0.0; n * n]),
-                &opts,
-                &mut Silent,
-            )
-            .unwrap();
+            let cold = vec![0.0; n * n];
+            let started = StaticRequest {
+                start: Some(&cold),
+                ..StaticRequest::to(target)
+            };
+            let single = solve(&grid, 1.0, started, &opts, &mut Silent).unwrap();
             let fraction = nested.summary.contact_count as f64 / (n * n) as f64;
             assert!(
                 (0.05..0.3).contains(&fraction),
@@ -1138,7 +1127,7 @@ mod periodic_tests {
         let p0 = 3.0 * force / (2.0 * PI * a * a);
         let target = Target::Force(force);
         let per = cell(&grid, target, &tight());
-        let free = solve(&grid, 1.0, target, None, false, &tight(), &mut Silent).unwrap();
+        let free = solve(&grid, 1.0, StaticRequest::to(target), &tight(), &mut Silent).unwrap();
         assert_eq!(per.summary.contact_count, free.summary.contact_count);
         let (mut worst, mut l1, mut norm) = (0.0f64, 0.0, 0.0);
         for (i, (x, y)) in per.pressure.iter().zip(&free.pressure).enumerate() {

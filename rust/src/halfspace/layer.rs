@@ -581,7 +581,7 @@ mod contact_tests {
 
     use super::*;
     use crate::bem::contact::Target;
-    use crate::bem::static_contact::{solve, StaticContact};
+    use crate::bem::static_contact::{solve, StaticContact, StaticRequest};
     use crate::halfspace::operator::{padded_size, SurfaceOperator};
     use crate::halfspace::periodic::mean_separation;
     use crate::model::body::Body;
@@ -661,16 +661,11 @@ mod contact_tests {
     /// The static solve (G' = 1 Pa times 1 / `compliance`) of `grid` under `force` (N), with
     /// its deflection.
     fn solved(grid: &Grid, compliance: f64, force: f64) -> StaticContact {
-        solve(
-            grid,
-            compliance,
-            Target::Force(force),
-            None,
-            true,
-            &tight(),
-            &mut Silent,
-        )
-        .unwrap()
+        let req = StaticRequest {
+            deflection: true,
+            ..StaticRequest::to(Target::Force(force))
+        };
+        solve(grid, compliance, req, &tight(), &mut Silent).unwrap()
     }
 
     /// Force balance (the pressures sum to the force) and the contact conditions: p >= 0,
@@ -1038,7 +1033,11 @@ mod contact_tests {
                 (Target::Force(force), Some(1.05 * hertz)),
                 (Target::Depth(depth), None),
             ] {
-                let s = solve(&grid, 1.0, target, bound, false, &tight(), &mut Silent).unwrap();
+                let req = StaticRequest {
+                    depth_bound: bound,
+                    ..StaticRequest::to(target)
+                };
+                let s = solve(&grid, 1.0, req, &tight(), &mut Silent).unwrap();
                 assert!(
                     s.window.wx < n && s.window.wy < n,
                     "nu {nu}: {:?}",

@@ -463,15 +463,12 @@ pub(crate) fn contact_solve(
         options(tol, max_iter, dense_limit, active_limit, precondition),
     );
     let r = PyMonitor::new(progress).run(py, |monitor| {
-        static_contact::solve(
-            &grid,
-            compliance,
-            target,
+        let req = static_contact::StaticRequest {
             depth_bound,
             deflection,
-            &settings.solver,
-            monitor,
-        )
+            ..static_contact::StaticRequest::to(target)
+        };
+        static_contact::solve(&grid, compliance, req, &settings.solver, monitor)
     })?;
     let force = r.summary.force;
     let wanted = Wanted {

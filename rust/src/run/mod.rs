@@ -344,16 +344,13 @@ fn run_static(
                 .map(|d| DEPTH_BOUND_FACTOR * d);
             let deflection = wanted.deflection || wanted.height_map;
             let target = Target::Force(force);
-            let r = static_contact::solve_from(
-                &grid,
-                1.0 / shear,
+            let req = static_contact::StaticRequest {
                 target,
-                bound.filter(|_| grid.body.windows()),
+                depth_bound: bound.filter(|_| grid.body.windows()),
                 deflection,
                 start,
-                &settings.solver,
-                monitor,
-            )?;
+            };
+            let r = static_contact::solve(&grid, 1.0 / shear, req, &settings.solver, monitor)?;
             let pressure = keep.then(|| r.pressure.clone());
             Ok((
                 bem_static_report(settings, &grid, force, r, wanted),
