@@ -206,4 +206,11 @@ impl SurfaceOperator for Operator {
             Operator::FreeLayer(op) => op.point_load_limit(),
         }
     }
+    fn periodic(&self) -> bool {
+        match self {
+            Operator::Free(op) => op.periodic(),
+            Operator::Periodic(op) => op.periodic(),
+            Operator::FreeLayer(op) => op.periodic(),
+        }
+    }
 }

@@ -171,6 +171,10 @@ impl SurfaceOperator for PeriodicOperator {
         self.fft.point_load_limit()
     }
 
+    fn periodic(&self) -> bool {
+        true
+    }
+
     /// Entries K[i, j] = response to a unit pressure at the periodic offset of i from j
     /// (the kernel in real space, made once, `FftOperator::kernel`).
     fn submatrix(&mut self, idx: &[usize]) -> Result<Mat<f64>> {

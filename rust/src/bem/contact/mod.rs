@@ -14,6 +14,7 @@
 //! `punch`, with the solver's parallel passes over its work buffers in `passes`.
 
 mod active_set;
+mod extension;
 mod passes;
 mod polonsky_keer;
 mod punch;
@@ -155,6 +156,9 @@ pub struct ContactSolver<O: SurfaceOperator> {
     set_len: Vec<usize>,
     /// Elements of the flat punch's set (`unit_punch`).
     set_idx: Vec<usize>,
+    /// The band around the contact set onto which Polonsky–Keer's preconditioner continues
+    /// the residual (`extension`).
+    extension: extension::Extension,
 }
 
 /// The data of one contact problem, as `ContactSolver::solve` receives it.
@@ -205,8 +209,9 @@ impl ContactSolver<Operator> {
 
 impl<O: SurfaceOperator> ContactSolver<O> {
     /// Memory of the solver's work buffers per element (bytes): seven of f64, the flat
-    /// punch's index capacity and the passes' index lists (u16).
-    pub const BYTES_PER_ELEMENT: f64 = 66.0;
+    /// punch's index capacity, the passes' index lists (u16) and the preconditioner's band
+    /// around the contact set (`extension`, at most).
+    pub const BYTES_PER_ELEMENT: f64 = 66.0 + extension::Extension::BYTES_PER_ELEMENT;
 
     /// Wraps `op` with the default `Tuning`; buffers are sized to its grid.
     pub fn new(op: O) -> Self {
@@ -230,6 +235,7 @@ impl<O: SurfaceOperator> ContactSolver<O> {
             set_list: vec![0; n],
             set_len: vec![0; n.div_ceil(PASS_CHUNK)],
             set_idx: Vec::with_capacity(n),
+            extension: extension::Extension::default(),
         }
     }
 

@@ -92,6 +92,8 @@ impl<O: SurfaceOperator> ContactSolver<O> {
         // Under force control, the mean gap over the set as the last linear update of u
         // left it (None after a refresh).
         let mut next_shift = None;
+        // elements that entered or left the contact set in the last step (the first: a new set)
+        let mut set_changes = f64::INFINITY;
         for it in 1..=opts.max_iter {
             let shift = match (target, next_shift.take()) {
                 (Target::Depth(d), _) => d,
@@ -137,7 +139,7 @@ impl<O: SurfaceOperator> ContactSolver<O> {
                 acc
             });
             let (zbar, gz) = if opts.precondition {
-                self.op.precondition(&self.g, &mut self.z);
+                self.precondition_on_set(set_changes, set_count);
                 let [zsum, gz, g_lin, count] = self.set_sums(|c| {
                     let mut acc = [0.0; 4];
                     for &j in &c.set[..*c.len] {
@@ -312,6 +314,7 @@ impl<O: SurfaceOperator> ContactSolver<O> {
                 });
             }
             let changed = overlaps + clamps;
+            set_changes = if reset { f64::INFINITY } else { changed };
             let mut refresh = reset || changed > 0.0 || it % tuning.refresh_every == 0;
             // Where the set changed, the step p - tau t differs from the new pressure on
             // the elements that entered or left it alone: a few are added to u by direct

@@ -49,6 +49,10 @@ pub trait SurfaceOperator {
     fn point_load_limit(&self) -> usize {
         0
     }
+    /// Whether the grid is a periodic cell (its edges wrap around).
+    fn periodic(&self) -> bool {
+        false
+    }
 }
 
 /// Smallest even m >= n of the form 2^a 3^b 5^c with c <= 1 (n itself when n <= 1): the
