@@ -152,6 +152,8 @@ pub struct ContactSolver<O: SurfaceOperator> {
     /// Per-chunk index lists of the parallel passes (`passes::Chunk::set`), each chunk's in
     /// its own elements' slots.
     set_list: Vec<u16>,
+    /// Room for the next per-chunk index lists (`passes::Chunk::next`).
+    set_next: Vec<u16>,
     /// Lengths of the per-chunk index lists.
     set_len: Vec<usize>,
     /// Elements of the flat punch's set (`unit_punch`).
@@ -201,6 +203,7 @@ impl ContactSolver<Operator> {
         self.partials
             .resize(n.div_ceil(PASS_CHUNK), [0.0; MAX_SUMS]);
         self.set_list.resize(n, 0);
+        self.set_next.resize(n, 0);
         self.set_len.clear();
         self.set_len.resize(n.div_ceil(PASS_CHUNK), 0);
         Ok(())
@@ -209,9 +212,9 @@ impl ContactSolver<Operator> {
 
 impl<O: SurfaceOperator> ContactSolver<O> {
     /// Memory of the solver's work buffers per element (bytes): seven of f64, the flat
-    /// punch's index capacity, the passes' index lists (u16) and the preconditioner's band
-    /// around the contact set (`extension`, at most).
-    pub const BYTES_PER_ELEMENT: f64 = 66.0 + extension::Extension::BYTES_PER_ELEMENT;
+    /// punch's index capacity, the passes' two index lists (u16) and the preconditioner's
+    /// band around the contact set (`extension`, at most).
+    pub const BYTES_PER_ELEMENT: f64 = 68.0 + extension::Extension::BYTES_PER_ELEMENT;
 
     /// Wraps `op` with the default `Tuning`; buffers are sized to its grid.
     pub fn new(op: O) -> Self {
@@ -233,6 +236,7 @@ impl<O: SurfaceOperator> ContactSolver<O> {
             p_old: vec![0.0; n],
             partials: vec![[0.0; MAX_SUMS]; n.div_ceil(PASS_CHUNK)],
             set_list: vec![0; n],
+            set_next: vec![0; n],
             set_len: vec![0; n.div_ceil(PASS_CHUNK)],
             set_idx: Vec::with_capacity(n),
             extension: extension::Extension::default(),

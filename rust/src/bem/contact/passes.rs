@@ -33,6 +33,8 @@ pub(super) struct Chunk<'a> {
     pub p_old: &'a mut [f64],
     /// Room for the chunk's index list (chunk-local indices): its first `len` entries.
     pub set: &'a mut [u16],
+    /// Room for the next index list while a pass builds it from `set`.
+    pub next: &'a mut [u16],
     /// Length of the index list.
     pub len: &'a mut usize,
 }
@@ -85,12 +87,13 @@ impl<O: SurfaceOperator> ContactSolver<O> {
             .zip(self.z.par_chunks_mut(PASS_CHUNK))
             .zip(self.p_old.par_chunks_mut(PASS_CHUNK))
             .zip(self.set_list.par_chunks_mut(PASS_CHUNK))
+            .zip(self.set_next.par_chunks_mut(PASS_CHUNK))
             .zip(self.set_len.par_iter_mut())
             .zip(self.partials.par_iter_mut())
             .enumerate()
             .with_min_len(min_len)
             .for_each(
-                |(k, (((((((((p, u), g), t), r), z), p_old), set), len), out))| {
+                |(k, ((((((((((p, u), g), t), r), z), p_old), set), next), len), out))| {
                     let mut chunk = Chunk {
                         lo: k * PASS_CHUNK,
                         p,
@@ -101,6 +104,7 @@ impl<O: SurfaceOperator> ContactSolver<O> {
                         z,
                         p_old,
                         set,
+                        next,
                         len,
                     };
                     out[..K].copy_from_slice(&f(&mut chunk));

@@ -2,7 +2,6 @@
 //! under force or depth control, optionally preconditioned by the operator's approximate
 //! inverse (`SurfaceOperator::precondition`), with Polak–Ribière's conjugation.
 
-use super::passes::Chunk;
 use super::{ContactSolver, ContactSummary, Problem, Target};
 use crate::halfspace::influence;
 use crate::halfspace::operator::SurfaceOperator;
@@ -73,16 +72,22 @@ impl<O: SurfaceOperator> ContactSolver<O> {
         let mut residual = f64::INFINITY;
         // u = K[p] is refreshed by an operator apply when the active set changed and every
         // `refresh_every` iterations (bounding round-off drift); otherwise it follows p by the
-        // same linear update, so most iterations cost one apply.
+        // same linear update, so most iterations cost one apply. The buffer holds u with a
+        // lazy factor: u = scale * self.u, so that the rescale to the force, known only after
+        // the step, scales `scale` instead of the whole grid (the step's pass updates self.u
+        // as it reads it for the gaps); `scale` is 1 after each refresh.
         self.op.apply(&self.p, &mut self.u);
+        let mut scale = 1.0;
         // The contact set {p > 0} is kept in the chunks' index lists, and the passes that
         // concern it alone run over those. Off the set, g (the preconditioner's input) and the
-        // direction t stay zero, as the FFTs read them whole: elements that leave the set have
-        // theirs zeroed as they leave.
+        // direction t stay zero, as the FFTs read them whole, and so does p_old, which only
+        // the set's passes write: elements that leave the set have theirs zeroed as they
+        // leave.
         self.pass_sums(|c| {
             *c.len = 0;
             c.g.fill(0.0);
             c.t.fill(0.0);
+            c.p_old.fill(0.0);
             for j in 0..c.p.len() {
                 let keep = c.p[j] > 0.0;
                 c.push_if(j, keep);
@@ -103,7 +108,7 @@ impl<O: SurfaceOperator> ContactSolver<O> {
                         let mut acc = [0.0; 2];
                         for &j in &c.set[..*c.len] {
                             let j = usize::from(j);
-                            acc[0] += compliance * c.u[j] + h[c.lo + j];
+                            acc[0] += compliance * scale * c.u[j] + h[c.lo + j];
                             acc[1] += 1.0;
                         }
                         acc
@@ -111,8 +116,9 @@ impl<O: SurfaceOperator> ContactSolver<O> {
                     mean(s, k)
                 }
             };
-            // The gap g = compliance u + h - shift of element i with deflection u.
-            let gap = |u: f64, i: usize| compliance * u + h[i] - shift;
+            // The gap g = compliance u + h - shift of element i whose buffer holds u / scale.
+            let cu = compliance * scale;
+            let gap = |u: f64, i: usize| cu * u + h[i] - shift;
             // The search direction follows z = M g on the contact set: M = 1, or the
             // operator's preconditioner (projected to zero mean under force control, where the
             // force constraint confines p's changes to that subspace). g is written on the
@@ -234,48 +240,69 @@ impl<O: SurfaceOperator> ContactSolver<O> {
                     0.0
                 }
             };
-            // The step over every allowed element, in one loop of selects: the set steps
-            // along t, and the elements off it that overlap enter it (t = 0 off the set).
-            // Then the index lists become the old set and the new one, whose load is summed
-            // in the order of the elements, and g is written on the entering elements.
+            // The step, in one pass per chunk: the set steps along t over its index list; the
+            // elements off it (the runs between the list's entries) that overlap enter it,
+            // with g written; the lists become the old set and the new one, whose load is
+            // summed in the order of the elements; and u follows the step's linear update
+            // over the whole chunk after its gaps were read, self.u -= (tau / scale) r (wasted
+            // where a refresh follows). Off the set only u, h and r are read: p, p_old and t
+            // are zero there.
             let every_allowed = n_allowed == n;
+            let lin = tau / scale;
             let [sum, overlaps, clamps] = self.pass_sums(|c| {
                 let m = c.p.len();
-                let (u, t, p_old) = (&c.u[..m], &c.t[..m], &mut c.p_old[..m]);
-                let ac = &allowed[c.lo..c.lo + m];
-                let (mut overlaps, mut clamps) = (0usize, 0usize);
-                for j in 0..m {
-                    let p = c.p[j];
-                    let g = gap(u[j], c.lo + j);
-                    let inside = p > 0.0;
-                    let step = p - tau * t[j];
-                    let overlap = !inside && g < -gap_tol && (every_allowed || ac[j]);
-                    clamps += usize::from(inside && step <= 0.0);
-                    overlaps += usize::from(overlap);
-                    p_old[j] = p;
-                    c.p[j] = if inside {
-                        step.max(0.0)
-                    } else if overlap {
-                        -tau_overlap * g
-                    } else {
-                        p
-                    };
-                }
-                *c.len = 0;
-                for j in 0..m {
-                    let keep = c.p_old[j] > 0.0 || c.p[j] > 0.0;
-                    c.push_if(j, keep);
-                }
-                let mut sum = 0.0;
-                for &j in &c.set[..*c.len] {
+                let len = *c.len;
+                let mut clamps = 0usize;
+                for &j in &c.set[..len] {
                     let j = usize::from(j);
-                    sum += c.p[j];
-                    if c.p_old[j] <= 0.0 {
-                        c.g[j] = gap(c.u[j], c.lo + j);
-                    }
+                    let p = c.p[j];
+                    let step = p - tau * c.t[j];
+                    clamps += usize::from(step <= 0.0);
+                    c.p_old[j] = p;
+                    c.p[j] = step.max(0.0);
                 }
+                let (mut overlaps, mut next_len, mut from) = (0usize, 0, 0);
+                for k in 0..=len {
+                    let to = if k < len { usize::from(c.set[k]) } else { m };
+                    for j in from..to {
+                        let g = gap(c.u[j], c.lo + j);
+                        if g < -gap_tol && (every_allowed || allowed[c.lo + j]) {
+                            overlaps += 1;
+                            let v = -tau_overlap * g;
+                            if v > 0.0 {
+                                c.p[j] = v;
+                                c.g[j] = g;
+                                c.next[next_len] = j as u16;
+                                next_len += 1;
+                            }
+                        }
+                    }
+                    if k < len {
+                        c.next[next_len] = to as u16;
+                        next_len += 1;
+                    }
+                    from = to + 1;
+                }
+                c.set[..next_len].copy_from_slice(&c.next[..next_len]);
+                *c.len = next_len;
+                for (u, &r) in c.u.iter_mut().zip(&*c.r) {
+                    *u -= lin * r;
+                }
+                let sum = c.set[..next_len]
+                    .iter()
+                    .map(|&j| c.p[usize::from(j)])
+                    .sum::<f64>();
                 [sum, overlaps as f64, clamps as f64]
             });
+            if sum <= 0.0 {
+                // Everything released: the resets below start from the gaps before the step,
+                // so u's linear update is undone (a refresh follows: the set changed, or it
+                // was empty and r = 0).
+                self.u
+                    .iter_mut()
+                    .zip(&self.r)
+                    .for_each(|(u, &r)| *u += lin * r);
+            }
             let mut factor = 1.0;
             // the pressure was set anew rather than stepped
             let mut reset = false;
@@ -332,21 +359,17 @@ impl<O: SurfaceOperator> ContactSolver<O> {
                     .collect();
                 let missed: Vec<f64> = idx
                     .iter()
-                    .map(|&i| p[i] - (p_old[i] - tau * t[i]))
+                    .map(|&i| (p[i] - (p_old[i] - tau * t[i])) / scale)
                     .collect();
                 refresh = !self.op.add_point_loads(&idx, &missed, &mut self.u);
             }
-            // Rescale to the force, measure the change, and follow u = K[p] linearly unless
-            // it is refreshed; a linear update also sums the next mean gap. Every element
-            // off the index lists keeps p = p_old = 0: the lists become the new set, and the
-            // elements that left it have g and t zeroed.
-            let rescale = |c: &mut Chunk| {
+            // Rescale to the force and measure the change over the index lists; unless u is
+            // refreshed, it follows the force's rescale by its lazy factor, and the pass sums
+            // the next mean gap. The lists become the new set: the elements that left it have
+            // g, t and p_old zeroed.
+            let next_scale = factor * scale;
+            let [total, change, gap_sum, count] = self.set_sums(|c| {
                 let mut acc = [0.0; 4];
-                if !refresh {
-                    for (u, &r) in c.u.iter_mut().zip(&*c.r) {
-                        *u = factor * (*u - tau * r);
-                    }
-                }
                 let mut kept = 0;
                 for k in 0..*c.len {
                     let j = usize::from(c.set[k]);
@@ -356,7 +379,7 @@ impl<O: SurfaceOperator> ContactSolver<O> {
                     acc[1] += (v - c.p_old[j]).abs();
                     if v > 0.0 {
                         if !refresh {
-                            acc[2] += compliance * c.u[j] + h[c.lo + j];
+                            acc[2] += compliance * next_scale * c.u[j] + h[c.lo + j];
                             acc[3] += 1.0;
                         }
                         c.set[kept] = c.set[k];
@@ -364,19 +387,17 @@ impl<O: SurfaceOperator> ContactSolver<O> {
                     } else {
                         c.g[j] = 0.0;
                         c.t[j] = 0.0;
+                        c.p_old[j] = 0.0;
                     }
                 }
                 *c.len = kept;
                 acc
-            };
-            let [total, change, gap_sum, count] = if refresh {
-                self.set_sums(rescale)
-            } else {
-                self.pass_sums(rescale)
-            };
+            });
             if refresh {
                 self.op.apply(&self.p, &mut self.u);
+                scale = 1.0;
             } else {
+                scale = next_scale;
                 next_shift = Some(mean(gap_sum, count));
             }
             residual = if total > 0.0 {
@@ -390,7 +411,7 @@ impl<O: SurfaceOperator> ContactSolver<O> {
             if residual < opts.tol {
                 // u = K[p] to round-off: refreshed, or linearly updated fewer than
                 // `refresh_every` times since the last refresh.
-                self.u.iter_mut().for_each(|v| *v *= compliance);
+                self.u.iter_mut().for_each(|v| *v *= compliance * scale);
                 let depth = match target {
                     Target::Force(_) => {
                         let (s, c) = self
