@@ -182,9 +182,10 @@ impl<O: SurfaceOperator> ContactSolver<O> {
     /// z = E^T S E g on the contact set {p > 0} of `set_count` elements (S the operator's
     /// preconditioner, g zero off the set and left so), or S g where the tuning's
     /// `residual_band` leaves the grid out. `changes` elements entered or left
-    /// the set since the last call (infinite: the set is new); the band is found anew once
-    /// those since the last search exceed `STALE_SHARE` of the set, and until then the old
-    /// band serves, less the elements that entered the set.
+    /// the set since the last call (infinite: the set is new, as at a solve's first
+    /// iteration, so no band of an earlier solve or window is used); the band is found anew
+    /// once those since the last search exceed `STALE_SHARE` of the set, and until then the
+    /// old band serves, less the elements that entered the set.
     pub(super) fn precondition_on_set(&mut self, changes: f64, set_count: f64) {
         let (nx, ny, periodic) = (self.op.nx(), self.op.ny(), self.op.periodic());
         let band = match self.tuning.residual_band {
@@ -198,7 +199,7 @@ impl<O: SurfaceOperator> ContactSolver<O> {
         }
         let ext = &mut self.extension;
         ext.stale += changes;
-        if ext.stale > STALE_SHARE * set_count || ext.band.is_empty() {
+        if ext.stale > STALE_SHARE * set_count {
             ext.rebuild(&self.p, nx, ny, periodic);
             ext.stale = 0.0;
         }
