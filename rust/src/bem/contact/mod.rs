@@ -83,7 +83,7 @@ pub enum ResidualBand {
     /// finest level and 1.2-1.3x less CPU time on free 512^2 rough surfaces
     /// (`benchmarks/bench_rough.py`'s, 2-20 % contact). On periodic cells, whose apply is
     /// one unpadded FFT pair, the band's search and passes cost about what the fewer
-    /// iterations save (0.8-1.1x).
+    /// iterations save (0.7-1.1x).
     Free,
     /// Every grid.
     Everywhere,
