@@ -47,23 +47,38 @@ const OUT_OF_REACH: i16 = 64;
 /// Rows of the grid per parallel task of `Extension::rebuild`.
 const ROWS_PER_TASK: usize = 16;
 
-/// A block of rows' part of the band (`Extension::rebuild`).
+/// Band entries: elements off a contact set, each with its nearest set element and weight.
 #[derive(Default)]
 struct Band {
+    /// Band elements: off the set, within `RADIUS` of it.
     element: Vec<u32>,
+    /// The nearest set element of each band element.
     nearest: Vec<u32>,
+    /// exp(-d / `DECAY`) of each band element, d its distance from `nearest`.
     weight: Vec<f64>,
+}
+
+impl Band {
+    /// Empties the band, keeping its capacity.
+    fn clear(&mut self) {
+        self.element.clear();
+        self.nearest.clear();
+        self.weight.clear();
+    }
+
+    /// Appends `other`'s entries after this band's.
+    fn append(&mut self, other: &Band) {
+        self.element.extend_from_slice(&other.element);
+        self.nearest.extend_from_slice(&other.nearest);
+        self.weight.extend_from_slice(&other.weight);
+    }
 }
 
 /// The band around a contact set and the weights of the continuation onto it.
 #[derive(Default)]
 pub(super) struct Extension {
-    /// Band elements: off the set, within `RADIUS` of it.
-    band: Vec<u32>,
-    /// The nearest set element of each band element.
-    nearest: Vec<u32>,
-    /// exp(-d / `DECAY`) of each band element, d its distance from `nearest`.
-    weight: Vec<f64>,
+    /// The band of the set it was last found for.
+    band: Band,
     /// Per element, the column offset of the nearest set element in its own row within
     /// `RADIUS`, or `NONE`.
     row_nearest: Vec<i8>,
@@ -88,9 +103,8 @@ impl Extension {
             .zip(p.par_chunks(nx))
             .with_min_len(ROWS_PER_TASK)
             .for_each(|(row, line)| nearest_in_row(|x| line[x] > 0.0, row, periodic));
-        let weights: Vec<f64> = (0..=RADIUS * RADIUS)
-            .map(|d2| (-(d2 as f64).sqrt() / DECAY).exp())
-            .collect();
+        let weights: [f64; RADIUS * RADIUS + 1] =
+            std::array::from_fn(|d2| (-(d2 as f64).sqrt() / DECAY).exp());
         let wrap = |v: isize, n: usize| -> Option<usize> {
             if (0..n as isize).contains(&v) {
                 Some(v as usize)
@@ -142,22 +156,19 @@ impl Extension {
             })
             .collect();
         self.band.clear();
-        self.nearest.clear();
-        self.weight.clear();
-        for block in blocks {
-            self.band.extend(block.element);
-            self.nearest.extend(block.nearest);
-            self.weight.extend(block.weight);
+        for block in &blocks {
+            self.band.append(block);
         }
     }
 
     /// The band's entries still off the set {p > 0} (a band found for an earlier set may
     /// hold elements that entered it since): (element, nearest set element, weight).
     fn entries<'a>(&'a self, p: &'a [f64]) -> impl Iterator<Item = (usize, usize, f64)> + 'a {
-        self.band
+        let band = &self.band;
+        band.element
             .iter()
-            .zip(&self.nearest)
-            .zip(&self.weight)
+            .zip(&band.nearest)
+            .zip(&band.weight)
             .map(|((&b, &s), &w)| (b as usize, s as usize, w))
             .filter(move |&(b, _, _)| p[b] <= 0.0)
     }
@@ -290,17 +301,17 @@ mod tests {
             let set: Vec<usize> = (0..nx * ny).filter(|&i| p[i] > 0.0).collect();
             for i in (0..nx * ny).filter(|&i| p[i] <= 0.0) {
                 let least = set.iter().map(|&s| dist2(i, s)).min().unwrap();
-                let k = e.band.iter().position(|&b| b as usize == i);
+                let k = e.band.element.iter().position(|&b| b as usize == i);
                 if least > RADIUS * RADIUS {
                     assert!(k.is_none(), "{periodic}: {i} is in the band");
                     continue;
                 }
                 let k = k.unwrap_or_else(|| panic!("{periodic}: {i} is not in the band"));
-                let s = e.nearest[k] as usize;
+                let s = e.band.nearest[k] as usize;
                 assert!(p[s] > 0.0);
                 assert_eq!(dist2(i, s), least, "{periodic}: {i}");
                 let w = (-(least as f64).sqrt() / DECAY).exp();
-                assert!((e.weight[k] - w).abs() <= 1e-15);
+                assert!((e.band.weight[k] - w).abs() <= 1e-15);
             }
             let g: Vec<f64> = (0..nx * ny)
                 .map(|i| {
