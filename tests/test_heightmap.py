@@ -206,11 +206,12 @@ def test_rough_relaxation_at_held_depth_keeps_the_contact_and_relaxes_the_force_
     g_inf, g1, tau = 1.0, 3.0, 0.1
     times = np.linspace(0.02, 0.5, 25)
     r = mv.solve(mv.Scene(indenter=hm, medium=mv.StandardSolid(g_inf, g1, tau), depth=2.5e-3,
-                          duration=0.5, times=times, dt=0.002), tol=1e-12)
+                          duration=0.5, times=times, dt=0.002), tol=1e-13)
     assert np.all(r.area == r.area[0]) and np.all(r.patches == r.patches[0]) and r.patches[0] > 1
     modulus = (g_inf + g1 * np.exp(-r.t / tau)) / (g_inf + g1)
-    # measured 1.4e-15 (map) and 1.6e-14 (cell) relative: the exponential update is exact
-    # for a fixed contact set
+    # the exponential update is exact for a fixed contact set, so the ratio is off by the
+    # solves' own error alone, which follows their tolerance (cell: 1.8e-12, 2.2e-13, 9.8e-15
+    # and 2.0e-15 relative at tol 1e-10 to 1e-14); measured here 1.9e-15 (map), 9.8e-15 (cell)
     np.testing.assert_allclose(r.force / r.force[0], modulus / modulus[0], rtol=1e-13)
     # depth control: the mean gap is fixed too (so is the deflection, K[x], x fixed);
     # measured: equal to the last bit

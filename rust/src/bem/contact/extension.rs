@@ -21,7 +21,11 @@
 //! best among 1 to 6, and a band of 3 elements nearly as well as 6). In the nested solves
 //! of those surfaces the finest level takes 18-25 instead of 24-31 iterations at 512^2.
 //! The band is found again only after a tenth of the set has changed (`STALE_SHARE`), and
-//! `Tuning::residual_band` says on which grids it is used.
+//! `Tuning::residual_band` says on which grids it is used. The band is held per block of
+//! rows as lists of its elements, so that the search and both passes run on the blocks in
+//! parallel (E^T in phases of blocks that reach no common row): at 512^2 they cost a search
+//! of about 1 ms (a grid's two row sweeps and seven-row minima) every few iterations and
+//! passes of 0.1-0.2 ms, against about 1 ms for S's FFT pair.
 
 use super::{ContactSolver, ResidualBand};
 use crate::halfspace::operator::SurfaceOperator;
@@ -38,94 +42,106 @@ const NONE: i8 = i8::MIN;
 
 /// Share of the contact set that may have entered or left it before the band is found
 /// anew: a band a few elements off costs the preconditioner little, a search costs about
-/// as much as the preconditioner's FFT pair.
+/// as much as the band's two passes.
 const STALE_SHARE: f64 = 0.1;
 
 /// A squared row offset beyond `RADIUS` (and `NONE`'s), small enough that keys fit i16.
 const OUT_OF_REACH: i16 = 64;
 
-/// Rows of the grid per parallel task of `Extension::rebuild`.
+/// Rows of the grid per block of the band (a parallel task of its search and passes); at
+/// least 2 `RADIUS` + 1, so that blocks two apart never reach the same row.
 const ROWS_PER_TASK: usize = 16;
 
-/// Band entries: elements off a contact set, each with its nearest set element and weight.
+/// exp(-d / `DECAY`) for each squared distance d^2 within `RADIUS`.
+fn weights() -> [f64; RADIUS * RADIUS + 1] {
+    std::array::from_fn(|d2| (-(d2 as f64).sqrt() / DECAY).exp())
+}
+
+/// The band elements of one block of rows: elements off a contact set, each with its
+/// nearest set element and their squared distance.
 #[derive(Default)]
 struct Band {
-    /// Band elements: off the set, within `RADIUS` of it.
+    /// Band elements: off the set, within `RADIUS` of it, in element order.
     element: Vec<u32>,
     /// The nearest set element of each band element.
     nearest: Vec<u32>,
-    /// exp(-d / `DECAY`) of each band element, d its distance from `nearest`.
-    weight: Vec<f64>,
+    /// The squared distance (elements^2) of each band element from its nearest.
+    dist2: Vec<u8>,
 }
 
 impl Band {
-    /// Empties the band, keeping its capacity.
-    fn clear(&mut self) {
-        self.element.clear();
-        self.nearest.clear();
-        self.weight.clear();
-    }
-
-    /// Appends `other`'s entries after this band's.
-    fn append(&mut self, other: &Band) {
-        self.element.extend_from_slice(&other.element);
-        self.nearest.extend_from_slice(&other.nearest);
-        self.weight.extend_from_slice(&other.weight);
+    /// The entries still off the set {p > 0} (a band found for an earlier set may hold
+    /// elements that entered it since): (element, nearest set element, squared distance).
+    fn entries<'a>(&'a self, p: &'a [f64]) -> impl Iterator<Item = (usize, usize, usize)> + 'a {
+        self.element
+            .iter()
+            .zip(&self.nearest)
+            .zip(&self.dist2)
+            .map(|((&b, &s), &d2)| (b as usize, s as usize, d2 as usize))
+            .filter(move |&(b, _, _)| p[b] <= 0.0)
     }
 }
 
-/// The band around a contact set and the weights of the continuation onto it.
+/// The band around a contact set and the weights of the continuation onto it, by blocks of
+/// `ROWS_PER_TASK` rows.
 #[derive(Default)]
 pub(super) struct Extension {
-    /// The band of the set it was last found for.
-    band: Band,
+    /// The band of the set it was last found for, per block of rows.
+    blocks: Vec<Band>,
     /// Per element, the column offset of the nearest set element in its own row within
     /// `RADIUS`, or `NONE`.
     row_nearest: Vec<i8>,
     /// Elements that entered or left the set since the band was found.
     stale: f64,
+    /// Whether the grid of the last search wraps around its edges.
+    periodic: bool,
 }
+
+/// Raw access to a grid's buffer for the band's parallel passes, whose workers write
+/// disjoint elements and read none that another writes (`Extension::extend`, `fold`).
+#[derive(Clone, Copy)]
+struct Shared(*mut f64);
+
+// SAFETY: only used inside `Extension::extend` and `Extension::fold`, while the buffer is
+// exclusively borrowed by them; their workers touch disjoint elements (see there).
+unsafe impl Send for Shared {}
+unsafe impl Sync for Shared {}
 
 impl Extension {
     /// Memory (bytes per element) the band may hold at most: an element index, its nearest
-    /// set element and a weight per band element, and the row offsets.
-    pub const BYTES_PER_ELEMENT: f64 = 17.0;
+    /// set element and a squared distance per band element, and the row offsets.
+    pub const BYTES_PER_ELEMENT: f64 = 10.0;
 
     /// Finds the band around the set {p > 0} of an `nx` x `ny` grid (row-major), wrapping
     /// around the edges where `periodic`: per row, the nearest set element in the row (two
     /// sweeps), then per element the least squared distance over the 2 `RADIUS` + 1 rows
-    /// around it, in loops of selects; rows in parallel, the band in element order.
+    /// around it, in loops of selects; blocks of rows in parallel.
     pub fn rebuild(&mut self, p: &[f64], nx: usize, ny: usize, periodic: bool) {
         let r = RADIUS as isize;
+        self.periodic = periodic;
         self.row_nearest.resize(nx * ny, NONE);
         self.row_nearest
             .par_chunks_mut(nx)
             .zip(p.par_chunks(nx))
             .with_min_len(ROWS_PER_TASK)
-            .for_each(|(row, line)| nearest_in_row(|x| line[x] > 0.0, row, periodic));
-        let weights: [f64; RADIUS * RADIUS + 1] =
-            std::array::from_fn(|d2| (-(d2 as f64).sqrt() / DECAY).exp());
-        let wrap = |v: isize, n: usize| -> Option<usize> {
-            if (0..n as isize).contains(&v) {
-                Some(v as usize)
-            } else if periodic {
-                Some(v.rem_euclid(n as isize) as usize)
-            } else {
-                None
-            }
-        };
+            .for_each(|(row, line)| nearest_in_row(line, row, periodic));
+        self.blocks
+            .resize_with(ny.div_ceil(ROWS_PER_TASK), Band::default);
         let row_nearest = &self.row_nearest;
-        let blocks: Vec<Band> = (0..ny.div_ceil(ROWS_PER_TASK))
-            .into_par_iter()
-            .map(|b| {
-                let mut band = Band::default();
-                // per element of the row, the least key (d^2 * 16 + dy + RADIUS) over the
-                // rows within reach: the nearest set element first, then the lowest row
+        self.blocks
+            .par_iter_mut()
+            .enumerate()
+            .for_each(|(b, band)| {
+                band.element.clear();
+                band.nearest.clear();
+                band.dist2.clear();
+                // per element of the row, the least key (d^2 * 16 + dy + RADIUS) over the rows
+                // within reach: the nearest set element first, then the lowest row
                 let mut least = vec![0i16; nx];
                 for y in b * ROWS_PER_TASK..((b + 1) * ROWS_PER_TASK).min(ny) {
                     least.fill(i16::MAX);
                     for dy in -r..=r {
-                        let Some(yy) = wrap(y as isize + dy, ny) else {
+                        let Some(yy) = wrap(y as isize + dy, ny, periodic) else {
                             continue;
                         };
                         let row = &row_nearest[yy * nx..(yy + 1) * nx];
@@ -143,50 +159,84 @@ impl Extension {
                             continue;
                         }
                         let dy = (least[x] % 16) as isize - r;
-                        let yy = wrap(y as isize + dy, ny).expect("a row within reach");
+                        let yy = wrap(y as isize + dy, ny, periodic).expect("a row within reach");
                         let o = row_nearest[yy * nx + x];
-                        let xx =
-                            wrap(x as isize + o as isize, nx).expect("an offset within the row");
+                        let xx = wrap(x as isize + o as isize, nx, periodic)
+                            .expect("an offset within the row");
                         band.element.push((y * nx + x) as u32);
                         band.nearest.push((yy * nx + xx) as u32);
-                        band.weight.push(weights[d2]);
+                        band.dist2.push(d2 as u8);
                     }
                 }
-                band
-            })
-            .collect();
-        self.band.clear();
-        for block in &blocks {
-            self.band.append(block);
+            });
+    }
+
+    /// Runs `task` on each block of the band: all in parallel where `disjoint` (each task
+    /// writes its own block's elements only); otherwise in phases whose tasks write rows no
+    /// other task of the phase reaches: odd blocks, even blocks, then on a periodic grid
+    /// the first block alone (which the last reaches round the edge).
+    fn for_blocks(&self, disjoint: bool, task: impl Fn(&Band) + Sync + Send) {
+        if disjoint {
+            self.blocks.par_iter().for_each(task);
+            return;
+        }
+        let phase = |b: usize| if b == 0 && self.periodic { 2 } else { b % 2 };
+        for k in 0..3 {
+            self.blocks
+                .par_iter()
+                .enumerate()
+                .filter(|&(b, _)| phase(b) == k)
+                .for_each(|(_, band)| task(band));
         }
     }
 
-    /// The band's entries still off the set {p > 0} (a band found for an earlier set may
-    /// hold elements that entered it since): (element, nearest set element, weight).
-    fn entries<'a>(&'a self, p: &'a [f64]) -> impl Iterator<Item = (usize, usize, f64)> + 'a {
-        let band = &self.band;
-        band.element
-            .iter()
-            .zip(&band.nearest)
-            .zip(&band.weight)
-            .map(|((&b, &s), &w)| (b as usize, s as usize, w))
-            .filter(move |&(b, _, _)| p[b] <= 0.0)
-    }
-
-    /// Continues `g` (zero off the set {p > 0}) onto the band: E g.
+    /// Continues `g` (zero off the set {p > 0}) onto the band: E g. A block's worker
+    /// writes its band elements still off the set, and reads their nearest set elements
+    /// of the last search, which are in no band, so no element is read and written by
+    /// different workers.
     pub fn extend(&self, p: &[f64], g: &mut [f64]) {
-        for (b, s, w) in self.entries(p) {
-            g[b] = w * g[s];
-        }
+        let weights = weights();
+        let shared = Shared(g.as_mut_ptr());
+        self.for_blocks(true, |band| {
+            let g = shared;
+            for (b, s, d2) in band.entries(p) {
+                // SAFETY: b is written by this worker alone, s (in no band) by none.
+                unsafe { *g.0.add(b) = weights[d2] * *g.0.add(s) };
+            }
+        });
     }
 
     /// Adds the band's values of `z` to their nearest set elements, weighted: E^T z on the
-    /// set (`z` off the set is left as it was), and sets `g` back to zero on the band.
+    /// set (`z` off the set is left as it was), and sets `g` back to zero on the band. A
+    /// block's worker writes the set elements within `RADIUS` rows of its block, which the
+    /// phases of `for_blocks` keep apart from those of the workers that run with it; band
+    /// elements, which it reads, are never written in `z`.
     pub fn fold(&self, p: &[f64], z: &mut [f64], g: &mut [f64]) {
-        for (b, s, w) in self.entries(p) {
-            z[s] += w * z[b];
-            g[b] = 0.0;
-        }
+        let weights = weights();
+        let (zs, gs) = (Shared(z.as_mut_ptr()), Shared(g.as_mut_ptr()));
+        self.for_blocks(false, |band| {
+            let (z, g) = (zs, gs);
+            for (b, s, d2) in band.entries(p) {
+                // SAFETY: s is written by no other worker of this phase, b (a band element)
+                // by none in z and by this worker alone in g.
+                unsafe {
+                    *z.0.add(s) += weights[d2] * *z.0.add(b);
+                    *g.0.add(b) = 0.0;
+                }
+            }
+        });
+    }
+}
+
+/// `v` as an index into 0..n, wrapped round the edge where `periodic`; None off a grid
+/// that does not wrap.
+fn wrap(v: isize, n: usize, periodic: bool) -> Option<usize> {
+    if (0..n as isize).contains(&v) {
+        Some(v as usize)
+    } else if periodic {
+        Some(v.rem_euclid(n as isize) as usize)
+    } else {
+        None
     }
 }
 
@@ -221,41 +271,44 @@ impl<O: SurfaceOperator> ContactSolver<O> {
     }
 }
 
-/// Writes into `out` (one row) the offset to the nearest element of the row with `inside`
-/// within `RADIUS` (the left one on a tie), or `NONE`; the row wraps where `periodic`.
-fn nearest_in_row(inside: impl Fn(usize) -> bool, out: &mut [i8], periodic: bool) {
-    let n = out.len() as isize;
+/// Writes into `out` the offset to the nearest element of the row `line` with p > 0
+/// within `RADIUS` (the left one on a tie), or `NONE`; the row wraps where `periodic`. Two
+/// sweeps of selects, the positions of the last set element seen before and after the row
+/// (wrapped) standing in at its ends.
+fn nearest_in_row(line: &[f64], out: &mut [i8], periodic: bool) {
+    let n = line.len() as isize;
     let r = RADIUS as isize;
-    // the last element inside before the row's start and the first after its end, wrapped
+    // beyond reach of every element of the row
+    let far = n + 2 * r + 1;
     let reach = r.min(n);
     let before = (n - reach..n)
         .rev()
-        .find(|&k| periodic && inside(k as usize))
-        .map(|k| k - n);
+        .find(|&k| periodic && line[k as usize] > 0.0)
+        .map_or(-far, |k| k - n);
     let after = (0..reach)
-        .find(|&k| periodic && inside(k as usize))
-        .map(|k| k + n);
+        .find(|&k| periodic && line[k as usize] > 0.0)
+        .map_or(2 * far, |k| k + n);
     let mut last = before;
-    for k in 0..n {
-        if inside(k as usize) {
-            last = Some(k);
-        }
-        out[k as usize] = match last {
-            Some(l) if k - l <= r => (l - k) as i8,
-            _ => NONE,
+    for (k, (o, &v)) in out.iter_mut().zip(line).enumerate() {
+        let k = k as isize;
+        last = if v > 0.0 { k } else { last };
+        *o = if k - last <= r {
+            (last - k) as i8
+        } else {
+            NONE
         };
     }
     let mut next = after;
-    for k in (0..n).rev() {
-        if inside(k as usize) {
-            next = Some(k);
-        }
-        if let Some(m) = next.filter(|&m| m - k <= r) {
-            let old = out[k as usize];
-            if old == NONE || m - k < -(old as isize) {
-                out[k as usize] = (m - k) as i8;
-            }
-        }
+    for (k, (o, &v)) in out.iter_mut().zip(line).enumerate().rev() {
+        let k = k as isize;
+        next = if v > 0.0 { k } else { next };
+        let d = next - k;
+        // NONE (-128) counts as farther than any offset within reach
+        *o = if d <= r && d < -(*o as isize) {
+            d as i8
+        } else {
+            *o
+        };
     }
 }
 
@@ -265,83 +318,96 @@ mod tests {
 
     /// Every band element's nearest set element is, by brute force over the grid, at the
     /// least distance (with wrap on a periodic grid), within `RADIUS`, and every element
-    /// within `RADIUS` of the set is in the band; E^T is E's transpose: <E g, y> = <g, E^T y>
-    /// for g on the set and y off it.
+    /// within `RADIUS` of the set is in the band; E g and E^T y equal their sums element by
+    /// element (to round-off), on grids of one to four row blocks (the parallel passes' phases,
+    /// with a short last block), and <E g, y> = <g, E^T y> for g on the set and y off it.
     #[test]
     fn band_holds_the_nearest_set_elements_and_fold_is_the_transpose() {
-        let (nx, ny) = (23, 17);
-        let mut p = vec![0.0; nx * ny];
-        for (x, y) in [
-            (0, 0),
-            (5, 3),
-            (6, 3),
-            (22, 9),
-            (11, 16),
-            (12, 8),
-            (13, 8),
-            (12, 9),
-        ] {
-            p[y * nx + x] = 1.0;
-        }
-        for periodic in [false, true] {
-            let mut e = Extension::default();
-            e.rebuild(&p, nx, ny, periodic);
-            let dist2 = |a: usize, b: usize| {
-                let d = |u: usize, v: usize, n: usize| {
-                    let d = u.abs_diff(v);
-                    if periodic {
-                        d.min(n - d)
+        let weights = weights();
+        for (nx, ny) in [(23, 17), (29, 49), (31, 50), (12, 64), (9, 5)] {
+            // a few scattered elements and patches, the same on every run
+            let p: Vec<f64> = (0..nx * ny)
+                .map(|i| {
+                    let (x, y) = (i % nx, i / nx);
+                    let patch = (x + 3 * y) % 11 < 2 && (y / 4) % 3 == 1;
+                    let scattered = (i * 2654435761) % 97 < 3;
+                    if patch || scattered || i == 0 {
+                        1.0
                     } else {
-                        d
+                        0.0
                     }
+                })
+                .collect();
+            for periodic in [false, true] {
+                let case = format!("{nx}x{ny} periodic {periodic}");
+                let mut e = Extension::default();
+                e.rebuild(&p, nx, ny, periodic);
+                let dist2 = |a: usize, b: usize| {
+                    let d = |u: usize, v: usize, n: usize| {
+                        let d = u.abs_diff(v);
+                        if periodic {
+                            d.min(n - d)
+                        } else {
+                            d
+                        }
+                    };
+                    let (dx, dy) = (d(a % nx, b % nx, nx), d(a / nx, b / nx, ny));
+                    dx * dx + dy * dy
                 };
-                let (dx, dy) = (d(a % nx, b % nx, nx), d(a / nx, b / nx, ny));
-                dx * dx + dy * dy
-            };
-            let set: Vec<usize> = (0..nx * ny).filter(|&i| p[i] > 0.0).collect();
-            for i in (0..nx * ny).filter(|&i| p[i] <= 0.0) {
-                let least = set.iter().map(|&s| dist2(i, s)).min().unwrap();
-                let k = e.band.element.iter().position(|&b| b as usize == i);
-                if least > RADIUS * RADIUS {
-                    assert!(k.is_none(), "{periodic}: {i} is in the band");
-                    continue;
+                let set: Vec<usize> = (0..nx * ny).filter(|&i| p[i] > 0.0).collect();
+                let g: Vec<f64> = (0..nx * ny)
+                    .map(|i| {
+                        if p[i] > 0.0 {
+                            1.0 + (i % 7) as f64
+                        } else {
+                            0.0
+                        }
+                    })
+                    .collect();
+                let y: Vec<f64> = (0..nx * ny)
+                    .map(|i| {
+                        if p[i] > 0.0 {
+                            0.0
+                        } else {
+                            0.5 + (i % 5) as f64
+                        }
+                    })
+                    .collect();
+                let (mut eg_ref, mut ety_ref) = (g.clone(), y.clone());
+                for i in (0..nx * ny).filter(|&i| p[i] <= 0.0) {
+                    let least = set.iter().map(|&s| dist2(i, s)).min().unwrap();
+                    let band = &e.blocks[i / nx / ROWS_PER_TASK];
+                    let k = band.element.iter().position(|&b| b as usize == i);
+                    if least > RADIUS * RADIUS {
+                        assert!(k.is_none(), "{case}: {i} is in the band");
+                        continue;
+                    }
+                    let k = k.unwrap_or_else(|| panic!("{case}: {i} is not in the band"));
+                    let s = band.nearest[k] as usize;
+                    assert!(p[s] > 0.0);
+                    assert_eq!(dist2(i, s), least, "{case}: {i}");
+                    let w = (-(least as f64).sqrt() / DECAY).exp();
+                    assert!((weights[band.dist2[k] as usize] - w).abs() <= 1e-15);
+                    eg_ref[i] = w * g[s];
+                    ety_ref[s] += w * y[i];
                 }
-                let k = k.unwrap_or_else(|| panic!("{periodic}: {i} is not in the band"));
-                let s = e.band.nearest[k] as usize;
-                assert!(p[s] > 0.0);
-                assert_eq!(dist2(i, s), least, "{periodic}: {i}");
-                let w = (-(least as f64).sqrt() / DECAY).exp();
-                assert!((e.band.weight[k] - w).abs() <= 1e-15);
+                let mut eg = g.clone();
+                e.extend(&p, &mut eg);
+                let (mut ety, mut cleared) = (y.clone(), eg.clone());
+                e.fold(&p, &mut ety, &mut cleared);
+                assert_eq!(eg, eg_ref, "{case}");
+                // the same sums, added in the phases' order
+                for (a, b) in ety.iter().zip(&ety_ref) {
+                    assert!((a - b).abs() <= 1e-14 * b.abs(), "{case}: {a} {b}");
+                }
+                let lhs: f64 = eg.iter().zip(&y).map(|(a, b)| a * b).sum();
+                let rhs: f64 = set.iter().map(|&i| g[i] * ety[i]).sum();
+                assert!(
+                    (lhs - rhs).abs() <= 1e-12 * lhs.abs(),
+                    "{case}: {lhs} {rhs}"
+                );
+                assert_eq!(cleared, g, "{case}");
             }
-            let g: Vec<f64> = (0..nx * ny)
-                .map(|i| {
-                    if p[i] > 0.0 {
-                        1.0 + (i % 7) as f64
-                    } else {
-                        0.0
-                    }
-                })
-                .collect();
-            let y: Vec<f64> = (0..nx * ny)
-                .map(|i| {
-                    if p[i] > 0.0 {
-                        0.0
-                    } else {
-                        0.5 + (i % 5) as f64
-                    }
-                })
-                .collect();
-            let mut eg = g.clone();
-            e.extend(&p, &mut eg);
-            let (mut ety, mut cleared) = (y.clone(), eg.clone());
-            e.fold(&p, &mut ety, &mut cleared);
-            let lhs: f64 = eg.iter().zip(&y).map(|(a, b)| a * b).sum();
-            let rhs: f64 = (0..nx * ny)
-                .filter(|&i| p[i] > 0.0)
-                .map(|i| g[i] * ety[i])
-                .sum();
-            assert!((lhs - rhs).abs() <= 1e-12 * lhs.abs(), "{lhs} {rhs}");
-            assert_eq!(cleared, g);
         }
     }
 

@@ -69,7 +69,7 @@ pub struct Tuning {
     /// second, and a report costs a few nanoseconds).
     pub progress_every: usize,
     /// Where Polonsky–Keer's preconditioner continues the residual onto a band around the
-    /// contact set (`extension`); default `ResidualBand::Free`.
+    /// contact set (`extension`); default `ResidualBand::Everywhere`.
     pub residual_band: ResidualBand,
 }
 
@@ -79,13 +79,11 @@ pub struct Tuning {
 pub enum ResidualBand {
     /// Nowhere.
     Off,
-    /// Grids that are not periodic cells, where it pays: 20-30 % fewer iterations on the
-    /// finest level and 1.2-1.3x less CPU time on free 512^2 rough surfaces
-    /// (`benchmarks/bench_rough.py`'s, 2-20 % contact). On periodic cells, whose apply is
-    /// one unpadded FFT pair, the band's search and passes cost about what the fewer
-    /// iterations save (0.7-1.1x).
+    /// Grids that are not periodic cells only.
     Free,
-    /// Every grid.
+    /// Every grid: 10-25 % fewer iterations on `benchmarks/bench_rough.py`'s 512^2 rough
+    /// surfaces (2-20 % contact), and 1.0-1.25x less wall time on its periodic cells, where
+    /// an apply is one unpadded FFT pair and the band's search and passes weigh most.
     Everywhere,
 }
 
@@ -101,7 +99,7 @@ impl Default for Tuning {
             seed_fraction: 0.01,
             refresh_every: 32,
             progress_every: 1,
-            residual_band: ResidualBand::Free,
+            residual_band: ResidualBand::Everywhere,
         }
     }
 }
