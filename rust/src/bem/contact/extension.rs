@@ -510,4 +510,62 @@ mod tests {
             }
         }
     }
+
+    /// A periodic cell's rough contact with the band (its fold in phases, the first block
+    /// alone, the last reaching round the edge) repeats bit for bit on 1, 2 and 3 threads.
+    #[test]
+    fn a_banded_cell_repeats_bit_for_bit_across_thread_counts() {
+        use crate::bem::contact::{Target, Tuning};
+        use crate::halfspace::periodic::PeriodicOperator;
+        use crate::model::settings::SolverOptions;
+        use crate::model::surfaces::{self_affine, Roughness, SelfAffine};
+        use crate::support::monitor::Stop;
+
+        // 100 rows: seven blocks, the last one short
+        let (n, dx) = (100, 1.0 / 100.0);
+        let surface = SelfAffine {
+            nx: n,
+            ny: n,
+            dx,
+            hurst: 0.5,
+            rolloff: None,
+            short_cutoff: Some(4.0 * dx),
+            roughness: Roughness::RmsSlope(0.1),
+        };
+        let z = self_affine(&surface, 11, &Stop::default()).unwrap();
+        let top = z.iter().fold(f64::MIN, |m, &v| m.max(v));
+        let h: Vec<f64> = z.iter().map(|v| top - v).collect();
+        let opts = SolverOptions {
+            tol: 1e-10,
+            active_limit: Some(0),
+            ..SolverOptions::default()
+        };
+        let target = Target::Force(0.05 * 0.2 * (n as f64 * dx).powi(2));
+        let run = |threads| {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            pool.install(|| {
+                let tuning = Tuning {
+                    residual_band: ResidualBand::Everywhere,
+                    ..Tuning::default()
+                };
+                let op = PeriodicOperator::new(n, n, dx).unwrap();
+                solved(ContactSolver::with_tuning(op, tuning), &h, target, &opts)
+            })
+        };
+        let (one, p_one) = run(1);
+        let count = p_one.iter().filter(|&&p| p > 0.0).count();
+        assert!(count > 100, "{count} elements in contact");
+        for threads in [2, 3] {
+            let (s, p) = run(threads);
+            let same = p
+                .iter()
+                .zip(&p_one)
+                .all(|(a, b)| a.to_bits() == b.to_bits());
+            assert!(same, "{threads} threads");
+            assert_eq!(s.iterations, one.iterations, "{threads} threads");
+        }
+    }
 }
