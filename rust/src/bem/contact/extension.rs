@@ -53,10 +53,9 @@ const OUT_OF_REACH: i16 = 64;
 /// least 2 `RADIUS` + 1, so that blocks two apart never reach the same row.
 const ROWS_PER_TASK: usize = 16;
 
-/// exp(-d / `DECAY`) for each squared distance d^2 within `RADIUS`.
-fn weights() -> [f64; RADIUS * RADIUS + 1] {
-    std::array::from_fn(|d2| (-(d2 as f64).sqrt() / DECAY).exp())
-}
+/// exp(-d / `DECAY`) for each squared distance d^2 within `RADIUS`, made once.
+static WEIGHTS: std::sync::LazyLock<[f64; RADIUS * RADIUS + 1]> =
+    std::sync::LazyLock::new(|| std::array::from_fn(|d2| (-(d2 as f64).sqrt() / DECAY).exp()));
 
 /// The band elements of one block of rows: elements off a contact set, each with its
 /// nearest set element and their squared distance.
@@ -196,7 +195,7 @@ impl Extension {
     /// of the last search, which are in no band, so no element is read and written by
     /// different workers.
     pub fn extend(&self, p: &[f64], g: &mut [f64]) {
-        let weights = weights();
+        let weights = &*WEIGHTS;
         let shared = Shared(g.as_mut_ptr());
         self.for_blocks(true, |band| {
             let g = shared;
@@ -213,7 +212,7 @@ impl Extension {
     /// phases of `for_blocks` keep apart from those of the workers that run with it; band
     /// elements, which it reads, are never written in `z`.
     pub fn fold(&self, p: &[f64], z: &mut [f64], g: &mut [f64]) {
-        let weights = weights();
+        let weights = &*WEIGHTS;
         let (zs, gs) = (Shared(z.as_mut_ptr()), Shared(g.as_mut_ptr()));
         self.for_blocks(false, |band| {
             let (z, g) = (zs, gs);
@@ -324,7 +323,7 @@ mod tests {
     /// with a short last block), and <E g, y> = <g, E^T y> for g on the set and y off it.
     #[test]
     fn band_holds_the_nearest_set_elements_and_fold_is_the_transpose() {
-        let weights = weights();
+        let weights = &*WEIGHTS;
         for (nx, ny) in [(23, 17), (29, 49), (31, 50), (12, 64), (9, 5)] {
             // a few scattered elements and patches, the same on every run
             let p: Vec<f64> = (0..nx * ny)
@@ -436,6 +435,33 @@ mod tests {
         (s, solver.pressure().to_vec())
     }
 
+    /// The separation (m) before loading of a self-affine n x n surface (rms slope 0.1,
+    /// wavelengths down to 4 elements) of Hurst exponent `hurst` from `seed`, its top at 0.
+    fn rough_separation(n: usize, dx: f64, hurst: f64, seed: u64) -> Vec<f64> {
+        use crate::model::surfaces::{self_affine, Roughness, SelfAffine};
+        let surface = SelfAffine {
+            nx: n,
+            ny: n,
+            dx,
+            hurst,
+            rolloff: None,
+            short_cutoff: Some(4.0 * dx),
+            roughness: Roughness::RmsSlope(0.1),
+        };
+        let z = self_affine(&surface, seed, &crate::support::monitor::Stop::default()).unwrap();
+        let top = z.iter().fold(f64::MIN, |m, &v| m.max(v));
+        z.iter().map(|v| top - v).collect()
+    }
+
+    /// Options that keep the solve on Polonsky–Keer (no active set), at tol 1e-10.
+    fn polonsky_keer_only() -> crate::model::settings::SolverOptions {
+        crate::model::settings::SolverOptions {
+            tol: 1e-10,
+            active_limit: Some(0),
+            ..Default::default()
+        }
+    }
+
     /// Polonsky–Keer on a rough surface (self-affine, H 0.8, 2-20 % contact): with the
     /// residual band the free grid and the periodic cell reach the same contact as without,
     /// to the tolerance, in fewer iterations.
@@ -444,28 +470,10 @@ mod tests {
         use crate::bem::contact::{Target, Tuning};
         use crate::halfspace::operator::FftOperator;
         use crate::halfspace::periodic::PeriodicOperator;
-        use crate::model::settings::SolverOptions;
-        use crate::model::surfaces::{self_affine, Roughness, SelfAffine};
-        use crate::support::monitor::Stop;
 
         let (n, dx) = (128, 1.0 / 128.0);
-        let surface = SelfAffine {
-            nx: n,
-            ny: n,
-            dx,
-            hurst: 0.8,
-            rolloff: None,
-            short_cutoff: Some(4.0 * dx),
-            roughness: Roughness::RmsSlope(0.1),
-        };
-        let z = self_affine(&surface, 7, &Stop::default()).unwrap();
-        let top = z.iter().fold(f64::MIN, |m, &v| m.max(v));
-        let h: Vec<f64> = z.iter().map(|v| top - v).collect();
-        let opts = SolverOptions {
-            tol: 1e-10,
-            active_limit: Some(0),
-            ..SolverOptions::default()
-        };
+        let h = rough_separation(n, dx, 0.8, 7);
+        let opts = polonsky_keer_only();
         for fraction in [0.02, 0.2] {
             // mean pressure fraction * E* rms slope / 2 (E* = 4 at G = 1)
             let target = Target::Force(fraction * 0.2 * (n as f64 * dx).powi(2));
@@ -517,29 +525,11 @@ mod tests {
     fn a_banded_cell_repeats_bit_for_bit_across_thread_counts() {
         use crate::bem::contact::{Target, Tuning};
         use crate::halfspace::periodic::PeriodicOperator;
-        use crate::model::settings::SolverOptions;
-        use crate::model::surfaces::{self_affine, Roughness, SelfAffine};
-        use crate::support::monitor::Stop;
 
         // 100 rows: seven blocks, the last one short
         let (n, dx) = (100, 1.0 / 100.0);
-        let surface = SelfAffine {
-            nx: n,
-            ny: n,
-            dx,
-            hurst: 0.5,
-            rolloff: None,
-            short_cutoff: Some(4.0 * dx),
-            roughness: Roughness::RmsSlope(0.1),
-        };
-        let z = self_affine(&surface, 11, &Stop::default()).unwrap();
-        let top = z.iter().fold(f64::MIN, |m, &v| m.max(v));
-        let h: Vec<f64> = z.iter().map(|v| top - v).collect();
-        let opts = SolverOptions {
-            tol: 1e-10,
-            active_limit: Some(0),
-            ..SolverOptions::default()
-        };
+        let h = rough_separation(n, dx, 0.5, 11);
+        let opts = polonsky_keer_only();
         let target = Target::Force(0.05 * 0.2 * (n as f64 * dx).powi(2));
         let run = |threads| {
             let pool = rayon::ThreadPoolBuilder::new()
