@@ -178,6 +178,20 @@ impl SurfaceOperator for Operator {
             Operator::FreeLayer(op) => op.apply(p, u),
         }
     }
+    fn apply_single(&mut self, p: &[f64], u: &mut [f64]) {
+        match self {
+            Operator::Free(op) => op.apply_single(p, u),
+            Operator::Periodic(op) => op.apply_single(p, u),
+            Operator::FreeLayer(op) => op.apply_single(p, u),
+        }
+    }
+    fn add_single(&mut self, q: &[f64], u: &mut [f64]) -> bool {
+        match self {
+            Operator::Free(op) => op.add_single(q, u),
+            Operator::Periodic(op) => op.add_single(q, u),
+            Operator::FreeLayer(op) => op.add_single(q, u),
+        }
+    }
     fn submatrix(&mut self, idx: &[usize]) -> Result<Mat<f64>> {
         match self {
             Operator::Free(op) => op.submatrix(idx),

@@ -368,6 +368,13 @@ impl SurfaceOperator for FreeLayerOperator {
     fn apply(&mut self, p: &[f64], u: &mut [f64]) {
         self.fft.apply(p, u);
     }
+    fn apply_single(&mut self, p: &[f64], u: &mut [f64]) {
+        self.fft.convolve_single(p, u);
+    }
+    fn add_single(&mut self, q: &[f64], u: &mut [f64]) -> bool {
+        self.fft.add_convolved_single(q, u);
+        true
+    }
     /// Entries K[i, j] = the layer's coefficient at the offset of element i from j.
     fn submatrix(&mut self, idx: &[usize]) -> Result<Mat<f64>> {
         let nx = self.nx();

@@ -52,9 +52,10 @@ pub struct PeriodicOperator {
 }
 
 /// Memory of a periodic operator per element (bytes): spectrum and column buffer (24 per
-/// element of the half spectrum), the preconditioner's (12, single precision), the kernel
-/// in real space (the unit response), the workers' rows.
-pub const BYTES_PER_ELEMENT: f64 = 30.0;
+/// element of the half spectrum), their single-precision copy (`FftOperator::single`, 12)
+/// and the preconditioner's (12, single precision), the kernel in real space (the unit
+/// response), the workers' rows.
+pub const BYTES_PER_ELEMENT: f64 = 36.0;
 
 impl PeriodicOperator {
     /// The operator of a periodic half-space cell of `nx` x `ny` elements of side `dx` (m).
@@ -154,6 +155,13 @@ impl SurfaceOperator for PeriodicOperator {
     }
     fn apply(&mut self, p: &[f64], u: &mut [f64]) {
         self.fft.apply(p, u);
+    }
+    fn apply_single(&mut self, p: &[f64], u: &mut [f64]) {
+        self.fft.convolve_single(p, u);
+    }
+    fn add_single(&mut self, q: &[f64], u: &mut [f64]) -> bool {
+        self.fft.add_convolved_single(q, u);
+        true
     }
 
     /// The kernel's spectral inverse times dx (the mean mode at the longest wave's value),

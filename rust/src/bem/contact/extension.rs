@@ -315,6 +315,7 @@ fn nearest_in_row(line: &[f64], out: &mut [i8], periodic: bool) {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::bem::contact::tests::{polonsky_keer_only, rough_separation, solved};
 
     /// Every band element's nearest set element is, by brute force over the grid, at the
     /// least distance (with wrap on a periodic grid), within `RADIUS`, and every element
@@ -408,57 +409,6 @@ mod tests {
                 );
                 assert_eq!(cleared, g, "{case}");
             }
-        }
-    }
-
-    /// The solve of `h` (the whole grid allowed, compliance 1, cold start) by `solver`: its
-    /// summary and pressure.
-    fn solved<O: SurfaceOperator>(
-        mut solver: ContactSolver<O>,
-        h: &[f64],
-        target: crate::bem::contact::Target,
-        opts: &crate::model::settings::SolverOptions,
-    ) -> (crate::bem::contact::ContactSummary, Vec<f64>) {
-        let allowed = vec![true; h.len()];
-        let s = solver
-            .solve(
-                h,
-                &allowed,
-                1.0,
-                target,
-                false,
-                0.0,
-                opts,
-                &mut crate::support::monitor::Silent,
-            )
-            .unwrap();
-        (s, solver.pressure().to_vec())
-    }
-
-    /// The separation (m) before loading of a self-affine n x n surface (rms slope 0.1,
-    /// wavelengths down to 4 elements) of Hurst exponent `hurst` from `seed`, its top at 0.
-    fn rough_separation(n: usize, dx: f64, hurst: f64, seed: u64) -> Vec<f64> {
-        use crate::model::surfaces::{self_affine, Roughness, SelfAffine};
-        let surface = SelfAffine {
-            nx: n,
-            ny: n,
-            dx,
-            hurst,
-            rolloff: None,
-            short_cutoff: Some(4.0 * dx),
-            roughness: Roughness::RmsSlope(0.1),
-        };
-        let z = self_affine(&surface, seed, &crate::support::monitor::Stop::default()).unwrap();
-        let top = z.iter().fold(f64::MIN, |m, &v| m.max(v));
-        z.iter().map(|v| top - v).collect()
-    }
-
-    /// Options that keep the solve on Polonsky–Keer (no active set), at tol 1e-10.
-    fn polonsky_keer_only() -> crate::model::settings::SolverOptions {
-        crate::model::settings::SolverOptions {
-            tol: 1e-10,
-            active_limit: Some(0),
-            ..Default::default()
         }
     }
 

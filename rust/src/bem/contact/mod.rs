@@ -71,6 +71,15 @@ pub struct Tuning {
     /// Where Polonsky–Keer's preconditioner continues the residual onto a band around the
     /// contact set (`extension`); default `ResidualBand::Everywhere`.
     pub residual_band: ResidualBand,
+    /// Polonsky–Keer's single-precision applies (`SurfaceOperator::apply_single` of its
+    /// search direction, `add_single` of u's correction where the contact set changed;
+    /// ASPHER mixes precisions too) leave an error in u = K[p] until it is next refreshed
+    /// in double precision, measured at 2-3e-7 of the relative pressure change
+    /// (sum |p_k - p_{k-1}| / sum p) summed over the iterations since. An iteration takes
+    /// them while that sum, with the last iteration's change, stays within this many times
+    /// the tolerance (default 1e5: an error of at most 1/30 of the tolerance; the nested
+    /// grids' coarse levels take them throughout), 0 turns them off.
+    pub single_precision_drift: f64,
 }
 
 /// The grids on which Polonsky–Keer preconditions by E^T S E, the residual continued onto a
@@ -100,12 +109,13 @@ impl Default for Tuning {
             refresh_every: 32,
             progress_every: 1,
             residual_band: ResidualBand::Everywhere,
+            single_precision_drift: 1e5,
         }
     }
 }
 
 impl Tuning {
-    /// Fails unless the periods are >= 1 and the fractions finite and >= 0.
+    /// Fails unless the periods are >= 1 and the fractions and factors finite and >= 0.
     pub fn validate(&self) -> Result<()> {
         if self.refresh_every == 0 || self.progress_every == 0 {
             return Err(Error::InvalidInput(
@@ -116,6 +126,7 @@ impl Tuning {
             ("crossover_constant", self.crossover_constant),
             ("gap_round_off", self.gap_round_off),
             ("seed_fraction", self.seed_fraction),
+            ("single_precision_drift", self.single_precision_drift),
         ] {
             if !(v.is_finite() && v >= 0.0) {
                 return Err(Error::InvalidInput(format!(
@@ -409,6 +420,48 @@ mod tests {
             .solve(h, &allowed, 1.0, target, false, 0.0, opts, &mut Silent)
             .unwrap();
         (s, solver.pressure().to_vec())
+    }
+
+    /// The solve of `h` (the whole grid allowed, compliance 1, cold start) by `solver`: its
+    /// summary and pressure.
+    pub(super) fn solved<O: SurfaceOperator>(
+        mut solver: ContactSolver<O>,
+        h: &[f64],
+        target: Target,
+        opts: &SolverOptions,
+    ) -> (ContactSummary, Vec<f64>) {
+        let allowed = vec![true; h.len()];
+        let s = solver
+            .solve(h, &allowed, 1.0, target, false, 0.0, opts, &mut Silent)
+            .unwrap();
+        (s, solver.pressure().to_vec())
+    }
+
+    /// The separation (m) before loading of a self-affine n x n surface (rms slope 0.1,
+    /// wavelengths down to 4 elements) of Hurst exponent `hurst` from `seed`, its top at 0.
+    pub(super) fn rough_separation(n: usize, dx: f64, hurst: f64, seed: u64) -> Vec<f64> {
+        use crate::model::surfaces::{self_affine, Roughness, SelfAffine};
+        let surface = SelfAffine {
+            nx: n,
+            ny: n,
+            dx,
+            hurst,
+            rolloff: None,
+            short_cutoff: Some(4.0 * dx),
+            roughness: Roughness::RmsSlope(0.1),
+        };
+        let z = self_affine(&surface, seed, &crate::support::monitor::Stop::default()).unwrap();
+        let top = z.iter().fold(f64::MIN, |m, &v| m.max(v));
+        z.iter().map(|v| top - v).collect()
+    }
+
+    /// Options that keep the solve on Polonsky–Keer (no active set), at tol 1e-10.
+    pub(super) fn polonsky_keer_only() -> SolverOptions {
+        SolverOptions {
+            tol: 1e-10,
+            active_limit: Some(0),
+            ..Default::default()
+        }
     }
 
     /// Largest |a_i - b_i|.
