@@ -414,12 +414,8 @@ mod tests {
         target: Target,
         opts: &SolverOptions,
     ) -> (ContactSummary, Vec<f64>) {
-        let mut solver = ContactSolver::new(FftOperator::new(n, n, dx).unwrap());
-        let allowed = vec![true; n * n];
-        let s = solver
-            .solve(h, &allowed, 1.0, target, false, 0.0, opts, &mut Silent)
-            .unwrap();
-        (s, solver.pressure().to_vec())
+        let solver = ContactSolver::new(FftOperator::new(n, n, dx).unwrap());
+        solved(solver, h, target, opts)
     }
 
     /// The solve of `h` (the whole grid allowed, compliance 1, cold start) by `solver`: its
