@@ -352,41 +352,41 @@ impl<O: SurfaceOperator> ContactSolver<O> {
             }
             let changed = overlaps + clamps;
             set_changes = if reset { f64::INFINITY } else { changed };
-            let mut refresh =
-                reset || changed > 0.0 || it % tuning.refresh_every == 0 || drift > budget;
-            // Where the set changed, the step p - tau t differs from the new pressure on
-            // the elements that entered or left it alone: a few are added to u by direct
-            // summation (`SurfaceOperator::add_point_loads`), cheaper than an apply, and
-            // u = K[p] exactly as after one.
-            if refresh
-                && !reset
-                && it % tuning.refresh_every != 0
-                && changed <= self.op.point_load_limit() as f64
-            {
-                let (p, p_old, t) = (&self.p, &self.p_old, &self.t);
-                let idx: Vec<usize> = self
-                    .listed()
-                    .filter(|&i| (p[i] > 0.0) != (p_old[i] > 0.0))
-                    .collect();
-                let missed: Vec<f64> = idx
-                    .iter()
-                    .map(|&i| (p[i] - (p_old[i] - tau * t[i])) / scale)
-                    .collect();
-                refresh = !self.op.add_point_loads(&idx, &missed, &mut self.u);
-            } else if refresh && !reset && it % tuning.refresh_every != 0 && single {
-                // More of them: their differences, written into r (whose step is taken),
-                // are added to u by one single-precision apply.
-                self.pass_sums(|c| {
-                    c.r.fill(0.0);
-                    for &j in &c.set[..*c.len] {
-                        let j = usize::from(j);
-                        if (c.p[j] > 0.0) != (c.p_old[j] > 0.0) {
-                            c.r[j] = (c.p[j] - (c.p_old[j] - tau * c.t[j])) / scale;
+            // u is recomputed by a double-precision apply after a reset, every
+            // `refresh_every` iterations and once the single-precision drift is over budget
+            let exact = reset || it % tuning.refresh_every == 0 || drift > budget;
+            let mut refresh = exact || changed > 0.0;
+            // Otherwise, where the set changed, the step p - tau t differs from the new
+            // pressure on the elements that entered or left it alone: a few are added to u
+            // by direct summation (`SurfaceOperator::add_point_loads`), cheaper than an
+            // apply, and u = K[p] exactly as after one; more of them, within the drift
+            // budget, have their differences written into r (whose step is taken) and added
+            // to u by one single-precision apply.
+            if !exact && changed > 0.0 {
+                if changed <= self.op.point_load_limit() as f64 {
+                    let (p, p_old, t) = (&self.p, &self.p_old, &self.t);
+                    let idx: Vec<usize> = self
+                        .listed()
+                        .filter(|&i| (p[i] > 0.0) != (p_old[i] > 0.0))
+                        .collect();
+                    let missed: Vec<f64> = idx
+                        .iter()
+                        .map(|&i| (p[i] - (p_old[i] - tau * t[i])) / scale)
+                        .collect();
+                    refresh = !self.op.add_point_loads(&idx, &missed, &mut self.u);
+                } else if single {
+                    self.pass_sums(|c| {
+                        c.r.fill(0.0);
+                        for &j in &c.set[..*c.len] {
+                            let j = usize::from(j);
+                            if (c.p[j] > 0.0) != (c.p_old[j] > 0.0) {
+                                c.r[j] = (c.p[j] - (c.p_old[j] - tau * c.t[j])) / scale;
+                            }
                         }
-                    }
-                    [0.0; 0]
-                });
-                refresh = !self.op.add_single(&self.r, &mut self.u);
+                        [0.0; 0]
+                    });
+                    refresh = !self.op.add_single(&self.r, &mut self.u);
+                }
             }
             // Rescale to the force and measure the change over the index lists; unless u is
             // refreshed, it follows the force's rescale by its lazy factor, and the pass sums
@@ -423,18 +423,17 @@ impl<O: SurfaceOperator> ContactSolver<O> {
             } else {
                 0.0
             };
-            // u keeps this iteration's single-precision error until it is refreshed
-            if refresh {
-                drift = 0.0;
-            } else if single {
-                drift += residual;
-            }
             if refresh {
                 self.op.apply(&self.p, &mut self.u);
                 scale = 1.0;
+                drift = 0.0;
             } else {
                 scale = next_scale;
                 next_shift = Some(mean(gap_sum, count));
+                // u keeps this iteration's single-precision error until it is refreshed
+                if single {
+                    drift += residual;
+                }
             }
             if it % tuning.progress_every == 0 {
                 monitor.progress("contact iterations", it, opts.max_iter)?;
