@@ -143,7 +143,7 @@ impl Tuning {
             }
         }
         let above = self.single_precision_above;
-        if !(above > 0.0) {
+        if above.is_nan() || above <= 0.0 {
             return Err(Error::InvalidInput(format!(
                 "single_precision_above must be > 0 (infinity turns it off), got {above}"
             )));
