@@ -80,11 +80,12 @@ pub struct Tuning {
     /// the tolerance (default 1e5: an error of at most 1/30 of the tolerance; the nested
     /// grids' coarse levels take them throughout), 0 turns them off.
     pub single_precision_drift: f64,
-    /// Polonsky–Keer's early iterations, while the last iteration's relative pressure change
-    /// exceeds this (dimensionless, > 0), run every apply in single precision, u's
-    /// refreshes included; u is refreshed in double precision after them (default 1e-3:
-    /// 1.0-1.2x less time on rough 512^2 and 1024^2 grids, the same iterations; lower
-    /// values took more iterations); infinity turns them off.
+    /// Polonsky–Keer's early iterations, the first of a cold start and each after one that
+    /// changed the pressure by more than this (relative, dimensionless, > 0), run every
+    /// apply in single precision, u's refreshes included, and the last of them refreshes u
+    /// in double precision (default 1e-3: on `benchmarks/bench_rough.py`'s grids the finest
+    /// level's double-precision applies fall from 15-44 to 4-7 with the same iterations;
+    /// 1e-4 and below took more iterations); infinity turns them off.
     pub single_precision_above: f64,
 }
 

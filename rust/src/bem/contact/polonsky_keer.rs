@@ -78,16 +78,18 @@ impl<O: SurfaceOperator> ContactSolver<O> {
         let mut residual = f64::INFINITY;
         // Operator applies in single precision (ASPHER mixes precisions too). In the early
         // iterations, while the last iteration's relative change exceeds
-        // `Tuning::single_precision_above` (the first iteration always), all of them, u's
-        // refreshes included: u's error (about 1e-7 of |u|) is far below the iteration's own,
-        // and u stays inexact (an infinite `drift`) until its first refresh in double
-        // precision after them. Then (`Tuning::single_precision_drift`), the search
-        // direction's and the set change's, while the pressure's relative changes summed
-        // since u was last refreshed in double precision (`drift`), with the last
-        // iteration's (`residual`), stay within `budget`. A solve stops only on an iteration
-        // that began and ended with u so bounded.
+        // `Tuning::single_precision_above` (and the first iteration of a cold start), all of
+        // them, u's refreshes included: u's error (about 1e-7 of |u|) is far below the
+        // iteration's own, and u stays inexact (an infinite `drift`) until the last early
+        // iteration, the first whose change falls below the threshold, refreshes it in
+        // double precision. Then (`Tuning::single_precision_drift`), the search direction's
+        // and the set change's, while the pressure's relative changes summed since u was last
+        // refreshed in double precision (`drift`), with the last iteration's (`residual`),
+        // stay within `budget`. A solve stops only on an iteration that began and ended with
+        // u so bounded.
         let budget = tuning.single_precision_drift * opts.tol;
-        let mut drift = if tuning.single_precision_above.is_finite() {
+        let cold_early = !warm && tuning.single_precision_above.is_finite();
+        let mut drift = if cold_early {
             self.op.apply_single(&self.p, &mut self.u);
             f64::INFINITY
         } else {
@@ -209,7 +211,11 @@ impl<O: SurfaceOperator> ContactSolver<O> {
                 }
                 [0.0; 0]
             });
-            let early = residual > tuning.single_precision_above;
+            let early = if it == 1 {
+                cold_early
+            } else {
+                residual > tuning.single_precision_above
+            };
             // whether this iteration's gaps come from a u within the drift budget, as the
             // change it measures must for the solve to stop on it
             let bounded = drift.is_finite();
@@ -440,10 +446,11 @@ impl<O: SurfaceOperator> ContactSolver<O> {
             } else {
                 0.0
             };
-            if refresh && early {
+            let last_early = early && residual <= tuning.single_precision_above;
+            if refresh && early && !last_early {
                 self.op.apply_single(&self.p, &mut self.u);
                 scale = 1.0;
-            } else if refresh {
+            } else if refresh || last_early {
                 self.op.apply(&self.p, &mut self.u);
                 scale = 1.0;
                 drift = 0.0;
@@ -455,7 +462,7 @@ impl<O: SurfaceOperator> ContactSolver<O> {
                     drift += residual;
                 }
             }
-            if early {
+            if early && !last_early {
                 drift = f64::INFINITY;
             }
             if it % tuning.progress_every == 0 {
