@@ -88,7 +88,9 @@ impl<O: SurfaceOperator> ContactSolver<O> {
         // stay within `budget`. A solve stops only on an iteration that began and ended with
         // u so bounded.
         let budget = tuning.single_precision_drift * opts.tol;
-        let cold_early = !warm && tuning.single_precision_above.is_finite();
+        // (none where the separation or the pressure lies outside what f32 holds)
+        let single_fits = fits_single(h) && fits_single(&self.p);
+        let cold_early = !warm && single_fits && tuning.single_precision_above.is_finite();
         let mut drift = if cold_early {
             self.op.apply_single(&self.p, &mut self.u);
             f64::INFINITY
@@ -214,12 +216,12 @@ impl<O: SurfaceOperator> ContactSolver<O> {
             let early = if it == 1 {
                 cold_early
             } else {
-                residual > tuning.single_precision_above
+                single_fits && residual > tuning.single_precision_above
             };
             // whether this iteration's gaps come from a u within the drift budget, as the
             // change it measures must for the solve to stop on it
             let bounded = drift.is_finite();
-            let single = early || drift + residual <= budget;
+            let single = early || (single_fits && drift + residual <= budget);
             if single {
                 self.op.apply_single(&self.t, &mut self.r);
             } else {
@@ -501,6 +503,17 @@ impl<O: SurfaceOperator> ContactSolver<O> {
             residual,
         })
     }
+}
+
+/// Magnitudes of separations (m) and pressures (Pa) that Polonsky–Keer's single-precision
+/// applies take: f32 holds 1.2e-38 to 3.4e38 (with 7 digits), and a transform sums up to
+/// 2^26 products of such values with the kernel.
+const SINGLE_RANGE: std::ops::RangeInclusive<f64> = 1e-20..=1e20;
+
+/// Whether the largest magnitude in `v` (finite values) is zero or in `SINGLE_RANGE`.
+fn fits_single(v: &[f64]) -> bool {
+    let largest = v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    largest == 0.0 || SINGLE_RANGE.contains(&largest)
 }
 
 /// `sum / count`, or 0 for an empty set.
