@@ -222,7 +222,9 @@ struct Problem<'a> {
     target: Target,
     /// Load (N) the residual is measured against at least.
     reference: f64,
-    /// Overlaps below this (m) count as none (`Tuning::gap_round_off`).
+    /// Largest |h| (m) over the allowed elements.
+    height_scale: f64,
+    /// Overlaps below this (m) count as none (`Tuning::gap_round_off` times `height_scale`).
     gap_tol: f64,
 }
 
@@ -374,11 +376,12 @@ impl<O: SurfaceOperator> ContactSolver<O> {
                 });
             }
         }
-        let gap_tol = self.tuning.gap_round_off
-            * h.iter()
-                .zip(allowed)
-                .filter(|(_, &a)| a)
-                .fold(0.0f64, |m, (h, _)| m.max(h.abs()));
+        let height_scale = h
+            .iter()
+            .zip(allowed)
+            .filter(|(_, &a)| a)
+            .fold(0.0f64, |m, (h, _)| m.max(h.abs()));
+        let gap_tol = self.tuning.gap_round_off * height_scale;
         let problem = Problem {
             h,
             allowed,
@@ -386,6 +389,7 @@ impl<O: SurfaceOperator> ContactSolver<O> {
             compliance,
             target,
             reference,
+            height_scale,
             gap_tol,
         };
         if opts.active_limit != Some(0) {

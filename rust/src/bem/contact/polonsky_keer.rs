@@ -28,6 +28,7 @@ impl<O: SurfaceOperator> ContactSolver<O> {
             compliance,
             target,
             reference,
+            height_scale,
             gap_tol,
         } = *pb;
         let n = self.p.len();
@@ -89,7 +90,8 @@ impl<O: SurfaceOperator> ContactSolver<O> {
         // u so bounded.
         let budget = tuning.single_precision_drift * opts.tol;
         // (none where the separation or the pressure lies outside what f32 holds)
-        let single_fits = fits_single(h) && fits_single(&self.p);
+        let largest_p = self.p.iter().fold(0.0f64, |m, &v| m.max(v));
+        let single_fits = fits_single(height_scale) && fits_single(largest_p);
         let cold_early = !warm && single_fits && tuning.single_precision_above.is_finite();
         let mut drift = if cold_early {
             self.op.apply_single(&self.p, &mut self.u);
@@ -448,8 +450,10 @@ impl<O: SurfaceOperator> ContactSolver<O> {
             } else {
                 0.0
             };
+            // an early iteration leaves u inexact, but the last refreshes it in double precision
             let last_early = early && residual <= tuning.single_precision_above;
-            if refresh && early && !last_early {
+            let inexact = early && !last_early;
+            if refresh && inexact {
                 self.op.apply_single(&self.p, &mut self.u);
                 scale = 1.0;
             } else if refresh || last_early {
@@ -464,7 +468,7 @@ impl<O: SurfaceOperator> ContactSolver<O> {
                     drift += residual;
                 }
             }
-            if early && !last_early {
+            if inexact {
                 drift = f64::INFINITY;
             }
             if it % tuning.progress_every == 0 {
@@ -510,9 +514,8 @@ impl<O: SurfaceOperator> ContactSolver<O> {
 /// 2^26 products of such values with the kernel.
 const SINGLE_RANGE: std::ops::RangeInclusive<f64> = 1e-20..=1e20;
 
-/// Whether the largest magnitude in `v` (finite values) is zero or in `SINGLE_RANGE`.
-fn fits_single(v: &[f64]) -> bool {
-    let largest = v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+/// Whether a largest magnitude `largest` (>= 0) is zero or in `SINGLE_RANGE`.
+fn fits_single(largest: f64) -> bool {
     largest == 0.0 || SINGLE_RANGE.contains(&largest)
 }
 
