@@ -106,8 +106,11 @@ pub fn run_bem_with(
     let mut out = Series::default();
     let (mut t_prev, mut iterations, mut residual) = (0.0, 0usize, 0.0f64);
     let mut warm = false;
-    let (mut extrapolate, mut h_prev) = (false, 1.0);
-    let (mut p_prev, mut guess) = (vec![0.0; n], vec![0.0; n]);
+    // the pressures of the last two warm solves before the current one, `known` of them
+    // usable (after the steps h_prev, h_prev2 of positive length, s)
+    let (mut known, mut h_prev, mut h_prev2) = (0usize, 1.0, 1.0);
+    let mut contact_count = 0;
+    let (mut p_prev, mut p_prev2, mut guess) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
     for (s, &(t, output)) in steps.iter().enumerate() {
         let rule = medium.step(t - t_prev);
         for i in 0..n {
@@ -151,22 +154,25 @@ pub fn run_bem_with(
                     .map(|i| sep[i])
                     .fold(f64::INFINITY, f64::min);
                 solver.clear_pressure();
-                (warm, extrapolate) = (false, false);
+                (warm, known) = (false, 0);
                 (lowest, 0.0)
             }
             _ => {
                 if warm {
-                    // start from the pressure extrapolated linearly over the step (an
-                    // O(dt^2) start once two steps are known)
-                    let ratio = if extrapolate {
-                        (t - t_prev) / h_prev
-                    } else {
-                        0.0
-                    };
+                    // start from the pressure extrapolated over the step (Lagrange) through
+                    // the last solves on the load's current stretch (`Loading::knots`):
+                    // quadratic once three are known, an O(dt^3) start on a smooth path
+                    let order = known.min(smooth_since_knot(
+                        loading.knots(),
+                        t,
+                        [t_prev, t_prev - h_prev, t_prev - h_prev - h_prev2],
+                    ));
+                    let [w0, w1, w2] = extrapolation(t - t_prev, h_prev, h_prev2, order);
                     let p = solver.pressure();
                     for i in 0..n {
-                        guess[i] = (p[i] + ratio * (p[i] - p_prev[i])).max(0.0);
+                        guess[i] = (w0 * p[i] + w1 * p_prev[i] + w2 * p_prev2[i]).max(0.0);
                     }
+                    std::mem::swap(&mut p_prev, &mut p_prev2);
                     p_prev.copy_from_slice(p);
                     solver.set_pressure(&guess)?;
                 }
@@ -199,9 +205,19 @@ pub fn run_bem_with(
                 )?;
                 iterations += r.iterations;
                 residual = residual.max(r.residual);
-                extrapolate = warm && t > t_prev;
+                known = if warm && t > t_prev {
+                    (known + 1).min(2)
+                } else {
+                    0
+                };
+                // a shrinking contact's pressure drops to zero at a receding edge, where a
+                // parabola through three solves overshoots: a line then
+                if r.contact_count < contact_count {
+                    known = known.min(1);
+                }
+                contact_count = r.contact_count;
                 warm = r.contact_count > 0;
-                h_prev = t - t_prev;
+                (h_prev, h_prev2) = (t - t_prev, h_prev);
                 (r.depth, r.force)
             }
         };
@@ -293,7 +309,7 @@ pub fn run_bem_with(
 /// itself aside: the whole grid's operator (`Body::operator_bytes`) and contact solver
 /// (`ContactSolver::BYTES_PER_ELEMENT`); per element the state x and the medium's
 /// `internal` variables (8 each), the history, its deflection and the separation, the last
-/// pressure and the guess (40), with `field_rates` the trail of two earlier states (16), a
+/// two pressures and the guess (48), with `field_rates` the trail of two earlier states (16), a
 /// cohesive zone's buffers (`cohesive`, 40) and 24 per field (pressure, velocity,
 /// deflection) of the `fields` asked for. The check before a run and the measured peak
 /// (`tests/test_memory.py`) use it.
@@ -310,6 +326,80 @@ pub fn run_bytes(
     let rates = if field_rates { 16.0 } else { 0.0 };
     let zone = if cohesive { 40.0 } else { 0.0 };
     let per_element =
-        solver + 8.0 * (1 + internal) as f64 + 40.0 + rates + zone + 24.0 * fields as f64;
+        solver + 8.0 * (1 + internal) as f64 + 48.0 + rates + zone + 24.0 * fields as f64;
     body.operator_bytes(nx, ny) + per_element * (nx * ny) as f64
+}
+
+/// How many of the solves at `times` (the last first, decreasing) beyond the last one lie
+/// on the stretch of the loading that leads to `t` (s): at or after its last knot before
+/// `t`, where the load last turned. None (0) where the step itself crosses that knot.
+fn smooth_since_knot(knots: &[f64], t: f64, times: [f64; 3]) -> usize {
+    let k = knots.partition_point(|&s| s < t);
+    let from = if k == 0 {
+        f64::NEG_INFINITY
+    } else {
+        knots[k - 1]
+    };
+    let slack = 1e-9 * from.abs();
+    let on = times.iter().take_while(|&&s| s >= from - slack).count();
+    on.saturating_sub(1)
+}
+
+/// Weights (w0, w1, w2) of the pressures at the last three solves (times t_k, t_k - h1,
+/// t_k - h1 - h2; s) in the start of a step of length `step` (s) from t_k: the Lagrange
+/// polynomial through the last `known` + 1 of them (0: the last solve's pressure; 1: the
+/// line through two; 2: the parabola through three, an O(step^3) start on a smooth path).
+fn extrapolation(step: f64, h1: f64, h2: f64, known: usize) -> [f64; 3] {
+    match known {
+        0 => [1.0, 0.0, 0.0],
+        1 => [1.0 + step / h1, -step / h1, 0.0],
+        _ => {
+            let (a, b) = (step + h1, step + h1 + h2);
+            [
+                a * b / (h1 * (h1 + h2)),
+                -step * b / (h1 * h2),
+                step * a / (h2 * (h1 + h2)),
+            ]
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Past a knot, only the solves on the load's current stretch count; a step across one
+    /// uses the last solve alone.
+    #[test]
+    fn extrapolation_stays_on_the_loads_stretch() {
+        let knots = [0.0, 1.0, 2.0];
+        assert_eq!(smooth_since_knot(&knots, 0.9, [0.8, 0.7, 0.6]), 2);
+        assert_eq!(smooth_since_knot(&knots, 1.2, [1.1, 1.0, 0.9]), 1);
+        assert_eq!(smooth_since_knot(&knots, 1.1, [1.0, 0.9, 0.8]), 0);
+        assert_eq!(smooth_since_knot(&knots, 1.05, [0.95, 0.85, 0.75]), 0);
+        assert_eq!(smooth_since_knot(&knots, 5.0, [4.9, 4.8, 4.7]), 2);
+        assert_eq!(smooth_since_knot(&[0.0], 0.3, [0.2, 0.1, 0.0]), 2);
+    }
+
+    /// The weights reproduce every polynomial of degree `known` through the solves' times
+    /// exactly at the next step, on uneven steps too (and sum to 1).
+    #[test]
+    fn extrapolation_is_exact_on_polynomials_of_its_degree() {
+        let f = |t: f64, degree: usize| match degree {
+            0 => 2.5,
+            1 => 2.5 - 1.5 * t,
+            _ => 2.5 - 1.5 * t + 0.75 * t * t,
+        };
+        for (step, h1, h2) in [(0.1, 0.1, 0.1), (0.3, 0.1, 0.05), (0.02, 0.4, 1.3)] {
+            let tk = 1.7;
+            for known in 0..=2 {
+                let w = extrapolation(step, h1, h2, known);
+                let at = [tk, tk - h1, tk - h1 - h2];
+                let guess: f64 = (0..3).map(|k| w[k] * f(at[k], known)).sum();
+                let exact = f(tk + step, known);
+                assert!((guess - exact).abs() < 1e-12, "{known} {step} {h1} {h2}");
+                assert!((w.iter().sum::<f64>() - 1.0).abs() < 1e-12);
+            }
+        }
+    }
 }
