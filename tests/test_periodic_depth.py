@@ -48,7 +48,9 @@ def westergaard_force(separation, t):
 @pytest.mark.parametrize("fraction", [0.5, 0.9, 0.99])
 def test_a_depth_short_of_full_contact_keeps_gaps_open_and_follows_westergaard(fraction):
     d = fraction * full_contact_depth()
-    r = mv.solve(scene(d), "bem")
+    # solved to 1e-12, so that gaps >= -1e-12 of the depth follow from the tolerance (at the
+    # default 1e-10 the bound held only because the iteration stopped where it did)
+    r = mv.solve(scene(d), "bem", tol=1e-12)
     assert np.all(np.isfinite(r.force)) and np.all(r.force > 0)
     np.testing.assert_allclose(r.mean_gap, full_contact_depth() - d, rtol=1e-9)
     gap = r.fields[1.0].gap
