@@ -160,14 +160,9 @@ pub fn run_bem_with(
             _ => {
                 if warm {
                     // start from the pressure extrapolated over the step (Lagrange) through
-                    // the last solves on the load's current stretch (`Loading::knots`):
-                    // quadratic once three are known, an O(dt^3) start on a smooth path
-                    let order = known.min(smooth_since_knot(
-                        loading.knots(),
-                        t,
-                        [t_prev, t_prev - h_prev, t_prev - h_prev - h_prev2],
-                    ));
-                    let [w0, w1, w2] = extrapolation(t - t_prev, h_prev, h_prev2, order);
+                    // the last solves: quadratic once three are known, an O(dt^3) start on
+                    // a smooth path
+                    let [w0, w1, w2] = extrapolation(t - t_prev, h_prev, h_prev2, known);
                     let p = solver.pressure();
                     for i in 0..n {
                         guess[i] = (w0 * p[i] + w1 * p_prev[i] + w2 * p_prev2[i]).max(0.0);
@@ -330,21 +325,6 @@ pub fn run_bytes(
     body.operator_bytes(nx, ny) + per_element * (nx * ny) as f64
 }
 
-/// How many of the solves at `times` (the last first, decreasing) beyond the last one lie
-/// on the stretch of the loading that leads to `t` (s): at or after its last knot before
-/// `t`, where the load last turned. None (0) where the step itself crosses that knot.
-fn smooth_since_knot(knots: &[f64], t: f64, times: [f64; 3]) -> usize {
-    let k = knots.partition_point(|&s| s < t);
-    let from = if k == 0 {
-        f64::NEG_INFINITY
-    } else {
-        knots[k - 1]
-    };
-    let slack = 1e-9 * from.abs();
-    let on = times.iter().take_while(|&&s| s >= from - slack).count();
-    on.saturating_sub(1)
-}
-
 /// Weights (w0, w1, w2) of the pressures at the last three solves (times t_k, t_k - h1,
 /// t_k - h1 - h2; s) in the start of a step of length `step` (s) from t_k: the Lagrange
 /// polynomial through the last `known` + 1 of them (0: the last solve's pressure; 1: the
@@ -367,19 +347,6 @@ fn extrapolation(step: f64, h1: f64, h2: f64, known: usize) -> [f64; 3] {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// Past a knot, only the solves on the load's current stretch count; a step across one
-    /// uses the last solve alone.
-    #[test]
-    fn extrapolation_stays_on_the_loads_stretch() {
-        let knots = [0.0, 1.0, 2.0];
-        assert_eq!(smooth_since_knot(&knots, 0.9, [0.8, 0.7, 0.6]), 2);
-        assert_eq!(smooth_since_knot(&knots, 1.2, [1.1, 1.0, 0.9]), 1);
-        assert_eq!(smooth_since_knot(&knots, 1.1, [1.0, 0.9, 0.8]), 0);
-        assert_eq!(smooth_since_knot(&knots, 1.05, [0.95, 0.85, 0.75]), 0);
-        assert_eq!(smooth_since_knot(&knots, 5.0, [4.9, 4.8, 4.7]), 2);
-        assert_eq!(smooth_since_knot(&[0.0], 0.3, [0.2, 0.1, 0.0]), 2);
-    }
 
     /// The weights reproduce every polynomial of degree `known` through the solves' times
     /// exactly at the next step, on uneven steps too (and sum to 1).

@@ -96,17 +96,6 @@ pub enum Loading {
     Depth(DepthHistory),
 }
 
-impl Loading {
-    /// The times (s) of the history's samples, increasing: the load is linear in time
-    /// between them, and may turn at each.
-    pub fn knots(&self) -> &[f64] {
-        match self {
-            Loading::Force(h) => &h.times,
-            Loading::Depth(h) => &h.samples.times,
-        }
-    }
-}
-
 /// Fails unless `times` are finite, > 0 and strictly increasing.
 pub fn check_output_times(times: &[f64]) -> Result<()> {
     if times.is_empty() {
