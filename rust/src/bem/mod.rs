@@ -6,6 +6,7 @@
 
 pub mod cohesive;
 pub mod contact;
+pub mod nested;
 pub mod static_contact;
 pub mod viscoelastic;
 pub mod viscous;

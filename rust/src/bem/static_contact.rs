@@ -16,6 +16,7 @@
 //! (nested grids) when the grid is large and no start or depth bound is given.
 
 use crate::bem::contact::{ContactSolver, ContactSummary, Target};
+use crate::bem::nested::{averaged, coarsened, prolonged, NESTED_COARSEST, NESTED_TOL};
 use crate::bem::window::Window;
 use crate::halfspace::influence::KernelTable;
 use crate::halfspace::operator::{FftPlans, SurfaceOperator};
@@ -87,8 +88,8 @@ impl StaticRequest<'_> {
 /// whose halves are at least `NESTED_COARSEST` elements (under a depth bound: the window of
 /// the elements with h <= bound at least twice that each way) is started from its solution
 /// on the grid coarsened by two (`coarsened`, solved the same way, with the same depth bound,
-/// at tolerance max(tol, `NESTED_TOL`)), repeated over each element's four children; `solves`
-/// and the iterations count every level.
+/// at tolerance max(tol, `NESTED_TOL`)), carried over to each element's four children
+/// (`nested::prolonged`); `solves` and the iterations count every level.
 pub fn solve(
     grid: &Grid,
     compliance: f64,
@@ -187,7 +188,14 @@ fn solve_sharing(
             };
             let solved = solve_sharing(&coarse, compliance, below, Some(&table), &loose, monitor)?;
             Some((
-                refined(&solved.pressure, nx, ny),
+                prolonged(
+                    &solved.pressure,
+                    &grid.height,
+                    (nx, ny),
+                    grid.body.is_periodic(),
+                    compliance,
+                    grid.dx,
+                ),
                 solved.summary.iterations,
                 solved.solves,
                 solved.level_iterations,
@@ -348,8 +356,9 @@ pub fn solve_bytes(body: Body, nx: usize, ny: usize, precondition: bool) -> f64 
 /// Nested grids: with `opts.precondition`, a cell of even sides whose halves are at least
 /// `NESTED_COARSEST` elements is first solved on the cell coarsened by two (heights averaged
 /// over 2 x 2 elements, an element allowed where all four are), at tolerance
-/// max(tol, `NESTED_TOL`) and recursively, and its pressure, repeated over each element's
-/// four children, starts the solve (rescaled to the force under force control). `solves`
+/// max(tol, `NESTED_TOL`) and recursively, and its pressure, carried over to each element's
+/// four children (`nested::prolonged`), starts the solve (rescaled to the force under force
+/// control). `solves`
 /// counts the levels and the summary's iterations are summed over them. Under depth
 /// control, a cell without a coarse level starts from `load_to_separation`.
 pub fn solve_whole(
@@ -400,7 +409,14 @@ fn solve_whole_from(
                 &loose,
                 monitor,
             )?;
-            solver.set_pressure(&refined(&solved.pressure, nx, ny))?;
+            solver.set_pressure(&prolonged(
+                &solved.pressure,
+                &grid.height,
+                (nx, ny),
+                grid.body.is_periodic(),
+                compliance,
+                grid.dx,
+            ))?;
             Some(solved)
         }
         _ => None,
@@ -538,83 +554,6 @@ pub fn load_to_separation<O: SurfaceOperator>(
     })
 }
 
-/// The smallest side (elements) of a coarse level of a nested solve: below it, a level costs
-/// more in set-up than it saves.
-const NESTED_COARSEST: usize = 128;
-
-/// Relative tolerance of the coarse levels of a nested solve at most: their pressure only
-/// starts the next level. On the benchmark's 2048 x 2048 self-affine cell (5 % contact, tol
-/// 1e-8) the finest level took 60 iterations from a uniform start, 38–42 from coarse levels
-/// solved to 1e-6..1e-3. On held-out self-affine surfaces (Hurst 0.8 at 5 % and 0.3 at 2 %
-/// contact, tol 1e-8) up to 2048 x 2048 the finest level took the same iterations (+-2) from
-/// coarse levels solved to 1e-2 as to 1e-4 or 1e-8, with half the coarse iterations at 1e-2,
-/// but on a free 4096 x 4096 grid 37-38 instead of 35 from 1e-3 or 1e-2, which costs more than
-/// the coarse levels save.
-const NESTED_TOL: f64 = 1e-4;
-
-/// The grid (or periodic cell) `grid` coarsened by two in each direction (heights averaged
-/// over 2 x 2 elements, an element allowed where all four are), when its sides are even,
-/// their halves at least `NESTED_COARSEST` and some element stays allowed.
-fn coarsened(grid: &Grid) -> Option<Grid> {
-    let (nx, ny) = (grid.nx, grid.ny);
-    if nx % 2 != 0 || ny % 2 != 0 || nx.min(ny) / 2 < NESTED_COARSEST {
-        return None;
-    }
-    let (cx, cy) = (nx / 2, ny / 2);
-    let coarse = Grid {
-        nx: cx,
-        ny: cy,
-        dx: 2.0 * grid.dx,
-        height: of_children(&grid.height, nx, |a, b, c, d| 0.25 * (a + b + c + d)),
-        allowed: of_children(&grid.allowed, nx, |a, b, c, d| a && b && c && d),
-        body: grid.body,
-    };
-    coarse.allowed.contains(&true).then_some(coarse)
-}
-
-/// `f` of the four children (row-major: a pair in each of two rows) of each element of the
-/// grid coarsened by two from `fine`, a grid of even sides `nx` wide.
-fn of_children<T: Copy + Default>(fine: &[T], nx: usize, f: impl Fn(T, T, T, T) -> T) -> Vec<T> {
-    let cx = nx / 2;
-    let mut coarse = vec![T::default(); fine.len() / 4];
-    for (row, pair) in coarse.chunks_exact_mut(cx).zip(fine.chunks_exact(2 * nx)) {
-        let (a, b) = pair.split_at(nx);
-        for ((v, a), b) in row.iter_mut().zip(a.chunks_exact(2)).zip(b.chunks_exact(2)) {
-            *v = f(a[0], a[1], b[0], b[1]);
-        }
-    }
-    coarse
-}
-
-/// The pressure `fine` (Pa) of an nx x ny cell averaged over 2 x 2 elements: the pressure
-/// on the cell coarsened by two (`coarsened`), with the same force.
-fn averaged(fine: &[f64], nx: usize, ny: usize) -> Vec<f64> {
-    let (cx, cy) = (nx / 2, ny / 2);
-    (0..cx * cy)
-        .map(|j| {
-            let (r, c) = (2 * (j / cx), 2 * (j % cx));
-            0.25 * (fine[r * nx + c]
-                + fine[r * nx + c + 1]
-                + fine[(r + 1) * nx + c]
-                + fine[(r + 1) * nx + c + 1])
-        })
-        .collect()
-}
-
-/// The pressure (Pa) of a cell coarsened by two repeated over each element's four children
-/// on the `nx` x `ny` cell (sides even).
-fn refined(coarse: &[f64], nx: usize, ny: usize) -> Vec<f64> {
-    let cx = nx / 2;
-    let mut fine = vec![0.0; nx * ny];
-    for (iy, row) in fine.chunks_exact_mut(nx).enumerate() {
-        let from = &coarse[(iy / 2) * cx..(iy / 2 + 1) * cx];
-        for (pair, &v) in row.chunks_exact_mut(2).zip(from) {
-            pair.fill(v);
-        }
-    }
-    fine
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -734,35 +673,6 @@ mod tests {
                 .sum();
             assert!(diff < 1e-8 * total, "{diff} of {total}");
             assert!((nested.summary.depth - single.summary.depth).abs() < 1e-9 * d);
-        }
-    }
-
-    /// Coarsening averages each element's four children (allowed where all four are) and
-    /// refining repeats a coarse element over them, on a grid wider than tall.
-    #[test]
-    fn coarse_levels_average_and_repeat_the_children() {
-        let (nx, ny) = (2 * NESTED_COARSEST + 6, 2 * NESTED_COARSEST);
-        let value = |i: usize| ((i * 7919) % 1013) as f64 / 1013.0;
-        let height: Vec<f64> = (0..nx * ny).map(value).collect();
-        let allowed: Vec<bool> = (0..nx * ny).map(|i| i % 37 != 5).collect();
-        let grid = Grid::new(nx, ny, 0.1, height.clone(), allowed.clone()).unwrap();
-        let coarse = coarsened(&grid).unwrap();
-        let (cx, cy) = (nx / 2, ny / 2);
-        assert_eq!((coarse.nx, coarse.ny, coarse.dx), (cx, cy, 0.2));
-        for j in 0..cx * cy {
-            let c = (2 * (j / cx)) * nx + 2 * (j % cx);
-            let children = [c, c + 1, c + nx, c + nx + 1];
-            let mean = 0.25 * children.iter().map(|&k| height[k]).sum::<f64>();
-            assert_eq!(coarse.height[j], mean, "{j}");
-            assert_eq!(
-                coarse.allowed[j],
-                children.iter().all(|&k| allowed[k]),
-                "{j}"
-            );
-        }
-        let fine = refined(&coarse.height, nx, ny);
-        for (i, v) in fine.iter().enumerate() {
-            assert_eq!(*v, coarse.height[(i / nx / 2) * cx + (i % nx) / 2], "{i}");
         }
     }
 
