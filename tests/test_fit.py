@@ -362,6 +362,17 @@ def test_unknown_fixed_names_are_refused():
                fixed=("tau9",))
 
 
+@pytest.mark.parametrize("n", [7, 2**26 + 1, 4_571_058_572])
+def test_resolutions_out_of_range_are_refused_before_allocating(n):
+    """n above the core's MDR limit (2**26 elements) is refused by name rather than building
+    a profile of n elements (4.6e9 of them: 34 GiB)."""
+    t, depth = triangle(50)
+    force, _, _ = ting_paraboloid_triangle(t, mv.Elastic(G=2e3), R, V, T_PEAK)
+    assert mv._core.MAX_N["mdr"] == 2**26
+    with pytest.raises(mv.InvalidInputError, match=r"fit: n must be an integer in \[8, 67108864\]"):
+        mv.fit(mv.Paraboloid(c=1 / (2 * R)), mv.Elastic, t, depth=depth, force=force, n=n)
+
+
 def test_levenberg_marquardt_matches_scipy():
     """An exponential decay with offset, from a poor start: the same minimum as scipy's
     trust-region least squares (to 1e-8)."""

@@ -56,6 +56,8 @@ QUANTITIES: tuple[tuple[str, str, str], ...]
 SOLVER_DEFAULTS: dict[str, Any]
 #: Resolution of a run that names none, by method ("bem", "mdr").
 DEFAULT_N: dict[str, int]
+#: Largest resolution by method ("bem": elements across the footprint, "mdr": elements).
+MAX_N: dict[str, int]
 
 _Progress = Callable[[str, int, int], object] | None
 _F64 = NDArray[np.float64]

@@ -93,16 +93,19 @@ def _poisson_ratio(owner: str, value: object) -> float:
     return number
 
 
-def _integer(owner: str, name: str, value: object, minimum: int) -> int:
-    """``value`` as an int, or InvalidInputError unless it is an integer >= ``minimum`` that
-    the compiled core can take (bools and floats are refused, not truncated)."""
+def _integer(owner: str, name: str, value: object, minimum: int, maximum: int | None = None) -> int:
+    """``value`` as an int, or InvalidInputError unless it is an integer in [``minimum``,
+    ``maximum``] (default: the largest the compiled core can take; bools and floats are
+    refused, not truncated)."""
     try:
         number = None if isinstance(value, (bool, np.bool_)) else operator.index(value)  # type: ignore[arg-type]
     except TypeError:
         number = None
-    if number is None or number < minimum or number > _LARGEST_INTEGER:
+    top = _LARGEST_INTEGER if maximum is None else maximum
+    if number is None or number < minimum or number > top:
+        shown = "2**63 - 1" if maximum is None else str(maximum)
         raise InvalidInputError(
-            f"{owner}: {name} must be an integer in [{minimum}, 2**63 - 1], got {value!r:.80}")
+            f"{owner}: {name} must be an integer in [{minimum}, {shown}], got {value!r:.80}")
     return number
 
 

@@ -24,6 +24,7 @@ import warnings
 import numpy as np
 from numpy.typing import ArrayLike
 
+from . import _core
 from ._afm_raw import BASELINE_SAMPLES, BASELINES, RAW_NAMES, AfmCurve, raw_input
 from ._fit_adhesion import WORK_OF_ADHESION, AdhesiveProblem, check_contact, reach_margin, tip_radius
 from ._fit_checks import array, check_times, covariance, identifiability
@@ -297,7 +298,8 @@ def fit(indenter: Indenter, model: _Medium | type, t: ArrayLike, *, depth: Array
         separates the times far better than an approach and retract at one speed.
     n : int
         Elements of the half 1D profile, which reaches 1.1 (depth control) or 1.5 (force
-        control, raw AFM curves) times the largest contact radius of the data.
+        control, raw AFM curves) times the largest contact radius of the data; 8 to 2**26
+        (``mdrvisc._core.MAX_N["mdr"]``).
     substeps : int
         Time steps per sample interval (the stepping's error falls as substeps^-2 while the
         contact grows).
@@ -492,7 +494,7 @@ def _problem(indenter, model, t, depth, force, piezo, deflection, spring_constan
         raise InvalidInputError(f"fit: baseline_model must be one of {BASELINES}, got {baseline_model!r}")
     if body is not None and not isinstance(body, Layer):
         raise InvalidInputError(f"fit: body must be an mdrvisc.Layer or None, got {body!r:.200}")
-    n = _integer("fit", "n", n, 8)
+    n = _integer("fit", "n", n, 8, _core.MAX_N["mdr"])
     substeps = _integer("fit", "substeps", substeps, 1)
     data = _read_data(t, depth, force, piezo, deflection, spring_constant, contact_point, baseline, control,
                       weights, baseline_model)

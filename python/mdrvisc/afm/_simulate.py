@@ -176,7 +176,7 @@ def simulate(indenter: Indenter, medium: _Medium, t: ArrayLike, piezo: ArrayLike
         up to the deepest piezo position, dwell while it stays there, retract after.
     n : int
         Elements of the half 1D profile (which reaches 1.1 times the contact radius at the
-        largest drive past the contact point).
+        largest drive past the contact point); 8 to 2**26 (``mdrvisc._core.MAX_N["mdr"]``).
     substeps : int
         Time steps per sample interval where the elements are stepped.
 
@@ -198,7 +198,7 @@ def simulate(indenter: Indenter, medium: _Medium, t: ArrayLike, piezo: ArrayLike
     if not isinstance(medium, _Medium):
         raise InvalidInputError(f"simulate: medium must be an mdrvisc medium instance, got {medium!r}")
     k = _positive("simulate: spring_constant", spring_constant)
-    n = _integer("simulate", "n", n, 8)
+    n = _integer("simulate", "n", n, 8, _core.MAX_N["mdr"])
     substeps = _integer("simulate", "substeps", substeps, 1)
     t = np.array(t, dtype=float).ravel()
     z = np.array(piezo, dtype=float).ravel()

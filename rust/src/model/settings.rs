@@ -131,6 +131,15 @@ pub const MAX_MDR_N: usize = 1 << 26;
 /// Viscoelastic steps per duration when neither the scene nor the settings give dt.
 pub const DEFAULT_STEPS: f64 = 500.0;
 
+/// Largest resolution of a method: `MAX_BEM_N` elements across a BEM footprint, `MAX_MDR_N`
+/// MDR elements.
+pub fn max_n(method: Method) -> usize {
+    match method {
+        Method::Bem => MAX_BEM_N,
+        Method::Mdr => MAX_MDR_N,
+    }
+}
+
 /// Resolution of a run that names none: the paper's, 257 x 257 BEM elements over the
 /// footprint or 66049 MDR elements.
 pub fn default_n(method: Method) -> usize {
@@ -169,10 +178,7 @@ impl RunSettings {
 
     /// Fails on resolutions out of range or bad tolerances.
     pub fn validate(&self) -> Result<()> {
-        let limit = match self.method {
-            Method::Bem => MAX_BEM_N,
-            Method::Mdr => MAX_MDR_N,
-        };
+        let limit = max_n(self.method);
         if self.n == 0 || self.n > limit {
             return Err(Error::InvalidInput(format!(
                 "{} resolution n must be in 1..={limit}, got {}",

@@ -1,11 +1,11 @@
 //! The crate's schema, for the Python package to build its own lists from: the outputs a
 //! scene may ask for, the quantities of a report with their units, the solver's defaults
-//! and the default resolutions.
+//! and the default and largest resolutions.
 
 use crate::model::quantities::QUANTITIES;
-use crate::model::settings::default_n;
 use crate::model::settings::ExplicitControl;
 use crate::model::settings::SolverOptions;
+use crate::model::settings::{default_n, max_n};
 use crate::model::{Integrator, Method, Output};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
@@ -45,5 +45,10 @@ pub(crate) fn add(m: &Bound<'_, PyModule>) -> PyResult<()> {
         resolutions.set_item(method.name(), default_n(method))?;
     }
     m.add("DEFAULT_N", resolutions)?;
+    let limits = PyDict::new(py);
+    for method in [Method::Bem, Method::Mdr] {
+        limits.set_item(method.name(), max_n(method))?;
+    }
+    m.add("MAX_N", limits)?;
     Ok(())
 }
