@@ -12,6 +12,7 @@ __all__ = [
     "EQUIVALENT_CONE_FACTOR",
     "MAGNITUDE",
     "MAX_FILE_BYTES",
+    "MAX_N",
     "OUTPUTS",
     "QUANTITIES",
     "SOLVER_DEFAULTS",

@@ -80,29 +80,25 @@ pub(super) fn averaged(fine: &[f64], nx: usize, ny: usize) -> Vec<f64> {
 /// patches span many elements and the pressure varies smoothly across them.
 const REDISTRIBUTION: f64 = 0.4;
 
-/// The start (Pa) of a nested solve's `nx` x `ny` level (sides even, heights `height` in m,
-/// element side `dx` in m, gap = `compliance` u + h - depth with u the deflection of unit
-/// compliance) from the pressure `coarse` (Pa) of the level coarsened by two: each coarse
-/// element's pressure P repeated over its four children, except on the edges of the contact
-/// patches (a coarse element with pressure with one of its four neighbours without, or, on a
-/// grid that does not wrap (`periodic` false), on the grid's edge), where the children share
+/// The start (Pa) of a nested solve's level `fine` (sides even; gap = `compliance` u + h -
+/// depth, u the deflection at unit compliance) from the pressure `coarse` (Pa) of the level
+/// coarsened by two (`coarsened`): each coarse element's pressure P repeated over its four
+/// children, except on the edges of the contact patches (a coarse element with pressure with
+/// one of its four neighbours without, or, on a grid that does not wrap, on the grid's
+/// edge), where the children share
 /// 4 P by their heights: a child below the four's mean height by dh (m) takes P +
 /// `REDISTRIBUTION` dh / (compliance kappa), none less than zero, the four rescaled to 4 P.
 /// kappa = K(0, 0) - K(1, 0) is the deflection of an element under its own unit pressure less
-/// its neighbour's (the half-space's coefficients of side `dx`, m/Pa at unit compliance), the
+/// its neighbour's (the half-space's coefficients of the element's side, m/Pa at unit
+/// compliance; a start, so a layer takes them too), the
 /// stiffness of a pressure difference between neighbours. A patch's edge runs through its
 /// coarse edge elements, where repeating P puts pressure on children that do not touch: on
 /// rough surfaces those were most of the elements the finest level's first iterations
 /// released. Every coarse element keeps its force, so the start carries the coarse force.
-pub(super) fn prolonged(
-    coarse: &[f64],
-    height: &[f64],
-    (nx, ny): (usize, usize),
-    periodic: bool,
-    compliance: f64,
-    dx: f64,
-) -> Vec<f64> {
-    let mut fine = refined(coarse, nx, ny);
+pub(super) fn prolonged(coarse: &[f64], fine: &Grid, compliance: f64) -> Vec<f64> {
+    let (nx, ny, dx, height) = (fine.nx, fine.ny, fine.dx, &fine.height);
+    let periodic = fine.body.is_periodic();
+    let mut start = refined(coarse, nx, ny);
     let (cx, cy) = (nx / 2, ny / 2);
     let kappa = influence::coefficient(0, 0, dx) - influence::coefficient(1, 0, dx);
     let weight = REDISTRIBUTION / (compliance * kappa);
@@ -115,7 +111,8 @@ pub(super) fn prolonged(
             0.0
         }
     };
-    fine.par_chunks_exact_mut(2 * nx)
+    start
+        .par_chunks_exact_mut(2 * nx)
         .enumerate()
         .for_each(|(y, rows)| {
             let (top, bottom) = rows.split_at_mut(nx);
@@ -144,7 +141,7 @@ pub(super) fn prolonged(
                 bottom[2 * x..2 * x + 2].copy_from_slice(&[c, d]);
             }
         });
-    fine
+    start
 }
 
 /// The pressure (Pa) of a cell coarsened by two repeated over each element's four children
@@ -233,9 +230,18 @@ mod tests {
         let height: Vec<f64> = (0..nx * ny)
             .map(|i| 1e-3 * (((i * 7919) % 1013) as f64 / 1013.0))
             .collect();
-        let (compliance, dx) = (0.5, 0.01);
+        let free = Grid::new(nx, ny, 0.01, height.clone(), vec![true; nx * ny]).unwrap();
         for periodic in [true, false] {
-            let fine = prolonged(&coarse, &height, (nx, ny), periodic, compliance, dx);
+            let body = if periodic {
+                Body::Periodic
+            } else {
+                Body::HalfSpace
+            };
+            let grid = Grid {
+                body,
+                ..free.clone()
+            };
+            let fine = prolonged(&coarse, &grid, 0.5);
             for y in 0..cy {
                 for x in 0..cx {
                     let p = coarse[y * cx + x];
@@ -312,7 +318,7 @@ mod tests {
             (l1, off.count())
         };
         let (l1_rep, off_rep) = distance(&refined(&coarse.pressure, n, n));
-        let start = prolonged(&coarse.pressure, &grid.height, (n, n), true, 1.0, grid.dx);
+        let start = prolonged(&coarse.pressure, &grid, 1.0);
         let (l1_pro, off_pro) = distance(&start);
         assert!(l1_pro < 0.75 * l1_rep, "{l1_pro} {l1_rep}");
         assert!(off_pro < off_rep, "{off_pro} {off_rep}");

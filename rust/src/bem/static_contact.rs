@@ -188,14 +188,7 @@ fn solve_sharing(
             };
             let solved = solve_sharing(&coarse, compliance, below, Some(&table), &loose, monitor)?;
             Some((
-                prolonged(
-                    &solved.pressure,
-                    &grid.height,
-                    (nx, ny),
-                    grid.body.is_periodic(),
-                    compliance,
-                    grid.dx,
-                ),
+                prolonged(&solved.pressure, grid, compliance),
                 solved.summary.iterations,
                 solved.solves,
                 solved.level_iterations,
@@ -409,14 +402,7 @@ fn solve_whole_from(
                 &loose,
                 monitor,
             )?;
-            solver.set_pressure(&prolonged(
-                &solved.pressure,
-                &grid.height,
-                (nx, ny),
-                grid.body.is_periodic(),
-                compliance,
-                grid.dx,
-            ))?;
+            solver.set_pressure(&prolonged(&solved.pressure, grid, compliance))?;
             Some(solved)
         }
         _ => None,
