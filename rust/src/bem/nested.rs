@@ -70,14 +70,16 @@ pub(super) fn averaged(fine: &[f64], nx: usize, ny: usize) -> Vec<f64> {
 }
 
 /// Weight of the redistribution among an edge element's children in [`prolonged`], a
-/// fraction of the local equilibrium estimate. On `benchmarks/bench_rough.py`'s held-out
-/// surfaces (Hurst 0.3, 0.5, 0.8 at 2, 5 and 20 % contact, tol 1e-8) the levels' iterations,
-/// weighted by their cost (a quarter per level down), summed over the nine cases at 512^2
-/// fell from 221 (none) to 208, 206, 205 at 0.25, 0.4, 0.6 (periodic; free: 305 to 275 at
-/// 0.4), and on the 1024^2 cells (Hurst 0.8 at 5 %, 0.3 at 2 %, 0.5 at 20 %) from 83 to 76,
-/// 76 and 79. Redistributing in every contact element, not only at patch edges, did as well
-/// at 512^2 but cost the 2048^2 cell's finest level 3 of its 22 iterations, where the
-/// patches span many elements and the pressure varies smoothly across them.
+/// fraction of the local equilibrium estimate. On `benchmarks/bench_rough.py`'s surfaces
+/// (Hurst 0.3, 0.5, 0.8 at 2, 5 and 20 % contact, tol 1e-8) the levels' iterations, weighted
+/// by their cost (a quarter per level down), summed over the nine cases at 512^2 fell from
+/// 221 (none) to 208, 206, 205 at 0.25, 0.4, 0.6 (periodic; free: 305 to 275 at 0.4), and on
+/// the 1024^2 cells (Hurst 0.8 at 5 %, 0.3 at 2 %, 0.5 at 20 %) from 83 to 76, 76 and 79; on
+/// surfaces of another generator (`mv.surfaces.self_affine`, Hurst 0.5 and 0.8) the weight
+/// 0.4 cut them by 3.5 % to 14 % at 512^2 and 1024^2, free and periodic. Redistributing in
+/// every contact element, not only at patch edges, did as well at 512^2 but cost the 2048^2
+/// cell's finest level 3 of its 22 iterations, where the patches span many elements and the
+/// pressure varies smoothly across them.
 const REDISTRIBUTION: f64 = 0.4;
 
 /// The start (Pa) of a nested solve's level `fine` (sides even; gap = `compliance` u + h -
@@ -85,16 +87,16 @@ const REDISTRIBUTION: f64 = 0.4;
 /// coarsened by two (`coarsened`): each coarse element's pressure P repeated over its four
 /// children, except on the edges of the contact patches (a coarse element with pressure with
 /// one of its four neighbours without, or, on a grid that does not wrap, on the grid's
-/// edge), where the children share
-/// 4 P by their heights: a child below the four's mean height by dh (m) takes P +
-/// `REDISTRIBUTION` dh / (compliance kappa), none less than zero, the four rescaled to 4 P.
-/// kappa = K(0, 0) - K(1, 0) is the deflection of an element under its own unit pressure less
-/// its neighbour's (the half-space's coefficients of the element's side, m/Pa at unit
-/// compliance; a start, so a layer takes them too), the
-/// stiffness of a pressure difference between neighbours. A patch's edge runs through its
-/// coarse edge elements, where repeating P puts pressure on children that do not touch: on
-/// rough surfaces those were most of the elements the finest level's first iterations
-/// released. Every coarse element keeps its force, so the start carries the coarse force.
+/// edge), where the children share 4 P by their heights: a child below the four's mean
+/// height by dh (m) takes P + `REDISTRIBUTION` dh / (compliance kappa), none less than zero,
+/// the four rescaled to 4 P. kappa = K(0, 0) - K(1, 0) is the deflection of an element under
+/// its own unit pressure less its neighbour's (the half-space's coefficients of the
+/// element's side, m/Pa at unit compliance; the result is a start, so a layer takes them
+/// too), the stiffness of a pressure difference between neighbours. A patch's edge runs
+/// through its coarse edge elements, where repeating P puts pressure on children that do not
+/// touch: on rough surfaces those were most of the elements the finest level's first
+/// iterations released. Every coarse element keeps its force, so the start carries the
+/// coarse force.
 pub(super) fn prolonged(coarse: &[f64], fine: &Grid, compliance: f64) -> Vec<f64> {
     let (nx, ny, dx, height) = (fine.nx, fine.ny, fine.dx, &fine.height);
     let periodic = fine.body.is_periodic();
