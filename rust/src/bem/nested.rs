@@ -33,7 +33,7 @@ pub(super) fn coarsened(grid: &Grid) -> Option<Grid> {
         nx: cx,
         ny: cy,
         dx: 2.0 * grid.dx,
-        height: of_children(&grid.height, nx, |a, b, c, d| 0.25 * (a + b + c + d)),
+        height: averaged(&grid.height, nx),
         allowed: of_children(&grid.allowed, nx, |a, b, c, d| a && b && c && d),
         body: grid.body,
     };
@@ -54,19 +54,11 @@ fn of_children<T: Copy + Default>(fine: &[T], nx: usize, f: impl Fn(T, T, T, T) 
     coarse
 }
 
-/// The pressure `fine` (Pa) of an nx x ny cell averaged over 2 x 2 elements: the pressure
-/// on the cell coarsened by two (`coarsened`), with the same force.
-pub(super) fn averaged(fine: &[f64], nx: usize, ny: usize) -> Vec<f64> {
-    let (cx, cy) = (nx / 2, ny / 2);
-    (0..cx * cy)
-        .map(|j| {
-            let (r, c) = (2 * (j / cx), 2 * (j % cx));
-            0.25 * (fine[r * nx + c]
-                + fine[r * nx + c + 1]
-                + fine[(r + 1) * nx + c]
-                + fine[(r + 1) * nx + c + 1])
-        })
-        .collect()
+/// The pressure (or height) `fine` of a grid of even sides `nx` wide averaged over each
+/// element's four children: its value on the grid coarsened by two (`coarsened`), a
+/// pressure with the same force.
+pub(super) fn averaged(fine: &[f64], nx: usize) -> Vec<f64> {
+    of_children(fine, nx, |a, b, c, d| 0.25 * (a + b + c + d))
 }
 
 /// Weight of the redistribution among an edge element's children in [`prolonged`], a
@@ -163,11 +155,11 @@ fn refined(coarse: &[f64], nx: usize, ny: usize) -> Vec<f64> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::bem::contact::tests::rough_separation;
     use crate::bem::contact::Target;
     use crate::bem::static_contact::solve_whole;
     use crate::model::body::Body;
     use crate::model::settings::SolverOptions;
-    use crate::model::surfaces::{self_affine, Roughness, SelfAffine};
     use crate::support::monitor::Silent;
 
     /// Coarsening averages each element's four children (allowed where all four are) and
@@ -278,21 +270,11 @@ mod tests {
     #[test]
     fn prolonged_starts_nearer_the_fine_solution_than_repeated() {
         let n = 256;
-        let surface = SelfAffine {
-            nx: n,
-            ny: n,
-            dx: 1.0 / n as f64,
-            hurst: 0.5,
-            rolloff: Some(0.25),
-            short_cutoff: None,
-            roughness: Roughness::RmsSlope(0.1),
-        };
-        let h = self_affine(&surface, 11, &Default::default()).unwrap();
-        let low = h.iter().fold(f64::INFINITY, |m, &v| m.min(v));
-        let h = h.iter().map(|v| v - low).collect();
+        let dx = 1.0 / n as f64;
+        let h = rough_separation(n, dx, 0.5, 11);
         let grid = Grid {
             body: Body::Periodic,
-            ..Grid::new(n, n, surface.dx, h, vec![true; n * n]).unwrap()
+            ..Grid::new(n, n, dx, h, vec![true; n * n]).unwrap()
         };
         let coarse = coarsened(&grid).unwrap();
         let opts = SolverOptions {

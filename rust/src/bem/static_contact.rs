@@ -392,7 +392,7 @@ fn solve_whole_from(
                 tol: opts.tol.max(NESTED_TOL),
                 ..*opts
             };
-            let below = start.map(|p| averaged(p, nx, ny));
+            let below = start.map(|p| averaged(p, nx));
             let solved = solve_whole_from(
                 &coarse,
                 compliance,

@@ -404,7 +404,7 @@ impl<O: SurfaceOperator> ContactSolver<O> {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     //! Test problems shared by the algorithms' tests, and the test of `Tuning`.
 
     use super::*;
@@ -454,7 +454,7 @@ mod tests {
 
     /// The separation (m) before loading of a self-affine n x n surface (rms slope 0.1,
     /// wavelengths down to 4 elements) of Hurst exponent `hurst` from `seed`, its top at 0.
-    pub(super) fn rough_separation(n: usize, dx: f64, hurst: f64, seed: u64) -> Vec<f64> {
+    pub(crate) fn rough_separation(n: usize, dx: f64, hurst: f64, seed: u64) -> Vec<f64> {
         use crate::model::surfaces::{self_affine, Roughness, SelfAffine};
         let surface = SelfAffine {
             nx: n,
