@@ -13,19 +13,59 @@ use faer::linalg::solvers::Solve;
 use faer::{Mat, Side};
 
 impl<O: SurfaceOperator> ContactSolver<O> {
-    /// Dense primal-dual active-set solve (Hintermüller et al. 2002): on the set S solve
-    /// compliance K_SS p_S = d - h_S (with sum p_S dA = W under force control) by faer's
-    /// Cholesky, then drop elements with p <= 0 and add those that overlap (one operator
-    /// apply for the gaps), until the set repeats; the solution is then exact up to
-    /// round-off. Starts from the current contact (`warm`) or from the set of a Winkler
-    /// foundation with the self-influence coefficient. None when the start set exceeds the
-    /// limit (`opts.active_limit`, or automatic), an iterate exceeds `active_overshoot` times
-    /// the limit, the iteration takes more than `active_max_iter` iterations or cycles, or K_SS
-    /// is not positive definite: the caller falls back to Polonsky–Keer.
+    /// The start set of the dense active-set solve on `pb`: the elements with pressure
+    /// (`warm`), else those of a Winkler foundation with the self-influence coefficient
+    /// (force control) or those that overlap (depth control); None when it is empty or
+    /// exceeds the limit (`opts.active_limit`, or automatic), so that a solve the dense
+    /// method declines copies nothing. A warm set is counted only up to the limit.
+    pub(super) fn active_start(
+        &self,
+        pb: &Problem,
+        warm: bool,
+        opts: &SolverOptions,
+    ) -> Option<Vec<usize>> {
+        let n = self.p.len();
+        let (dx, c) = (self.op.dx(), pb.compliance);
+        let limit = self.active_limit(n, opts);
+        let start = if warm {
+            let in_set = |i: &usize| pb.allowed[*i] && self.p[*i] > 0.0;
+            (0..n)
+                .filter(in_set)
+                .nth(limit)
+                .is_none()
+                .then(|| (0..n).filter(in_set).collect())
+        } else {
+            match pb.target {
+                Target::Depth(d) => overlap_set(pb.h, pb.allowed, d - pb.gap_tol, limit),
+                Target::Force(w) => {
+                    let stiffness = 1.0 / (c * influence::coefficient(0, 0, dx));
+                    winkler_set(pb.h, pb.allowed, w / (dx * dx * stiffness), limit)
+                }
+            }
+        };
+        start.filter(|s: &Vec<usize>| !s.is_empty())
+    }
+
+    /// The largest set of the dense active-set solve on a grid of `n` elements:
+    /// `opts.active_limit`, else the tuning's crossover capped at `active_cap`.
+    fn active_limit(&self, n: usize, opts: &SolverOptions) -> usize {
+        let tuning = self.tuning;
+        opts.active_limit
+            .unwrap_or_else(|| tuning.active_crossover(n).min(tuning.active_cap))
+    }
+
+    /// Dense primal-dual active-set solve (Hintermüller et al. 2002) from the set `start`
+    /// (`active_start`): on the set S solve compliance K_SS p_S = d - h_S (with
+    /// sum p_S dA = W under force control) by faer's Cholesky, then drop elements with
+    /// p <= 0 and add those that overlap (one operator apply for the gaps), until the set
+    /// repeats; the solution is then exact up to round-off. None when an iterate exceeds
+    /// `active_overshoot` times the limit, the iteration takes more than `active_max_iter`
+    /// iterations or cycles, or K_SS is not positive definite: the caller falls back to
+    /// Polonsky–Keer.
     pub(super) fn solve_active_set(
         &mut self,
         pb: &Problem,
-        warm: bool,
+        start: Vec<usize>,
         opts: &SolverOptions,
         monitor: &mut dyn Monitor,
     ) -> Result<Option<ContactSummary>> {
@@ -33,25 +73,8 @@ impl<O: SurfaceOperator> ContactSolver<O> {
         let (dx, c) = (self.op.dx(), pb.compliance);
         let area = dx * dx;
         let tuning = self.tuning;
-        let limit = opts
-            .active_limit
-            .unwrap_or_else(|| tuning.active_crossover(n).min(tuning.active_cap));
-        let start = if warm {
-            // counted first: a large warm set (the common case of a time step) allocates nothing
-            let in_set = |i: &usize| pb.allowed[*i] && self.p[*i] > 0.0;
-            ((0..n).filter(in_set).count() <= limit).then(|| (0..n).filter(in_set).collect())
-        } else {
-            match pb.target {
-                Target::Depth(d) => overlap_set(pb.h, pb.allowed, d - pb.gap_tol, limit),
-                Target::Force(w) => {
-                    let stiffness = 1.0 / (c * influence::coefficient(0, 0, dx));
-                    winkler_set(pb.h, pb.allowed, w / (area * stiffness), limit)
-                }
-            }
-        };
-        let Some(mut set) = start.filter(|s| !s.is_empty()) else {
-            return Ok(None);
-        };
+        let limit = self.active_limit(n, opts);
+        let mut set = start;
         let mut member = vec![false; n];
         for it in 1..=tuning.active_max_iter {
             let m = set.len();

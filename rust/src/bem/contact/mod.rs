@@ -392,9 +392,12 @@ impl<O: SurfaceOperator> ContactSolver<O> {
             height_scale,
             gap_tol,
         };
-        if opts.active_limit != Some(0) {
+        let start = (opts.active_limit != Some(0))
+            .then(|| self.active_start(&problem, warm, opts))
+            .flatten();
+        if let Some(start) = start {
             self.p_old.copy_from_slice(&self.p);
-            if let Some(summary) = self.solve_active_set(&problem, warm, opts, monitor)? {
+            if let Some(summary) = self.solve_active_set(&problem, start, opts, monitor)? {
                 return Ok(summary);
             }
             self.p.copy_from_slice(&self.p_old);
