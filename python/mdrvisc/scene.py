@@ -138,8 +138,11 @@ class Scene:
         forces in N, >= 0), held after its last sample, or a callable F(t) (sampled at 4001
         points over the duration). An elastic scene solves for its final force, statically.
     depth : float, (array, array) or callable
-        Instead of ``force``: a prescribed depth history (m; negative = above the surface) of
-        a time-dependent medium. Give exactly one of the two.
+        Instead of ``force``: a prescribed depth history (m; negative = above the surface).
+        Give exactly one of the two. An elastic scene solves statically at its final depth,
+        for the force (the displacement control of rough-contact codes): the approach from
+        the first touch, on a periodic :class:`~mdrvisc.HeightMap` from the deflected
+        surface's mean plane (mean gap = mean height below the highest point - depth).
     duration : float, optional
         Simulated time (s); required unless the medium is elastic.
     times : array_like, optional

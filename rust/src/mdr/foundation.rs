@@ -102,6 +102,13 @@ impl Foundation {
         self.law.depth_for_compression(&self.surface, s)
     }
 
+    /// The elements' total compression (m) at depth `d` (m) and how many touch: under hard
+    /// contact sum max(d - g_i, 0), the load over the element stiffness that holds the
+    /// foundation at that depth. Exact up to round-off.
+    pub fn compression_at(&self, d: f64) -> (f64, usize) {
+        self.law.compression_at(&self.surface, d)
+    }
+
     /// Element compressions (m) at depth `d` (max(d - g_i, 0) under hard contact).
     pub fn displacements(&self, d: f64) -> Vec<f64> {
         self.profile

@@ -206,8 +206,8 @@ pub struct Scene {
     /// Force history (N); give this or `depth`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub force: Option<History>,
-    /// Depth history (m; negative holds the tip above the surface) of a time-dependent
-    /// medium.
+    /// Depth history (m; negative holds the tip above the surface); give this or `force`.
+    /// An elastic scene is solved statically at its last depth, for the force.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub depth: Option<History>,
     /// Simulated time (s); required unless the medium is elastic (a static solve).
@@ -262,11 +262,6 @@ impl Scene {
                 f.force(self.contact)?;
             }
             (None, Some(d)) => {
-                if self.is_static() {
-                    return Err(Error::InvalidInput(
-                        "depth control needs a time-dependent medium or an adhesive contact, not an elastic one".into(),
-                    ));
-                }
                 let start = d.depth()?.depth(0.0);
                 if self.medium.has_dashpot() && start > 0.0 {
                     return Err(Error::InvalidInput(format!(

@@ -12,8 +12,8 @@ use crate::mdr::layer::{
     depth_at_radius, element_weights, layered_profile, run_mdr_layer, CHI_MAX,
 };
 use crate::model::body::{Base, Layer};
-use crate::model::indenter::{bisect_radius, Reach};
-use crate::model::loading::{ForceHistory, Loading};
+use crate::model::indenter::{bisect_radius, Footprint, Reach};
+use crate::model::loading::{DepthHistory, ForceHistory, Loading};
 use crate::model::medium::rheology::Rheology;
 use crate::model::settings::RunSettings;
 use crate::model::{Medium, Output, Scene};
@@ -62,7 +62,14 @@ pub(super) fn run(
             Medium::Elastic { g, .. } => g,
             _ => unreachable!("a static scene has an elastic medium"),
         };
-        let force = scene.force.as_ref().expect("validated: force").last();
+        // the final force or depth, held
+        let loading = match (&scene.force, &scene.depth) {
+            (Some(f), _) => Loading::Force(ForceHistory::constant(f.last())?),
+            (None, Some(d)) => {
+                Loading::Depth(DepthHistory::piecewise_linear(vec![0.0], vec![d.last()])?)
+            }
+            (None, None) => unreachable!("validated: force or depth"),
+        };
         let request = Request {
             times: &[1.0],
             dt: 1.0,
@@ -74,7 +81,7 @@ pub(super) fn run(
             dx,
             &weights,
             &Rheology::new(shear, vec![], 0.0)?,
-            &Loading::Force(ForceHistory::constant(force)?),
+            &loading,
             &request,
             monitor,
         )?;
@@ -102,6 +109,11 @@ pub(super) fn run(
     Ok(report_from(settings, dx, "viscoelastic", &mut s, wanted))
 }
 
+/// Relative distance inside a disc footprint's rim at which [`radius_at_depth`] ends its
+/// search: a sphere's MDR profile is defined on the open disc and diverges (logarithmically)
+/// at the rim.
+const INSIDE_RIM: f64 = 1e-9;
+
 /// The contact radius (m) of the scene's axisymmetric indenter on `layer` at depth `depth`
 /// (m): the radius whose edge pressure is regular at that depth (`depth_at_radius`, exact
 /// for an elastic layer, and for a viscoelastic one under a depth history, whose contact
@@ -115,17 +127,27 @@ pub(super) fn run(
 /// surface; a compressible bonded layer lies between it and the Winkler foundation's
 /// intersection); on a frictionless base (a Winkler foundation at every nu) the radius
 /// where the indenter's height is the depth, widened by the contact's excess over that
-/// radius at `CHI_MAX` thicknesses. None for an indenter without an MDR profile (a height
-/// map) or whose profile ends before (a sphere's, at its radius).
+/// radius at `CHI_MAX` thicknesses. An indenter whose footprint is a disc narrower than
+/// `CHI_MAX` thicknesses (a sphere's, at its radius) is searched within the disc, and a
+/// depth beyond the disc's takes the whole disc. None for an indenter without an MDR
+/// profile (a height map).
 pub(super) fn radius_at_depth(scene: &Scene, layer: Layer, depth: f64) -> Result<Option<f64>> {
     let indenter = &scene.indenter;
     let nu = scene.medium.nu();
     let profile = |x: f64| indenter.profile_1d(x);
     let depth_at = |a: f64| depth_at_radius(&profile, a, layer, nu);
-    let top = CHI_MAX * layer.thickness;
+    let disc = match indenter.footprint() {
+        Footprint::Disc { radius, .. } if radius < CHI_MAX * layer.thickness => Some(radius),
+        _ => None,
+    };
+    // a disc is searched up to just inside its rim, where the MDR profile is defined
+    let top = disc.map_or(CHI_MAX * layer.thickness, |r| r * (1.0 - INSIDE_RIM));
     let (Ok(deepest), true) = (depth_at(top), depth > 0.0) else {
         return Ok(None);
     };
+    if deepest < depth && disc.is_some() {
+        return Ok(disc);
+    }
     if deepest >= depth {
         let disc = Reach::Disc {
             radius: top,

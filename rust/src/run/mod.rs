@@ -307,8 +307,9 @@ fn refuse(scene: &Scene, outputs: &[Output], why: &str) -> Result<()> {
     }
 }
 
-/// A static solve (elastic medium), by BEM started from the pressure `start` (Pa, on the
-/// grid) when given; the report, and by BEM with `keep` the solution's pressure on the grid.
+/// A static solve (elastic medium) under the scene's final force or depth, by BEM started
+/// from the pressure `start` (Pa, on the grid) when given; the report, and by BEM with
+/// `keep` the solution's pressure on the grid.
 fn run_static(
     scene: &Scene,
     settings: &RunSettings,
@@ -330,20 +331,26 @@ fn run_static(
         Medium::Elastic { g, .. } => g,
         _ => unreachable!("run_static is called for elastic media"),
     };
-    let force = scene.force.as_ref().expect("validated: force").last();
+    let target = match (&scene.force, &scene.depth) {
+        (Some(f), _) => Target::Force(f.last()),
+        (None, Some(d)) => Target::Depth(d.last()),
+        (None, None) => unreachable!("validated: force or depth"),
+    };
     let n = settings.n;
     let wanted = Wanted::of(scene);
     match settings.method {
         Method::Bem => {
             let grid = bem_grid(scene, n)?;
-            let bound = scene
-                .indenter
-                .depth_at_load(force / (4.0 * shear))
-                .ok()
-                .flatten()
-                .map(|d| DEPTH_BOUND_FACTOR * d);
+            let bound = match target {
+                Target::Force(force) => scene
+                    .indenter
+                    .depth_at_load(force / (4.0 * shear))
+                    .ok()
+                    .flatten()
+                    .map(|d| DEPTH_BOUND_FACTOR * d),
+                Target::Depth(d) => Some(d),
+            };
             let deflection = wanted.deflection || wanted.height_map;
-            let target = Target::Force(force);
             let req = static_contact::StaticRequest {
                 target,
                 depth_bound: bound.filter(|_| grid.body.windows()),
@@ -352,6 +359,10 @@ fn run_static(
             };
             let r = static_contact::solve(&grid, 1.0 / shear, req, &settings.solver, monitor)?;
             let pressure = keep.then(|| r.pressure.clone());
+            let force = match target {
+                Target::Force(force) => force,
+                Target::Depth(_) => r.summary.force,
+            };
             Ok((
                 bem_static_report(settings, &grid, force, r, wanted),
                 pressure,
@@ -364,6 +375,11 @@ fn run_static(
             } else {
                 vec![]
             };
+            // under depth control, the force of the springs (4 G dx each) compressed at it
+            let force = match target {
+                Target::Force(force) => force,
+                Target::Depth(d) => 4.0 * shear * f.dx() * f.compression_at(d).0,
+            };
             let mut s = foundation::run(
                 &f,
                 foundation::Elements::Elastic { g: shear },
@@ -372,9 +388,13 @@ fn run_static(
                 &fields_at,
                 monitor,
             )?;
-            // one solve and no time step; the report is at t = 0
+            // one solve and no time step; the report is at t = 0, at the depth held (the
+            // root of its force is that depth to round-off where the indenter touches)
             s.steps = 0;
             s.t = vec![0.0];
+            if let Target::Depth(d) = target {
+                s.depth = vec![d];
+            }
             let at: Vec<(f64, usize)> = fields_at.iter().map(|&k| (0.0, k)).collect();
             Ok((
                 mdr_report(scene, settings, f.dx(), "static", s, wanted, &at)?,
@@ -748,6 +768,63 @@ mod tests {
         let d = (3.0 * 0.05 / (16.0 * 2.0 * 10f64.sqrt())).powf(2.0 / 3.0);
         assert!((r.depth[0] / d - 1.0).abs() < 1e-3, "{} {d}", r.depth[0]);
         assert_eq!(r.integrator, "static");
+    }
+
+    /// An elastic scene held at a depth: a paraboloid carries Hertz's force 16/3 G sqrt(R)
+    /// d^1.5 by MDR (to 1e-6) and BEM (to 1e-3 on 97^2), and held at that force comes back to
+    /// the depth (MDR to round-off, BEM to 1e-6); a sphere on a bonded layer, whose contact
+    /// is wider than the half-space's at the same depth, keeps it inside the BEM grid and
+    /// carries MDR's force (to 1e-3).
+    #[test]
+    fn elastic_scene_held_at_a_depth() {
+        let (g, r, d) = (2.0, 10.0, 0.05);
+        let mut s = scene(
+            Indenter::Paraboloid {
+                c: 0.5 / r,
+                edge: None,
+            },
+            Medium::Elastic {
+                g,
+                nu: INCOMPRESSIBLE,
+            },
+            History::Constant(1.0),
+        );
+        (s.duration, s.times, s.force) = (None, None, None);
+        s.depth = Some(History::Constant(d));
+        s.validate().unwrap();
+        let hertz = 16.0 / 3.0 * g * r.sqrt() * d.powf(1.5);
+        for (method, n, tol, back) in [
+            (Method::Mdr, 20001, 1e-6, 1e-12),
+            (Method::Bem, 97, 1e-3, 1e-6),
+        ] {
+            let held = solve(&s, method, n);
+            assert_eq!(held.integrator, "static");
+            assert_eq!(held.depth, vec![d]);
+            let f = held.force[0];
+            assert!((f / hertz - 1.0).abs() < tol, "{method:?}: {f} {hertz}");
+            let mut loaded = s.clone();
+            (loaded.depth, loaded.force) = (None, Some(History::Constant(f)));
+            let back_depth = solve(&loaded, method, n).depth[0];
+            assert!(
+                (back_depth / d - 1.0).abs() < back,
+                "{method:?}: {back_depth} {d}"
+            );
+        }
+        s.indenter = Indenter::Sphere { radius: 5.0 };
+        s.layer = Some(crate::model::body::Layer {
+            thickness: 2.0,
+            base: crate::model::body::Base::Bonded,
+        });
+        s.depth = Some(History::Constant(1.0));
+        let bem = solve(&s, Method::Bem, 97);
+        let mdr = solve(&s, Method::Mdr, 2001);
+        assert_eq!(bem.at_edge, Some(vec![false]));
+        assert!(
+            (bem.force[0] / mdr.force[0] - 1.0).abs() < 1e-3,
+            "{} {}",
+            bem.force[0],
+            mdr.force[0]
+        );
     }
 
     /// A load curve gives, at each force, the static solve of the scene under that force:
