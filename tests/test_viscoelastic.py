@@ -168,12 +168,15 @@ def test_relaxation_times_far_from_the_step_are_stable(tau):
 
 
 def test_loading_keys_are_checked():
-    """An elastic scene held at a depth is static (no duration); one key of force and depth;
-    Prony times > 0."""
+    """An elastic scene held at a depth is static (no duration) and needs a depth > 0; one
+    key of force and depth; Prony times > 0."""
     static = mv.Scene(indenter=mv.Paraboloid(c=C), medium=mv.Elastic(G=1.0), depth=0.1)
     assert static.controlled_by == "depth" and static.duration is None
     with pytest.raises(mv.InvalidInputError, match="static: give no duration"):
         mv.Scene(indenter=mv.Paraboloid(c=C), medium=mv.Elastic(G=1.0), depth=0.1, duration=1.0)
+    for depth in (0.0, -1e-7):
+        with pytest.raises(mv.InvalidInputError, match="final depth > 0"):
+            mv.Scene(indenter=mv.Sphere(radius=1.0), medium=mv.Elastic(G=1.0), depth=depth)
     with pytest.raises(mv.InvalidInputError, match="only one of the keys 'force' and 'depth'"):
         mv.Scene(indenter=mv.Paraboloid(c=C), medium=mv.Maxwell(1.0, 1.0), force=1.0, depth=0.1, duration=1.0)
     with pytest.raises(mv.InvalidInputError, match="tau_k"):

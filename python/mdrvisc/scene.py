@@ -139,8 +139,8 @@ class Scene:
         points over the duration). An elastic scene solves for its final force, statically.
     depth : float, (array, array) or callable
         Instead of ``force``: a prescribed depth history (m; negative = above the surface).
-        Give exactly one of the two. An elastic scene solves statically at its final depth,
-        for the force (the displacement control of rough-contact codes): the approach from
+        Give exactly one of the two. An elastic scene solves statically at its final depth
+        (> 0), for the force (the displacement control of rough-contact codes): the approach from
         the first touch, on a periodic :class:`~mdrvisc.HeightMap` from the deflected
         surface's mean plane (mean gap = mean height below the highest point - depth).
     duration : float, optional

@@ -262,7 +262,15 @@ impl Scene {
                 f.force(self.contact)?;
             }
             (None, Some(d)) => {
-                let start = d.depth()?.depth(0.0);
+                // validated finite
+                let history = d.depth()?;
+                let last = d.last();
+                if self.is_static() && last <= 0.0 {
+                    return Err(Error::InvalidInput(format!(
+                        "an elastic scene held at a depth needs a final depth > 0 (m), got {last:e}: at or above the surface it carries no force"
+                    )));
+                }
+                let start = history.depth(0.0);
                 if self.medium.has_dashpot() && start > 0.0 {
                     return Err(Error::InvalidInput(format!(
                         "a depth already there at t = 0 ({start:e} m) needs an infinite force on a medium with a dashpot: start the depth history from 0 or after t = 0"
