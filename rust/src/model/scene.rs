@@ -372,6 +372,20 @@ impl Scene {
         }
     }
 
+    /// What a static scene (`is_static`) is solved under: its final force (N) or depth (m),
+    /// held from t = 0.
+    pub fn held_loading(&self) -> Result<Loading> {
+        match (&self.force, &self.depth) {
+            (Some(f), _) => ForceHistory::constant(f.last()).map(Loading::Force),
+            (None, Some(d)) => {
+                DepthHistory::piecewise_linear(vec![0.0], vec![d.last()]).map(Loading::Depth)
+            }
+            (None, None) => Err(Error::InvalidInput(
+                "missing key 'force' (or 'depth')".into(),
+            )),
+        }
+    }
+
     fn duration_or_zero(&self) -> f64 {
         self.duration.unwrap_or(0.0)
     }

@@ -13,7 +13,6 @@ use crate::mdr::layer::{
 };
 use crate::model::body::{Base, Layer};
 use crate::model::indenter::{bisect_radius, Footprint, Reach};
-use crate::model::loading::{DepthHistory, ForceHistory, Loading};
 use crate::model::medium::rheology::Rheology;
 use crate::model::settings::RunSettings;
 use crate::model::{Medium, Output, Scene};
@@ -62,14 +61,7 @@ pub(super) fn run(
             Medium::Elastic { g, .. } => g,
             _ => unreachable!("a static scene has an elastic medium"),
         };
-        // the final force or depth, held
-        let loading = match (&scene.force, &scene.depth) {
-            (Some(f), _) => Loading::Force(ForceHistory::constant(f.last())?),
-            (None, Some(d)) => {
-                Loading::Depth(DepthHistory::piecewise_linear(vec![0.0], vec![d.last()])?)
-            }
-            (None, None) => unreachable!("validated: force or depth"),
-        };
+        let loading = scene.held_loading()?;
         let request = Request {
             times: &[1.0],
             dt: 1.0,

@@ -149,6 +149,7 @@ fn run_from(
         (run_viscoelastic(scene, settings, monitor)?, None)
     };
     beyond_the_equator(scene, &report)?;
+    within_the_grid(scene, &report)?;
     if !scene.body().has_edge() {
         report.at_edge = None;
     }
@@ -284,16 +285,27 @@ fn beyond_the_equator(scene: &Scene, report: &Report) -> Result<()> {
     }
 }
 
-/// Fails when the BEM contact of an unbounded indenter reached the grid's edge (`at_edge`
-/// at the output times `t`): the grid, a window onto the indenter, was too small.
-fn unbounded_inside(scene: &Scene, at_edge: &[bool], t: &[f64]) -> Result<()> {
-    match at_edge.iter().position(|&b| b) {
-        Some(k) if scene.indenter.half_width().is_none() => Err(Error::Domain(format!(
-            "BEM: the contact reached the edge of the grid of an unbounded indenter at t = {} s; the grid is too small",
-            t[k]
-        ))),
-        _ => Ok(()),
+/// Fails when the BEM contact reached the edge of a grid that is a window onto the
+/// indenter (`at_edge` at an output time): an unbounded indenter's grid, or a sphere's
+/// narrower than its footprint, both sized by MDR's contact radius (`sizing`). The contact
+/// beyond the window was cut off, so the result would be wrong. A grid over the whole
+/// footprint (a height map's, a punch's) holds every contact the indenter makes.
+fn within_the_grid(scene: &Scene, report: &Report) -> Result<()> {
+    if report.method != Method::Bem || !scene.body().has_edge() {
+        return Ok(());
     }
+    let Some(k) = report.at_edge.iter().flatten().position(|&e| e) else {
+        return Ok(());
+    };
+    let half_width = sizing::bem_half_width(scene)?;
+    let footprint = scene.indenter.half_width();
+    if footprint.is_some_and(|w| half_width >= w * (1.0 - 1e-12)) {
+        return Ok(());
+    }
+    Err(Error::Domain(format!(
+        "BEM: the contact reached the edge of the grid at t = {} s; the grid (half-width {half_width:.4e} m) is a window onto the indenter, sized by MDR's largest contact radius, and this contact grew beyond it, so the result would be cut off at the window's edge",
+        report.t[k]
+    )))
 }
 
 /// Refuses outputs the scene's medium does not have.
@@ -331,10 +343,9 @@ fn run_static(
         Medium::Elastic { g, .. } => g,
         _ => unreachable!("run_static is called for elastic media"),
     };
-    let target = match (&scene.force, &scene.depth) {
-        (Some(f), _) => Target::Force(f.last()),
-        (None, Some(d)) => Target::Depth(d.last()),
-        (None, None) => unreachable!("validated: force or depth"),
+    let target = match scene.held_loading()? {
+        Loading::Force(f) => Target::Force(f.force(0.0)),
+        Loading::Depth(d) => Target::Depth(d.depth(0.0)),
     };
     let n = settings.n;
     let wanted = Wanted::of(scene);
@@ -436,7 +447,6 @@ fn run_viscous(scene: &Scene, settings: &RunSettings, monitor: &mut dyn Monitor)
                 depth_bounds: depth_bounds(scene)?,
             };
             let s = viscous_bem(&grid, eta, &history, &request, settings, monitor)?;
-            unbounded_inside(scene, &s.at_edge, &s.t)?;
             Ok(bem_report(settings, &grid, integrator, s, wanted, &at))
         }
         Method::Mdr => {
@@ -638,7 +648,6 @@ fn run_viscoelastic(
                 &settings.solver,
                 monitor,
             )?;
-            unbounded_inside(scene, &s.at_edge, &s.t)?;
             Ok(bem_report(settings, &grid, "viscoelastic", s, wanted, &at))
         }
     }
@@ -648,6 +657,7 @@ fn run_viscoelastic(
 mod tests {
     use super::*;
     use crate::model::contact_law::ContactLaw;
+    use crate::model::indenter::heightmap::HeightMap;
     use crate::model::medium::INCOMPRESSIBLE;
     use crate::model::{History, Indenter, Medium};
     use crate::support::monitor::Silent;
@@ -917,5 +927,40 @@ G = 0.25
         assert!(run(&file.scene, &bem, &mut Silent).is_err());
         let bad = text.replace("type = \"dmt\", ", "type = \"dmt\", w = 1, ");
         assert!(crate::model::file::SceneFile::parse(&bad, "bad.toml").is_err());
+    }
+
+    /// A contact at the edge of a window onto the indenter is an error; at the edge of a grid
+    /// over the whole footprint it is not (a height map's contact may touch its border).
+    #[test]
+    fn contact_at_the_edge_of_a_window_is_an_error() {
+        let elastic = Medium::Elastic {
+            g: 1.0,
+            nu: INCOMPRESSIBLE,
+        };
+        let mut sphere = scene(
+            Indenter::Sphere { radius: 1.0 },
+            elastic.clone(),
+            History::Constant(1e-3),
+        );
+        (sphere.duration, sphere.times) = (None, None);
+        let mut report = solve(&sphere, Method::Bem, 33);
+        assert_eq!(report.at_edge, Some(vec![false]));
+        assert!(sizing::bem_half_width(&sphere).unwrap() < 0.5);
+        within_the_grid(&sphere, &report).unwrap();
+        report.at_edge = Some(vec![true]);
+        let err = within_the_grid(&sphere, &report).unwrap_err().to_string();
+        assert!(err.contains("window onto the indenter"), "{err}");
+
+        let heights: Vec<f64> = (0..16 * 16)
+            .map(|i| ((i % 16) as f64 - 7.5).powi(2) + ((i / 16) as f64 - 7.5).powi(2))
+            .collect();
+        let map = HeightMap::new(16, 16, heights, 0.1, false).unwrap();
+        let mut mapped = scene(
+            Indenter::HeightMap(Box::new(map)),
+            elastic,
+            History::Constant(1e-3),
+        );
+        (mapped.duration, mapped.times) = (None, None);
+        within_the_grid(&mapped, &report).unwrap();
     }
 }

@@ -12,6 +12,13 @@ use crate::support::monitor::Monitor;
 use faer::linalg::solvers::Solve;
 use faer::{Mat, Side};
 
+/// Where a dense active-set solve starts (`ContactSolver::active_start`): the start set and
+/// the largest set the solve may reach (elements).
+pub(super) struct ActiveStart {
+    set: Vec<usize>,
+    limit: usize,
+}
+
 impl<O: SurfaceOperator> ContactSolver<O> {
     /// The start set of the dense active-set solve on `pb`: the elements with pressure
     /// (`warm`), else those of a Winkler foundation with the self-influence coefficient
@@ -23,7 +30,7 @@ impl<O: SurfaceOperator> ContactSolver<O> {
         pb: &Problem,
         warm: bool,
         opts: &SolverOptions,
-    ) -> Option<Vec<usize>> {
+    ) -> Option<ActiveStart> {
         let n = self.p.len();
         let (dx, c) = (self.op.dx(), pb.compliance);
         let limit = self.active_limit(n, opts);
@@ -43,7 +50,9 @@ impl<O: SurfaceOperator> ContactSolver<O> {
                 }
             }
         };
-        start.filter(|s: &Vec<usize>| !s.is_empty())
+        start
+            .filter(|s: &Vec<usize>| !s.is_empty())
+            .map(|set| ActiveStart { set, limit })
     }
 
     /// The largest set of the dense active-set solve on a grid of `n` elements:
@@ -54,8 +63,8 @@ impl<O: SurfaceOperator> ContactSolver<O> {
             .unwrap_or_else(|| tuning.active_crossover(n).min(tuning.active_cap))
     }
 
-    /// Dense primal-dual active-set solve (Hintermüller et al. 2002) from the set `start`
-    /// (`active_start`): on the set S solve compliance K_SS p_S = d - h_S (with
+    /// Dense primal-dual active-set solve (Hintermüller et al. 2002) from `start`
+    /// (`active_start`: the start set and the limit): on the set S solve compliance K_SS p_S = d - h_S (with
     /// sum p_S dA = W under force control) by faer's Cholesky, then drop elements with
     /// p <= 0 and add those that overlap (one operator apply for the gaps), until the set
     /// repeats; the solution is then exact up to round-off. None when an iterate exceeds
@@ -65,16 +74,14 @@ impl<O: SurfaceOperator> ContactSolver<O> {
     pub(super) fn solve_active_set(
         &mut self,
         pb: &Problem,
-        start: Vec<usize>,
-        opts: &SolverOptions,
+        start: ActiveStart,
         monitor: &mut dyn Monitor,
     ) -> Result<Option<ContactSummary>> {
         let n = self.p.len();
         let (dx, c) = (self.op.dx(), pb.compliance);
         let area = dx * dx;
         let tuning = self.tuning;
-        let limit = self.active_limit(n, opts);
-        let mut set = start;
+        let ActiveStart { mut set, limit } = start;
         let mut member = vec![false; n];
         for it in 1..=tuning.active_max_iter {
             let m = set.len();

@@ -397,7 +397,7 @@ impl<O: SurfaceOperator> ContactSolver<O> {
             .flatten();
         if let Some(start) = start {
             self.p_old.copy_from_slice(&self.p);
-            if let Some(summary) = self.solve_active_set(&problem, start, opts, monitor)? {
+            if let Some(summary) = self.solve_active_set(&problem, start, monitor)? {
                 return Ok(summary);
             }
             self.p.copy_from_slice(&self.p_old);
