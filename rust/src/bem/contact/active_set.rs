@@ -64,13 +64,13 @@ impl<O: SurfaceOperator> ContactSolver<O> {
     }
 
     /// Dense primal-dual active-set solve (Hintermüller et al. 2002) from `start`
-    /// (`active_start`: the start set and the limit): on the set S solve compliance K_SS p_S = d - h_S (with
-    /// sum p_S dA = W under force control) by faer's Cholesky, then drop elements with
-    /// p <= 0 and add those that overlap (one operator apply for the gaps), until the set
-    /// repeats; the solution is then exact up to round-off. None when an iterate exceeds
-    /// `active_overshoot` times the limit, the iteration takes more than `active_max_iter`
-    /// iterations or cycles, or K_SS is not positive definite: the caller falls back to
-    /// Polonsky–Keer.
+    /// (`active_start`: the start set and the limit): on the set S solve compliance
+    /// K_SS p_S = d - h_S (with sum p_S dA = W under force control) by faer's Cholesky,
+    /// then drop elements with p <= 0 and add those that overlap (one operator apply for
+    /// the gaps), until the set repeats; the solution is then exact up to round-off. None
+    /// when an iterate exceeds `active_overshoot` times the limit, the iteration takes more
+    /// than `active_max_iter` iterations or cycles, or K_SS is not positive definite: the
+    /// caller falls back to Polonsky–Keer.
     pub(super) fn solve_active_set(
         &mut self,
         pb: &Problem,
