@@ -224,10 +224,19 @@ pub struct FftOperator<T: Real = f64> {
 /// through it (`unwrap`).
 pub(crate) struct SpectralInverse {
     fft: FftOperator<f32>,
-    /// The convolution's kernel at offsets 0..=WRAP_RADIUS along x and y (row-major), which
-    /// `unwrap` takes back; empty where no pair of elements is that near through the period
-    /// (or a side is shorter than 2 WRAP_RADIUS + 2 elements).
+    /// What `unwrap` takes back; None where no pair of elements is that near through the
+    /// period (or a side is shorter than 2 WRAP_RADIUS + 2 elements).
+    wrap: Option<Wrap>,
+}
+
+/// The pairs of a free grid's elements that the spectral preconditioner's convolution joins
+/// through its period, made once per grid (`SpectralInverse::unwrap`).
+struct Wrap {
+    /// The convolution's kernel at offsets 0..=WRAP_RADIUS along x and y (row-major).
     near: Vec<f64>,
+    /// The partners along x and along y.
+    xs: Partners,
+    ys: Partners,
 }
 
 /// Elements (along each axis) within which the spectral preconditioner's convolution,
@@ -277,18 +286,20 @@ impl SpectralInverse {
         );
         let w = WRAP_RADIUS;
         let wraps = period.0 < nx + w || period.1 < ny + w;
-        let near = if wraps && nx.min(ny) >= 2 * w + 2 {
+        let wrap = (wraps && nx.min(ny) >= 2 * w + 2).then(|| {
             let mut delta = vec![0.0; nx * ny];
             delta[0] = 1.0;
             let mut response = vec![0.0; nx * ny];
             fft.convolve(&delta, &mut response);
-            (0..=w)
-                .flat_map(|b| response[b * nx..b * nx + w + 1].to_vec())
-                .collect()
-        } else {
-            vec![]
-        };
-        SpectralInverse { fft, near }
+            Wrap {
+                near: (0..=w)
+                    .flat_map(|b| response[b * nx..b * nx + w + 1].to_vec())
+                    .collect(),
+                xs: Partners::new(nx, period.0),
+                ys: Partners::new(ny, period.1),
+            }
+        });
+        SpectralInverse { fft, wrap }
     }
 
     /// z = dx K^-1 g.
@@ -302,15 +313,10 @@ impl SpectralInverse {
     /// the period, across opposite edges or corners; only elements within that radius of an
     /// edge have such pairs.
     fn unwrap(&self, g: &[f64], z: &mut [f64]) {
-        if self.near.is_empty() {
+        let Some(Wrap { near, xs, ys }) = &self.wrap else {
             return;
-        }
+        };
         let (nx, ny, w) = (self.fft.nx, self.fft.ny, WRAP_RADIUS);
-        let (xs, ys) = (
-            Partners::new(nx, self.fft.mx),
-            Partners::new(ny, self.fft.my),
-        );
-        let near = &self.near;
         let row_of = |iy: usize, sy: isize| &g[iy.wrapping_add_signed(sy) * nx..][..nx];
         z.par_chunks_mut(nx)
             .enumerate()
