@@ -2,7 +2,9 @@
 //!
 //! Each element carries the elastic-equivalent pressure x = K^-1[u] at G = 1 (so that
 //! u = K[x]). The stress follows the hereditary law s = integral G(t - s) dx(s), advanced by
-//! `Rheology`'s exact exponential update: s_{n+1} = G_eff x_{n+1} + r_n. Each step is then
+//! `Rheology`'s exact exponential update for x quadratic through the step's end and the two
+//! states before it (`Rheology::step_after`: linear on the first step, after a jump and
+//! after a much shorter step): s_{n+1} = G_eff x_{n+1} + r_n. Each step is then
 //! an elastic contact problem with compliance 1/G_eff and separation h - K[r] / G_eff, on
 //! the body's operator. Points out of contact relax freely (s = 0), or, under a
 //! cohesive-zone law (`run_bem_with`), carry the law's traction at their gap: each step is
@@ -101,7 +103,9 @@ pub fn run_bem_with(
     let mut strains = field_rates.then(|| Trail::new(vec![0.0; n]));
     let m = medium.internal();
     let mut solver = ContactSolver::new(grid.body.operator(grid.nx, grid.ny, grid.dx)?);
-    let (mut x, mut q) = (vec![0.0; n], vec![0.0; n * m]);
+    // x, its increment over the last step and the Prony stresses of every element
+    let (mut x, mut rise, mut q) = (vec![0.0; n], vec![0.0; n], vec![0.0; n * m]);
+    let mut dt_prev = 0.0;
     let (mut hist, mut k_hist, mut sep) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
     let mut out = Series::default();
     let (mut t_prev, mut iterations, mut residual) = (0.0, 0usize, 0.0f64);
@@ -112,9 +116,9 @@ pub fn run_bem_with(
     let mut contact_count = 0;
     let (mut p_prev, mut p_prev2, mut guess) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
     for (s, &(t, output)) in steps.iter().enumerate() {
-        let rule = medium.step(t - t_prev);
+        let rule = medium.step_after(t - t_prev, dt_prev);
         for i in 0..n {
-            hist[i] = rule.history(x[i], &q[i * m..(i + 1) * m]);
+            hist[i] = rule.history_after(x[i], rise[i], &q[i * m..(i + 1) * m]);
         }
         solver.operator().apply(&hist, &mut k_hist);
         for i in 0..n {
@@ -224,7 +228,8 @@ pub fn run_bem_with(
         let mut count = 0;
         for i in 0..n {
             let x_new = (p[i] - hist[i]) / rule.g_eff;
-            rule.advance(x[i], x_new, &mut q[i * m..(i + 1) * m]);
+            rule.advance_after(x[i], x_new, rise[i], &mut q[i * m..(i + 1) * m]);
+            rise[i] = x_new - x[i];
             x[i] = x_new;
             count += usize::from(compression[i] > 0.0);
         }
@@ -293,6 +298,8 @@ pub fn run_bem_with(
         }
         out.steps = s + 1;
         monitor.progress("time steps", s + 1, steps.len())?;
+        // a zero-length step (the jump at t = 0) leaves no smooth history before it
+        dt_prev = t - t_prev;
         t_prev = t;
     }
     out.solves = out.steps;
@@ -303,8 +310,8 @@ pub fn run_bem_with(
 /// The memory (bytes) [`run_bem_with`] reaches on an `nx` x `ny` grid on `body`, the grid
 /// itself aside: the whole grid's operator (`Body::operator_bytes`) and contact solver
 /// (`ContactSolver::BYTES_PER_ELEMENT`); per element the state x and the medium's
-/// `internal` variables (8 each), the history, its deflection and the separation, the last
-/// two pressures and the guess (48), with `field_rates` the trail of two earlier states (16), a
+/// `internal` variables (8 each), its last increment, the history, its deflection and the
+/// separation, the last two pressures and the guess (56), with `field_rates` the trail of two earlier states (16), a
 /// cohesive zone's buffers (`cohesive`, 40) and 24 per field (pressure, velocity,
 /// deflection) of the `fields` asked for. The check before a run and the measured peak
 /// (`tests/test_memory.py`) use it.
@@ -321,7 +328,7 @@ pub fn run_bytes(
     let rates = if field_rates { 16.0 } else { 0.0 };
     let zone = if cohesive { 40.0 } else { 0.0 };
     let per_element =
-        solver + 8.0 * (1 + internal) as f64 + 48.0 + rates + zone + 24.0 * fields as f64;
+        solver + 8.0 * (1 + internal) as f64 + 56.0 + rates + zone + 24.0 * fields as f64;
     body.operator_bytes(nx, ny) + per_element * (nx * ny) as f64
 }
 
