@@ -3,8 +3,9 @@
 //! Each element carries the elastic-equivalent pressure x = K^-1[u] at G = 1 (so that
 //! u = K[x]). The stress follows the hereditary law s = integral G(t - s) dx(s), advanced by
 //! `Rheology`'s exact exponential update for x quadratic through the step's end and the two
-//! states before it (`Rheology::step_after`: linear on the first step, after a jump and
-//! after a much shorter step): s_{n+1} = G_eff x_{n+1} + r_n. Each step is then
+//! states before it (`Rheology::step_after`: linear on the first step, after a jump, after a
+//! much shorter step and where a sample of the loading history, at which its rate may
+//! change, lies between the three): s_{n+1} = G_eff x_{n+1} + r_n. Each step is then
 //! an elastic contact problem with compliance 1/G_eff and separation h - K[r] / G_eff, on
 //! the body's operator. Points out of contact relax freely (s = 0), or, under a
 //! cohesive-zone law (`run_bem_with`), carry the law's traction at their gap: each step is
@@ -116,7 +117,11 @@ pub fn run_bem_with(
     let mut contact_count = 0;
     let (mut p_prev, mut p_prev2, mut guess) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
     for (s, &(t, output)) in steps.iter().enumerate() {
-        let rule = medium.step_after(t - t_prev, dt_prev);
+        // the strain is quadratic through the last three states only where the load is
+        // smooth over them: a rate that changes at a sample of the history (a load reversed)
+        // kinks every element's history there
+        let smooth = loading.linear_between(t_prev - dt_prev, t);
+        let rule = medium.step_after(t - t_prev, if smooth { dt_prev } else { 0.0 });
         for i in 0..n {
             hist[i] = rule.history_after(x[i], rise[i], &q[i * m..(i + 1) * m]);
         }

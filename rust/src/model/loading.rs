@@ -37,6 +37,13 @@ impl ForceHistory {
         }
     }
 
+    /// Whether the history is linear on the open interval (`t0`, `t1`) (s): no sample, where
+    /// its rate may change, strictly inside.
+    pub fn linear_between(&self, t0: f64, t1: f64) -> bool {
+        let k = self.times.partition_point(|&s| s <= t0);
+        self.times.get(k).is_none_or(|&s| s >= t1)
+    }
+
     /// Impulse (N s): integral of F from 0 to `t`, exact for the piecewise-linear history.
     pub fn impulse(&self, t: f64) -> f64 {
         if t <= 0.0 {
@@ -85,6 +92,11 @@ impl DepthHistory {
     pub fn depth(&self, t: f64) -> f64 {
         self.samples.force(t) + self.offset
     }
+
+    /// Whether the history is linear on the open interval (`t0`, `t1`) (s).
+    pub fn linear_between(&self, t0: f64, t1: f64) -> bool {
+        self.samples.linear_between(t0, t1)
+    }
 }
 
 /// What drives the indenter.
@@ -94,6 +106,17 @@ pub enum Loading {
     Force(ForceHistory),
     /// Prescribed depth d(t) (m).
     Depth(DepthHistory),
+}
+
+impl Loading {
+    /// Whether the prescribed force or depth is linear on the open interval (`t0`, `t1`)
+    /// (s): no sample of its history, where its rate may change, strictly inside.
+    pub fn linear_between(&self, t0: f64, t1: f64) -> bool {
+        match self {
+            Loading::Force(h) => h.linear_between(t0, t1),
+            Loading::Depth(h) => h.linear_between(t0, t1),
+        }
+    }
 }
 
 /// Fails unless `times` are finite, > 0 and strictly increasing.
@@ -159,6 +182,19 @@ mod tests {
         assert!((h.impulse(2.0) - 4.0).abs() < 1e-15);
         assert!((h.impulse(3.0) - 8.0).abs() < 1e-15);
         assert!((ForceHistory::constant(1.5).unwrap().impulse(2.0) - 3.0).abs() < 1e-15);
+    }
+
+    /// A history is linear between two times unless a sample lies strictly between them.
+    #[test]
+    fn linear_between_samples() {
+        let h = ForceHistory::piecewise_linear(vec![0.0, 1.0, 2.0], vec![0.0, 1.0, 0.0]).unwrap();
+        assert!(h.linear_between(0.0, 1.0) && h.linear_between(1.0, 2.0));
+        assert!(h.linear_between(2.0, 9.0) && h.linear_between(0.2, 0.8));
+        assert!(!h.linear_between(0.9, 1.1) && !h.linear_between(0.5, 2.5));
+        let d = Loading::Depth(
+            DepthHistory::piecewise_linear(vec![0.0, 1.0], vec![0.0, -1.0]).unwrap(),
+        );
+        assert!(d.linear_between(1.0, 3.0) && !d.linear_between(0.5, 1.5));
     }
 
     #[test]
