@@ -316,10 +316,10 @@ pub fn run_bem_with(
 /// itself aside: the whole grid's operator (`Body::operator_bytes`) and contact solver
 /// (`ContactSolver::BYTES_PER_ELEMENT`); per element the state x and the medium's
 /// `internal` variables (8 each), its last increment, the history, its deflection and the
-/// separation, the last two pressures and the guess (56), with `field_rates` the trail of two earlier states (16), a
-/// cohesive zone's buffers (`cohesive`, 40) and 24 per field (pressure, velocity,
-/// deflection) of the `fields` asked for. The check before a run and the measured peak
-/// (`tests/test_memory.py`) use it.
+/// separation, the last two pressures and the guess (56), with `field_rates` the trail of
+/// two earlier states (16), a cohesive zone's buffers (`cohesive`, 40) and 24 per field
+/// (pressure, velocity, deflection) of the `fields` asked for. The check before a run and
+/// the measured peak (`tests/test_memory.py`) use it.
 pub fn run_bytes(
     body: crate::model::body::Body,
     nx: usize,
