@@ -276,13 +276,22 @@ def convergence(args, rows, notes) -> None:
                              *dev["end"]])
 
 
+def odd_step_count(counts) -> str | None:
+    """The message for the first of ``counts`` that is not an even step count >= 2 (T / 2
+    is an output), or None."""
+    for s in counts:
+        if s < 2 or s % 2:
+            return f"step counts must be even and >= 2 (T / 2 is an output), got {s}"
+    return None
+
+
 def ladder(args) -> None:
     """mdrvisc at each of ``args.ladder``'s step counts: best wall and CPU of
     ``args.rounds`` runs, iterations and deviations from the reference in
     ``args.reference`` (made there first if the file does not exist)."""
-    for s in [*args.ladder, args.ref_steps]:
-        if s < 2 or s % 2:
-            raise SystemExit(f"step counts must be even and >= 2 (T / 2 is an output), got {s}")
+    odd = odd_step_count([*args.ladder, args.ref_steps])
+    if odd:
+        raise SystemExit(odd)
     z = surface(args.size, args.seed)
     medium = mv.StandardSolid(G_inf=args.g_inf, G1=args.g1, tau1=args.tau1)
     pbar = args.pressure if args.pressure is not None else calibrate(z, args.g_inf,
@@ -377,9 +386,9 @@ def main(argv=None) -> None:
                  f"{PEERS_PYTHON_ENV} (benchmarks/README.md, \"Peer codes\"), or --no-peers")
     elif shutil.which(args.peers_python) is None:
         ap.error(f"the peers' interpreter {args.peers_python!r} is not an executable")
-    for s in [args.steps, args.ref_steps, *args.mv_steps, *args.conv_steps]:
-        if s < 2 or s % 2:
-            ap.error(f"step counts must be even and >= 2 (T / 2 is an output), got {s}")
+    odd = odd_step_count([args.steps, args.ref_steps, *args.mv_steps, *args.conv_steps])
+    if odd:
+        ap.error(odd)
 
     n, duration = args.size, args.duration
     z = surface(n, args.seed)

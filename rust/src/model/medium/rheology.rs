@@ -45,6 +45,10 @@ pub struct StepRule {
     lag: Vec<f64>,
     /// eta / dt (Pa).
     damping: f64,
+    /// sum_k gain_k + damping (Pa): the history term's weight of x_n, summed once per step.
+    rate_weight: f64,
+    /// sum_k lag_k (Pa): the history term's weight of the previous increment.
+    lag_weight: f64,
 }
 
 /// The step rule of the last step length asked for, recomputed only when the length
@@ -150,6 +154,8 @@ impl Rheology {
             gain: Vec::with_capacity(self.terms.len()),
             lag: Vec::with_capacity(self.terms.len()),
             damping: 0.0,
+            rate_weight: 0.0,
+            lag_weight: 0.0,
         };
         for &(g, tau) in &self.terms {
             rule.decay.push((-dt / tau).exp());
@@ -172,7 +178,9 @@ impl Rheology {
         if self.eta != 0.0 {
             rule.damping = self.eta / dt;
         }
-        rule.g_eff += rule.gain.iter().sum::<f64>() + rule.damping;
+        rule.rate_weight = rule.gain.iter().sum::<f64>() + rule.damping;
+        rule.lag_weight = rule.lag.iter().sum::<f64>();
+        rule.g_eff += rule.rate_weight;
         rule
     }
 
@@ -192,8 +200,7 @@ impl StepRule {
     /// History term of a point whose previous step's increment x_n - x_{n-1} was `rise`:
     /// r_n = sum_k (e_k q_k - lag_k rise) - (sum_k gain_k + damping) x_n.
     pub fn history_after(&self, x: f64, rise: f64, q: &[f64]) -> f64 {
-        let mut r = -(self.gain.iter().sum::<f64>() + self.damping) * x
-            - self.lag.iter().sum::<f64>() * rise;
+        let mut r = -self.rate_weight * x - self.lag_weight * rise;
         for (k, &qk) in q.iter().enumerate() {
             r += self.decay[k] * qk;
         }
