@@ -53,6 +53,7 @@ from __future__ import annotations
 
 import argparse
 import time
+from functools import cached_property
 
 import numpy as np
 from scipy import ndimage
@@ -81,15 +82,17 @@ class FixedSet:
         self.n, self.mode = n, mode
         z = self_affine(n, seed, hurst, short)
         force = fraction * E_STAR * RMS_SLOPE / 2.0 * EDGE**2
-        p = pressure(mv_solve(z, mode, force, 1e-10))
+        solved = mv_solve(z, mode, force, 1e-10)
+        p = pressure(solved)
         self.heights, self.force = z, force
+        self.patch_count = int(solved.patches[0])
         coarse = z.reshape(n // 2, 2, n // 2, 2).mean(axis=(1, 3))
         p_coarse = pressure(mv_solve(coarse, mode, force, 1e-10))
         self.set = p > 0
         start = np.kron(p_coarse, np.ones((2, 2))) * self.set
         self.p_sum = p.sum()
         self.operator = mv.arrays.SurfaceOperator((n, n), EDGE / n, periodic=mode == "periodic")
-        self.rhs = self.apply(p - start * (p.sum() / start.sum()))
+        self.rhs = self.apply(p - start * (self.p_sum / start.sum()))
         self._spectral_setup()
         self._band_setup()
 
@@ -111,9 +114,8 @@ class FixedSet:
     def spectral(self, r: np.ndarray) -> np.ndarray:
         """|q| r on the cell, or on the grid zero-padded by ``FREE_PAD``."""
         pad, n = self.pad, self.n
-        big = np.pad(r, pad) if pad else r
-        out = np.fft.irfft2(self.inverse * np.fft.rfft2(big), s=self.shape)
-        return out[pad:pad + n, pad:pad + n] if pad else out
+        out = np.fft.irfft2(self.inverse * np.fft.rfft2(np.pad(r, pad)), s=self.shape)
+        return out[pad:pad + n, pad:pad + n]
 
     def _band_setup(self) -> None:
         n = self.n
@@ -159,9 +161,10 @@ class FixedSet:
             return c + y - coarse(self.apply(y))
         return balanced
 
-    def patches(self) -> tuple[np.ndarray, int]:
-        """Each set element's patch index (4-connected; across the edges on a cell), and the
-        number of patches."""
+    @cached_property
+    def patch_index(self) -> np.ndarray:
+        """Each set element's patch index (4-connected; across the edges on a cell), the
+        patches mdrvisc counts."""
         labels, count = ndimage.label(self.set)
         parent = np.arange(count + 1)
 
@@ -177,21 +180,25 @@ class FixedSet:
                     parent[root(a)] = root(b)
         roots = np.array([root(a) for a in range(count + 1)])
         _, index = np.unique(roots[labels[self.set]], return_inverse=True)
-        return index, int(index.max()) + 1
+        if index.max() + 1 != self.patch_count:
+            raise RuntimeError(f"{index.max() + 1} patches labelled, mdrvisc counts "
+                               f"{self.patch_count}")
+        return index
+
+    @cached_property
+    def coarse_inverse(self) -> np.ndarray:
+        """(Z^T A Z)^+, the patches' coarse matrix inverted: one apply per patch."""
+        index, m = self.patch_index, self.patch_count
+        spread = np.zeros((self.n, self.n))
+        matrix = np.empty((m, m))
+        for k in range(m):
+            spread[self.set] = index == k
+            matrix[:, k] = np.bincount(index, weights=self.apply(spread)[self.set], minlength=m)
+        return np.linalg.pinv(0.5 * (matrix + matrix.T), rcond=1e-12, hermitian=True)
 
     def coarse(self):
-        """Q r = Z (Z^T A Z)^+ Z^T r for the patches' coarse space (built once)."""
-        if not hasattr(self, "_coarse"):
-            index, m = self.patches()
-            spread = np.zeros((self.n, self.n))
-            matrix = np.empty((m, m))
-            for k in range(m):
-                spread[self.set] = index == k
-                matrix[:, k] = np.bincount(index, weights=self.apply(spread)[self.set],
-                                           minlength=m)
-            inverse = np.linalg.pinv(0.5 * (matrix + matrix.T), rcond=1e-12, hermitian=True)
-            self._coarse = (index, m, inverse)
-        index, m, inverse = self._coarse
+        """Q r = Z (Z^T A Z)^+ Z^T r for the patches' coarse space."""
+        index, m, inverse = self.patch_index, self.patch_count, self.coarse_inverse
 
         def q(r):
             out = np.zeros((self.n, self.n))
@@ -246,9 +253,8 @@ def main(argv=None) -> None:
             start = time.perf_counter()
             case = FixedSet(n, mode, args.seed, args.hurst, args.fraction, args.short)
             counts = [case.iterations(name, args.tol) for name in names]
-            patches = case.patches()[1]
             finest = mv_solve(case.heights, mode, case.force, args.tol).level_iterations[-1]
-            rows.append([mode, n, case.set.mean(), patches, *counts, finest,
+            rows.append([mode, n, case.set.mean(), case.patch_count, *counts, finest,
                          time.perf_counter() - start])
             print(f"   {mode} {n}: done", flush=True)
     table(["mode", "n", "contact", "patches", *names, "mv.solve finest", "s"], rows,
