@@ -20,17 +20,12 @@
 //! iterations at 512^2 and 17 instead of 24 at 1024^2 (a decay length of 2 elements did
 //! best among 1 to 6, and a band of 3 elements nearly as well as 6). In the nested solves
 //! of those surfaces the finest level takes 18-25 instead of 24-31 iterations at 512^2.
-//! The band is found again whenever the set has changed. Holding it until a tenth of the set
-//! had changed saved searches but cost iterations where the patches' edges move over many
-//! iterations: with Polonsky–Keer admitting elements on their gaps after the step, the band
-//! found at every change took bench_rough's nine 512^2 cells from 202.1 to 186.8
-//! size-weighted iterations (periodic; free 214.9 to 203.4) and the 2048^2 main cell's finest
-//! level from 21 to 19 (free 24 to 22), at the same time per 512^2 solve within noise.
-//! `Tuning::residual_band` says on which grids the band is used. The band is held per block of
+//! The band is found again only after a tenth of the set has changed (`STALE_SHARE`), and
+//! `Tuning::residual_band` says on which grids it is used. The band is held per block of
 //! rows as lists of its elements, so that the search and both passes run on the blocks in
 //! parallel (E^T in phases of blocks that reach no common row): at 512^2 they cost a search
-//! of about 1 ms (a grid's two row sweeps and seven-row minima) after each step that changed
-//! the set and passes of 0.1-0.2 ms, against about 1 ms for S's FFT pair.
+//! of about 1 ms (a grid's two row sweeps and seven-row minima) every few iterations and
+//! passes of 0.1-0.2 ms, against about 1 ms for S's FFT pair.
 
 use super::{ContactSolver, ResidualBand};
 use crate::halfspace::operator::SurfaceOperator;
@@ -44,6 +39,12 @@ pub const DECAY: f64 = 2.0;
 
 /// Marks an element with no set element within `RADIUS` in its row.
 const NONE: i8 = i8::MIN;
+
+/// Share of the contact set that may have entered or left it before the band is found
+/// anew: a band a few elements off costs the preconditioner little, a search about as
+/// much as the preconditioner's FFT pair (1-1.8 ms against 0.9-1.2 ms on a 512^2 cell; 0.05
+/// to 0.4 of the set did no better).
+const STALE_SHARE: f64 = 0.1;
 
 /// A squared row offset beyond `RADIUS` (and `NONE`'s), small enough that keys fit i16.
 const OUT_OF_REACH: i16 = 64;
@@ -69,9 +70,8 @@ struct Band {
 }
 
 impl Band {
-    /// The entries off the set {p > 0}: (element, nearest set element, squared distance).
-    /// The band is found anew whenever the set changes, so that is all of them; the check
-    /// keeps the passes' disjoint writes from resting on the callers alone.
+    /// The entries still off the set {p > 0} (a band found for an earlier set may hold
+    /// elements that entered it since): (element, nearest set element, squared distance).
     fn entries<'a>(&'a self, p: &'a [f64]) -> impl Iterator<Item = (usize, usize, usize)> + 'a {
         self.element
             .iter()
@@ -91,6 +91,8 @@ pub(super) struct Extension {
     /// Per element, the column offset of the nearest set element in its own row within
     /// `RADIUS`, or `NONE`.
     row_nearest: Vec<i8>,
+    /// Elements that entered or left the set since the band was found.
+    stale: f64,
     /// Whether the grid of the last search wraps around its edges.
     periodic: bool,
 }
@@ -239,12 +241,14 @@ fn wrap(v: isize, n: usize, periodic: bool) -> Option<usize> {
 }
 
 impl<O: SurfaceOperator> ContactSolver<O> {
-    /// z = E^T S E g on the contact set {p > 0} (S the operator's preconditioner, g zero
-    /// off the set and left so), or S g where the tuning's `residual_band` leaves the grid
-    /// out. `changes` elements entered or left the set since the last call (infinite: the
-    /// set is new, as at a solve's first iteration, so no band of an earlier solve or
-    /// window is used); the band is found anew whenever that is not zero.
-    pub(super) fn precondition_on_set(&mut self, changes: f64) {
+    /// z = E^T S E g on the contact set {p > 0} of `set_count` elements (S the operator's
+    /// preconditioner, g zero off the set and left so), or S g where the tuning's
+    /// `residual_band` leaves the grid out. `changes` elements entered or left
+    /// the set since the last call (infinite: the set is new, as at a solve's first
+    /// iteration, so no band of an earlier solve or window is used); the band is found anew
+    /// once those since the last search exceed `STALE_SHARE` of the set, and until then the
+    /// old band serves, less the elements that entered the set.
+    pub(super) fn precondition_on_set(&mut self, changes: f64, set_count: f64) {
         let (nx, ny, periodic) = (self.op.nx(), self.op.ny(), self.op.periodic());
         let band = match self.tuning.residual_band {
             ResidualBand::Off => false,
@@ -256,8 +260,10 @@ impl<O: SurfaceOperator> ContactSolver<O> {
             return;
         }
         let ext = &mut self.extension;
-        if changes > 0.0 {
+        ext.stale += changes;
+        if ext.stale > STALE_SHARE * set_count {
             ext.rebuild(&self.p, nx, ny, periodic);
+            ext.stale = 0.0;
         }
         ext.extend(&self.p, &mut self.g);
         self.op.precondition(&self.g, &mut self.z);

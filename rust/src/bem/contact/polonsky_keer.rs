@@ -168,7 +168,7 @@ impl<O: SurfaceOperator> ContactSolver<O> {
                 acc
             });
             let (zbar, gz) = if opts.precondition {
-                self.precondition_on_set(set_changes);
+                self.precondition_on_set(set_changes, set_count);
                 let [zsum, gz, g_lin, count] = self.set_sums(|c| {
                     let mut acc = [0.0; 4];
                     for &j in &c.set[..*c.len] {
@@ -289,12 +289,11 @@ impl<O: SurfaceOperator> ContactSolver<O> {
             // control), where Polonsky and Keer take the gap before it: the step's own
             // deflection lifts some of those elements clear and presses others into overlap,
             // and admitting on the old gaps let the former in to be released by the next
-            // step and the latter in one step late. With the residual band found anew at
-            // every set change (`extension`), this took the size-weighted iterations of a
-            // nested solve on bench_rough's nine 512^2 cells from 212.2 to 186.8 (periodic;
-            // free 226.9 to 203.4) and the 2048^2 main cell's finest level from 22 to 19
-            // (free 23 to 22); on another surface of the generator (seed 11), from 220.6 to
-            // 188.1 and 236.3 to 214.6. Alone, 202.1 and 214.9.
+            // step and the latter in one step late. On bench_rough's nine 512^2 cells this
+            // took the size-weighted iterations of a nested solve from 212.2 to 202.1
+            // (periodic; free 226.9 to 214.9), and on another surface of the generator (seed
+            // 11) from 220.6 to 201.4 and 236.3 to 222.8; the cells' wall time (2 threads,
+            // best of 28 per cell) from 0.98 to 0.88 s and 1.90 to 1.70 s.
             let every_allowed = n_allowed == n;
             let lin = tau / scale;
             let shift_step = tau * rbar;
