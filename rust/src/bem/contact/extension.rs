@@ -23,9 +23,14 @@
 //! The band is found again only after a tenth of the set has changed (`STALE_SHARE`), and
 //! `Tuning::residual_band` says on which grids it is used. The band is held per block of
 //! rows as lists of its elements, so that the search and both passes run on the blocks in
-//! parallel (E^T in phases of blocks that reach no common row): at 512^2 they cost a search
-//! of about 1 ms (a grid's two row sweeps and seven-row minima) every few iterations and
-//! passes of 0.1-0.2 ms, against about 1 ms for S's FFT pair.
+//! parallel (E^T in phases of blocks that reach no common row). The search works on the
+//! set's bits, 64 elements to a word: the rows' bits widened along the row and combined over
+//! the seven rows around each row give the band's words, and each band element takes the
+//! first of `OFFSETS` (nearest first) that holds a set element. On the solved contact sets of
+//! rough 512^2 cells (H 0.3 and 0.8, 2-20 % contact) it takes 0.35-2.0 ms on one thread, where
+//! the search by row sweeps and seven-row minima it replaced took 1.0-2.9 ms for the same
+//! band; it runs every few iterations, and the passes take 0.1-0.2 ms, against about 1 ms
+//! for S's FFT pair.
 
 use super::{ContactSolver, ResidualBand};
 use crate::halfspace::operator::SurfaceOperator;
@@ -37,21 +42,55 @@ pub const RADIUS: usize = 3;
 /// Decay length (elements) of the continuation's weight exp(-d / DECAY).
 pub const DECAY: f64 = 2.0;
 
-/// Marks an element with no set element within `RADIUS` in its row.
-const NONE: i8 = i8::MIN;
-
 /// Share of the contact set that may have entered or left it before the band is found
-/// anew: a band a few elements off costs the preconditioner little, a search about as
-/// much as the preconditioner's FFT pair (1-1.8 ms against 0.9-1.2 ms on a 512^2 cell; 0.05
-/// to 0.4 of the set did no better).
+/// anew: a band a few elements off costs the preconditioner little, a search up to about as
+/// much as the preconditioner's FFT pair (0.2-1.3 ms on two threads against 0.9-1.2 ms on a
+/// 512^2 cell). 0.05 to 0.4 of the set did no better; nor did a search at every set change,
+/// which saves 5-8 % of the iterations on bench_rough's 512^2 cells and costs 3-12 % more
+/// CPU time.
 const STALE_SHARE: f64 = 0.1;
-
-/// A squared row offset beyond `RADIUS` (and `NONE`'s), small enough that keys fit i16.
-const OUT_OF_REACH: i16 = 64;
 
 /// Rows of the grid per block of the band (a parallel task of its search and passes); at
 /// least 2 `RADIUS` + 1, so that blocks two apart never reach the same row.
 const ROWS_PER_TASK: usize = 16;
+
+/// The offsets (dy, dx) within `RADIUS` of an element, nearest first, then by row and by
+/// column: the first one that holds a set element names the element's nearest.
+const OFFSETS: [(isize, isize); 28] = [
+    (-1, 0),
+    (0, -1),
+    (0, 1),
+    (1, 0),
+    (-1, -1),
+    (-1, 1),
+    (1, -1),
+    (1, 1),
+    (-2, 0),
+    (0, -2),
+    (0, 2),
+    (2, 0),
+    (-2, -1),
+    (-2, 1),
+    (-1, -2),
+    (-1, 2),
+    (1, -2),
+    (1, 2),
+    (2, -1),
+    (2, 1),
+    (-2, -2),
+    (-2, 2),
+    (2, -2),
+    (2, 2),
+    (-3, 0),
+    (0, -3),
+    (0, 3),
+    (3, 0),
+];
+
+const _: () = assert!(
+    RADIUS == 3,
+    "OFFSETS and the rows widened by 2 and 3 in the band's search are those of RADIUS 3"
+);
 
 /// exp(-d / `DECAY`) for each squared distance d^2 within `RADIUS`, made once.
 static WEIGHTS: std::sync::LazyLock<[f64; RADIUS * RADIUS + 1]> =
@@ -88,9 +127,8 @@ impl Band {
 pub(super) struct Extension {
     /// The band of the set it was last found for, per block of rows.
     blocks: Vec<Band>,
-    /// Per element, the column offset of the nearest set element in its own row within
-    /// `RADIUS`, or `NONE`.
-    row_nearest: Vec<i8>,
+    /// The set as bit rows, and those rows widened by `RADIUS` and by 2 elements.
+    masks: SetMasks,
     /// Elements that entered or left the set since the band was found.
     stale: f64,
     /// Whether the grid of the last search wraps around its edges.
@@ -109,25 +147,22 @@ unsafe impl Sync for Shared {}
 
 impl Extension {
     /// Memory (bytes per element) the band may hold at most: an element index, its nearest
-    /// set element and a squared distance per band element, and the row offsets.
+    /// set element and a squared distance per band element (9), and the set's three bit
+    /// rows with their margins (under 0.4).
     pub const BYTES_PER_ELEMENT: f64 = 10.0;
 
     /// Finds the band around the set {p > 0} of an `nx` x `ny` grid (row-major), wrapping
-    /// around the edges where `periodic`: per row, the nearest set element in the row (two
-    /// sweeps), then per element the least squared distance over the 2 `RADIUS` + 1 rows
-    /// around it, in loops of selects; blocks of rows in parallel.
+    /// around the edges where `periodic`: the set's bit rows, widened along the rows and
+    /// combined over the 2 `RADIUS` + 1 rows around each row, give the band's elements a word
+    /// of 64 at a time; each band element then takes the first of `OFFSETS` that holds a
+    /// set element. Rows in parallel, then blocks of rows.
     pub fn rebuild(&mut self, p: &[f64], nx: usize, ny: usize, periodic: bool) {
-        let r = RADIUS as isize;
         self.periodic = periodic;
-        self.row_nearest.resize(nx * ny, NONE);
-        self.row_nearest
-            .par_chunks_mut(nx)
-            .zip(p.par_chunks(nx))
-            .with_min_len(ROWS_PER_TASK)
-            .for_each(|(row, line)| nearest_in_row(line, row, periodic));
+        self.masks.build(p, nx, ny, periodic);
         self.blocks
             .resize_with(ny.div_ceil(ROWS_PER_TASK), Band::default);
-        let row_nearest = &self.row_nearest;
+        let masks = &self.masks;
+        let r = RADIUS as isize;
         self.blocks
             .par_iter_mut()
             .enumerate()
@@ -135,37 +170,69 @@ impl Extension {
                 band.element.clear();
                 band.nearest.clear();
                 band.dist2.clear();
-                // per element of the row, the least key (d^2 * 16 + dy + RADIUS) over the rows
-                // within reach: the nearest set element first, then the lowest row
-                let mut least = vec![0i16; nx];
+                let mut near = vec![0u64; masks.words];
                 for y in b * ROWS_PER_TASK..((b + 1) * ROWS_PER_TASK).min(ny) {
-                    least.fill(i16::MAX);
-                    for dy in -r..=r {
-                        let Some(yy) = wrap(y as isize + dy, ny, periodic) else {
-                            continue;
-                        };
-                        let row = &row_nearest[yy * nx..(yy + 1) * nx];
-                        let (dy2, code) = ((dy * dy) as i16, (dy + r) as i16);
-                        for (l, &o) in least.iter_mut().zip(row) {
-                            // NONE (squared 16384) is capped beyond reach
-                            let o2 = (o as i16 * o as i16).min(OUT_OF_REACH);
-                            *l = (*l).min((o2 + dy2) * 16 + code);
+                    // elements within RADIUS of the set: dx^2 + dy^2 <= 9 takes |dx| <= 3, 2,
+                    // 2, 0 at |dy| = 0, 1, 2, 3
+                    near.copy_from_slice(masks.row(&masks.wide3, y));
+                    for dy in 1..=r {
+                        let plane = if dy == r { &masks.set } else { &masks.wide2 };
+                        for yy in [y as isize - dy, y as isize + dy] {
+                            if let Some(yy) = wrap(yy, ny, periodic) {
+                                for (w, &v) in near.iter_mut().zip(masks.row(plane, yy)) {
+                                    *w |= v;
+                                }
+                            }
                         }
                     }
-                    let line = &p[y * nx..(y + 1) * nx];
-                    for x in 0..nx {
-                        let d2 = (least[x] / 16) as usize;
-                        if d2 > RADIUS * RADIUS || line[x] > 0.0 {
+                    // the set's rows from y - RADIUS to y + RADIUS, None off the grid
+                    let around: [Option<usize>; 2 * RADIUS + 1] =
+                        std::array::from_fn(|i| wrap(y as isize + i as isize - r, ny, periodic));
+                    let on = masks.row(&masks.set, y);
+                    for k in 0..masks.words {
+                        let all = near[k] & !on[k] & masks.body[k];
+                        if all == 0 {
                             continue;
                         }
-                        let dy = (least[x] % 16) as isize - r;
-                        let yy = wrap(y as isize + dy, ny, periodic).expect("a row within reach");
-                        let o = row_nearest[yy * nx + x];
-                        let xx = wrap(x as isize + o as isize, nx, periodic)
-                            .expect("an offset within the row");
-                        band.element.push((y * nx + x) as u32);
-                        band.nearest.push((yy * nx + xx) as u32);
-                        band.dist2.push(d2 as u8);
+                        // the words k - 1, k, k + 1 of the set's rows around y (zero off the
+                        // grid), then per bit of word k the first of OFFSETS that holds a set
+                        // element
+                        let near_words = around.map(|yy| {
+                            yy.map_or([0; 3], |yy| {
+                                let row = masks.row(&masks.set, yy);
+                                let before = k.checked_sub(1).map_or(0, |j| row[j]);
+                                [before, row[k], row.get(k + 1).copied().unwrap_or(0)]
+                            })
+                        });
+                        // the index into OFFSETS of each bit's first, as five bit planes
+                        let (mut left, mut first) = (all, [0u64; 5]);
+                        for (i, &(dy, dx)) in OFFSETS.iter().enumerate() {
+                            let hit = shifted(&near_words[(dy + r) as usize], 1, dx) & left;
+                            left &= !hit;
+                            for (b, plane) in first.iter_mut().enumerate() {
+                                *plane |= hit & 0u64.wrapping_sub((i >> b) as u64 & 1);
+                            }
+                        }
+                        debug_assert_eq!(
+                            left, 0,
+                            "every band element has a set element within reach"
+                        );
+                        let mut rest = all;
+                        while rest != 0 {
+                            let bit = rest.trailing_zeros() as usize;
+                            rest &= rest - 1;
+                            let i =
+                                (0..5).fold(0, |i, b| i | ((first[b] >> bit & 1) as usize) << b);
+                            let (dy, dx) = OFFSETS[i];
+                            let x = 64 * k + bit - RADIUS;
+                            let yy = around[(dy + r) as usize].expect("a row within reach");
+                            // a set bit off a grid that does not wrap is never set
+                            let xx =
+                                wrap(x as isize + dx, nx, periodic).expect("a column of the grid");
+                            band.element.push((y * nx + x) as u32);
+                            band.nearest.push((yy * nx + xx) as u32);
+                            band.dist2.push((dx * dx + dy * dy) as u8);
+                        }
                     }
                 }
             });
@@ -271,44 +338,103 @@ impl<O: SurfaceOperator> ContactSolver<O> {
     }
 }
 
-/// Writes into `out` the offset to the nearest element of the row `line` with p > 0
-/// within `RADIUS` (the left one on a tie), or `NONE`; the row wraps where `periodic`. Two
-/// sweeps of selects, the positions of the last set element seen before and after the row
-/// (wrapped) standing in at its ends.
-fn nearest_in_row(line: &[f64], out: &mut [i8], periodic: bool) {
-    let n = line.len() as isize;
-    let r = RADIUS as isize;
-    // beyond reach of every element of the row
-    let far = n + 2 * r + 1;
-    let reach = r.min(n);
-    let before = (n - reach..n)
-        .rev()
-        .find(|&k| periodic && line[k as usize] > 0.0)
-        .map_or(-far, |k| k - n);
-    let after = (0..reach)
-        .find(|&k| periodic && line[k as usize] > 0.0)
-        .map_or(2 * far, |k| k + n);
-    let mut last = before;
-    for (k, (o, &v)) in out.iter_mut().zip(line).enumerate() {
-        let k = k as isize;
-        last = if v > 0.0 { k } else { last };
-        *o = if k - last <= r {
-            (last - k) as i8
-        } else {
-            NONE
-        };
+/// A grid's contact set as rows of bits, each row with `RADIUS` elements more on either
+/// side (the other edge's elements where the grid wraps, none where it does not), so that
+/// a shift along the row by up to `RADIUS` needs no wrap of its own.
+#[derive(Default)]
+struct SetMasks {
+    /// Words (64 elements) per row.
+    words: usize,
+    /// The set's bits: element x of a row at bit x + `RADIUS`.
+    set: Vec<u64>,
+    /// Bits within 2 elements along the row of a set element.
+    wide2: Vec<u64>,
+    /// Bits within `RADIUS` elements along the row of a set element.
+    wide3: Vec<u64>,
+    /// The bits of a row that stand for its own elements (not its margins).
+    body: Vec<u64>,
+}
+
+impl SetMasks {
+    /// The bit rows of the set {p > 0} of an `nx` x `ny` grid and their widened copies.
+    fn build(&mut self, p: &[f64], nx: usize, ny: usize, periodic: bool) {
+        let words = (nx + 2 * RADIUS).div_ceil(64);
+        self.words = words;
+        self.body.clear();
+        self.body
+            .extend((0..words).map(|k| bits_in(k, RADIUS, RADIUS + nx)));
+        for plane in [&mut self.set, &mut self.wide2, &mut self.wide3] {
+            plane.clear();
+            plane.resize(words * ny, 0);
+        }
+        self.set
+            .par_chunks_mut(words)
+            .zip(self.wide2.par_chunks_mut(words))
+            .zip(self.wide3.par_chunks_mut(words))
+            .zip(p.par_chunks(nx))
+            .with_min_len(ROWS_PER_TASK)
+            .for_each(|(((set, wide2), wide3), line)| {
+                for (c, chunk) in line.chunks(64).enumerate() {
+                    let m = chunk
+                        .iter()
+                        .enumerate()
+                        .fold(0u64, |m, (i, &v)| m | u64::from(v > 0.0) << i);
+                    let at = 64 * c + RADIUS;
+                    set[at / 64] |= m << (at % 64);
+                    if at % 64 != 0 && m >> (64 - at % 64) != 0 {
+                        set[at / 64 + 1] |= m >> (64 - at % 64);
+                    }
+                }
+                if periodic {
+                    for k in 0..RADIUS {
+                        let left = (k as isize - RADIUS as isize).rem_euclid(nx as isize);
+                        let right = RADIUS + nx + k;
+                        set[k / 64] |= u64::from(line[left as usize] > 0.0) << (k % 64);
+                        set[right / 64] |= u64::from(line[k % nx] > 0.0) << (right % 64);
+                    }
+                }
+                widen(set, wide2, 2);
+                widen(set, wide3, RADIUS);
+            });
     }
-    let mut next = after;
-    for (k, (o, &v)) in out.iter_mut().zip(line).enumerate().rev() {
-        let k = k as isize;
-        next = if v > 0.0 { k } else { next };
-        let d = next - k;
-        // NONE (-128) counts as farther than any offset within reach
-        *o = if d <= r && d < -(*o as isize) {
-            d as i8
-        } else {
-            *o
-        };
+
+    /// Row `y` of a plane.
+    fn row<'a>(&self, plane: &'a [u64], y: usize) -> &'a [u64] {
+        &plane[y * self.words..(y + 1) * self.words]
+    }
+}
+
+/// The bits of word `k` at positions from `start` to `end` (exclusive) of a row.
+fn bits_in(k: usize, start: usize, end: usize) -> u64 {
+    let (lo, hi) = (
+        start.clamp(64 * k, 64 * k + 64),
+        end.clamp(64 * k, 64 * k + 64),
+    );
+    if hi == lo {
+        0
+    } else {
+        (u64::MAX >> (64 - (hi - lo))) << (lo - 64 * k)
+    }
+}
+
+/// Word `k` of the bit row `row` moved by `dx` positions: its bit e is the row's bit
+/// 64 k + e + dx (zero beyond the row).
+fn shifted(row: &[u64], k: usize, dx: isize) -> u64 {
+    let s = dx.unsigned_abs() as u32;
+    match dx.cmp(&0) {
+        std::cmp::Ordering::Equal => row[k],
+        std::cmp::Ordering::Greater => row[k] >> s | row.get(k + 1).map_or(0, |&w| w << (64 - s)),
+        std::cmp::Ordering::Less => {
+            row[k] << s | k.checked_sub(1).map_or(0, |j| row[j] >> (64 - s))
+        }
+    }
+}
+
+/// Writes into `out` the bit row `row` widened by `reach` bits either way: a bit is set
+/// where `row` has one within `reach` positions.
+fn widen(row: &[u64], out: &mut [u64], reach: usize) {
+    for (k, o) in out.iter_mut().enumerate() {
+        *o = (-(reach as isize)..=reach as isize).fold(0, |m, dx| m | shifted(row, k, dx));
     }
 }
 
@@ -321,11 +447,20 @@ mod tests {
     /// least distance (with wrap on a periodic grid), within `RADIUS`, and every element
     /// within `RADIUS` of the set is in the band; E g and E^T y equal their sums element by
     /// element (to round-off), on grids of one to four row blocks (the parallel passes' phases,
-    /// with a short last block), and <E g, y> = <g, E^T y> for g on the set and y off it.
+    /// with a short last block) and rows of one to three words of the set's bits, and
+    /// <E g, y> = <g, E^T y> for g on the set and y off it.
     #[test]
     fn band_holds_the_nearest_set_elements_and_fold_is_the_transpose() {
         let weights = &*WEIGHTS;
-        for (nx, ny) in [(23, 17), (29, 49), (31, 50), (12, 64), (9, 5)] {
+        for (nx, ny) in [
+            (23, 17),
+            (29, 49),
+            (31, 50),
+            (12, 64),
+            (9, 5),
+            (61, 9),
+            (130, 21),
+        ] {
             // a few scattered elements and patches, the same on every run
             let p: Vec<f64> = (0..nx * ny)
                 .map(|i| {
@@ -410,6 +545,20 @@ mod tests {
                 assert_eq!(cleared, g, "{case}");
             }
         }
+    }
+
+    /// `OFFSETS` holds every offset within `RADIUS` but the element's own, once, ordered by
+    /// squared distance, then row, then column (the order the band's nearest set elements
+    /// are chosen in).
+    #[test]
+    fn offsets_are_every_offset_within_reach_nearest_first() {
+        let r = RADIUS as isize;
+        let mut all: Vec<(isize, isize)> = (-r..=r)
+            .flat_map(|dy| (-r..=r).map(move |dx| (dy, dx)))
+            .filter(|&(dy, dx)| (1..=r * r).contains(&(dy * dy + dx * dx)))
+            .collect();
+        all.sort_by_key(|&(dy, dx)| (dy * dy + dx * dx, dy, dx));
+        assert_eq!(OFFSETS.to_vec(), all);
     }
 
     /// Polonsky–Keer on a rough surface (self-affine, H 0.8, 2-20 % contact): with the

@@ -280,9 +280,9 @@ impl<O: SurfaceOperator> ContactSolver<O> {
             // elements off it (the runs between the list's entries) that overlap after the
             // step enter it, with g written; the lists become the old set and the new one,
             // whose load is summed in the order of the elements; and u follows the step's
-            // linear update over the whole chunk, self.u -= (tau / scale) r (wasted where a
-            // refresh follows). Off the set only u, h and r are read: p, p_old and t are zero
-            // there.
+            // linear update, self.u -= (tau / scale) r, on the set in its loop and off it in
+            // the runs (wasted where a refresh follows). Off the set only u, h and r are read:
+            // p, p_old and t are zero there.
             //
             // An element off the set is admitted on its gap after the step, compliance (u -
             // tau r) + h less the mean gap the step leaves (shift - tau rbar under force
@@ -308,12 +308,14 @@ impl<O: SurfaceOperator> ContactSolver<O> {
                     clamps += usize::from(step <= 0.0);
                     c.p_old[j] = p;
                     c.p[j] = step.max(0.0);
+                    c.u[j] -= lin * c.r[j];
                 }
                 let (mut overlaps, mut next_len, mut from) = (0usize, 0, 0);
                 for k in 0..=len {
                     let to = if k < len { usize::from(c.set[k]) } else { m };
                     for j in from..to {
-                        let g = gap(c.u[j] - lin * c.r[j], c.lo + j) + shift_step;
+                        c.u[j] -= lin * c.r[j];
+                        let g = gap(c.u[j], c.lo + j) + shift_step;
                         if g < -gap_tol && (every_allowed || allowed[c.lo + j]) {
                             overlaps += 1;
                             let v = -tau_overlap * g;
@@ -333,9 +335,6 @@ impl<O: SurfaceOperator> ContactSolver<O> {
                 }
                 c.set[..next_len].copy_from_slice(&c.next[..next_len]);
                 *c.len = next_len;
-                for (u, &r) in c.u.iter_mut().zip(&*c.r) {
-                    *u -= lin * r;
-                }
                 let sum = c.set[..next_len]
                     .iter()
                     .map(|&j| c.p[usize::from(j)])
