@@ -20,7 +20,7 @@
 //! iterations at 512^2 and 17 instead of 24 at 1024^2 (a decay length of 2 elements did
 //! best among 1 to 6, and a band of 3 elements nearly as well as 6). In the nested solves
 //! of those surfaces the finest level takes 18-25 instead of 24-31 iterations at 512^2.
-//! The band is found again only after a tenth of the set has changed (`STALE_SHARE`), and
+//! The band is found again after every step that changed the set, and
 //! `Tuning::residual_band` says on which grids it is used. The band is held per block of
 //! rows as lists of its elements, so that the search and both passes run on the blocks in
 //! parallel (E^T in phases of blocks that reach no common row). The search works on the
@@ -29,8 +29,12 @@
 //! first of `OFFSETS` (nearest first) that holds a set element. On the solved contact sets of
 //! rough 512^2 cells (H 0.3 and 0.8, 2-20 % contact) it takes 0.35-2.0 ms on one thread, where
 //! the search by row sweeps and seven-row minima it replaced took 1.0-2.9 ms for the same
-//! band; it runs every few iterations, and the passes take 0.1-0.2 ms, against about 1 ms
-//! for S's FFT pair.
+//! band; the passes take 0.1-0.2 ms, against about 1 ms for S's FFT pair. With the older
+//! search the band was found again only after a tenth of the set had changed, since a
+//! search at every change cost more than the iterations it saved; with this one, on
+//! `benchmarks/bench_rough.py`'s cells, a search at every change takes 5-8 % fewer
+//! iterations at 512^2 (the finest level 2 fewer at 2048^2 and 4096^2) in the same time
+//! (`benchmarks/bench_rough_builds.py`).
 
 use super::{ContactSolver, ResidualBand};
 use crate::halfspace::operator::SurfaceOperator;
@@ -41,14 +45,6 @@ pub const RADIUS: usize = 3;
 
 /// Decay length (elements) of the continuation's weight exp(-d / DECAY).
 pub const DECAY: f64 = 2.0;
-
-/// Share of the contact set that may have entered or left it before the band is found
-/// anew: a band a few elements off costs the preconditioner little, a search up to about as
-/// much as the preconditioner's FFT pair (0.2-1.3 ms on two threads against 0.9-1.2 ms on a
-/// 512^2 cell). 0.05 to 0.4 of the set did no better; nor did a search at every set change,
-/// which saves 5-8 % of the iterations on bench_rough's 512^2 cells and costs 3-12 % more
-/// CPU time.
-const STALE_SHARE: f64 = 0.1;
 
 /// Rows of the grid per block of the band (a parallel task of its search and passes); at
 /// least 2 `RADIUS` + 1, so that blocks two apart never reach the same row.
@@ -109,8 +105,9 @@ struct Band {
 }
 
 impl Band {
-    /// The entries still off the set {p > 0} (a band found for an earlier set may hold
-    /// elements that entered it since): (element, nearest set element, squared distance).
+    /// The entries off the set {p > 0} (all of them where the set's changes were counted
+    /// in full; a guard, so that the set's own values are never overwritten): (element,
+    /// nearest set element, squared distance).
     fn entries<'a>(&'a self, p: &'a [f64]) -> impl Iterator<Item = (usize, usize, usize)> + 'a {
         self.element
             .iter()
@@ -129,8 +126,6 @@ pub(super) struct Extension {
     blocks: Vec<Band>,
     /// The set as bit rows, and those rows widened by `RADIUS` and by 2 elements.
     masks: SetMasks,
-    /// Elements that entered or left the set since the band was found.
-    stale: f64,
     /// Whether the grid of the last search wraps around its edges.
     periodic: bool,
 }
@@ -313,9 +308,8 @@ impl<O: SurfaceOperator> ContactSolver<O> {
     /// `residual_band` leaves the grid out. `changes` elements entered or left
     /// the set since the last call (infinite: the set is new, as at a solve's first
     /// iteration, so no band of an earlier solve or window is used); the band is found anew
-    /// once those since the last search exceed `STALE_SHARE` of the set, and until then the
-    /// old band serves, less the elements that entered the set.
-    pub(super) fn precondition_on_set(&mut self, changes: f64, set_count: f64) {
+    /// whenever the set changed.
+    pub(super) fn precondition_on_set(&mut self, changes: f64) {
         let (nx, ny, periodic) = (self.op.nx(), self.op.ny(), self.op.periodic());
         let band = match self.tuning.residual_band {
             ResidualBand::Off => false,
@@ -327,10 +321,8 @@ impl<O: SurfaceOperator> ContactSolver<O> {
             return;
         }
         let ext = &mut self.extension;
-        ext.stale += changes;
-        if ext.stale > STALE_SHARE * set_count {
+        if changes > 0.0 {
             ext.rebuild(&self.p, nx, ny, periodic);
-            ext.stale = 0.0;
         }
         ext.extend(&self.p, &mut self.g);
         self.op.precondition(&self.g, &mut self.z);

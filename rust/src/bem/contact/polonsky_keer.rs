@@ -168,7 +168,7 @@ impl<O: SurfaceOperator> ContactSolver<O> {
                 acc
             });
             let (zbar, gz) = if opts.precondition {
-                self.precondition_on_set(set_changes, set_count);
+                self.precondition_on_set(set_changes);
                 let [zsum, gz, g_lin, count] = self.set_sums(|c| {
                     let mut acc = [0.0; 4];
                     for &j in &c.set[..*c.len] {
