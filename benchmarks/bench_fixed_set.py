@@ -60,7 +60,7 @@ from scipy import ndimage
 
 import mdrvisc as mv
 from _bench import header, table
-from bench_rough import E_STAR, EDGE, RMS_SLOPE, mv_solve, pressure, self_affine
+from bench_rough import EDGE, estimated_pressure, mv_solve, pressure, self_affine
 
 BAND_RADIUS, BAND_DECAY = 3, 2.0
 FREE_PAD = 8
@@ -81,7 +81,7 @@ class FixedSet:
                  short: int):
         self.n, self.mode = n, mode
         z = self_affine(n, seed, hurst, short)
-        force = fraction * E_STAR * RMS_SLOPE / 2.0 * EDGE**2
+        force = estimated_pressure(fraction) * EDGE**2
         solved = mv_solve(z, mode, force, 1e-10)
         p = pressure(solved)
         self.heights, self.force = z, force

@@ -175,6 +175,12 @@ def pressure(r) -> np.ndarray:
     return np.asarray(r.fields[0.0].pressure)
 
 
+def estimated_pressure(fraction: float) -> float:
+    """Mean pressure (Pa) at which a self-affine surface of the benchmark's rms slope is
+    estimated to have the contact fraction ``fraction``: pbar = fraction E* (rms slope) / 2."""
+    return fraction * E_STAR * RMS_SLOPE / 2.0
+
+
 def calibrate(seed: int, hurst: float, fraction: float, size: int,
               short: int) -> tuple[float, list[str]]:
     """Mean pressure (Pa) at which mdrvisc's periodic ``size``^2 solution (tol 1e-6) has the
@@ -183,7 +189,7 @@ def calibrate(seed: int, hurst: float, fraction: float, size: int,
     z = self_affine(size, seed, hurst, short)
     return pressure_for_fraction(
         lambda pbar: pressure(mv_solve(z, "periodic", pbar * EDGE**2, 1e-6)),
-        fraction, fraction * E_STAR * RMS_SLOPE / 2.0, tries=8)
+        fraction, estimated_pressure(fraction), tries=8)
 
 
 def deviation(p: np.ndarray, p_ref: np.ndarray) -> tuple[float, float]:

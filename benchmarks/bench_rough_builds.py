@@ -21,7 +21,7 @@ the finest level's iterations per case; and each round's sum, which shows the no
 whose level iterations or pressure differ from the first build's are flagged: a change meant
 to keep the solution bit for bit shows none.
 
-Cases: at 512^2, bench_rough's nine cells (H 0.3, 0.5, 0.8 at 2, 5, 20 % contact, loads from
+Cases: up to 512^2, bench_rough's nine cells (H 0.3, 0.5, 0.8 at 2, 5, 20 % contact, loads from
 the contact-fraction estimate pbar = fraction E* (rms slope) / 2); at larger sizes its main
 case (H 0.8 / 5 %). Tolerance 1e-8.
 
@@ -41,13 +41,14 @@ import time
 from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
-NINE = [(h, f) for h in (0.3, 0.5, 0.8) for f in (0.02, 0.05, 0.2)]
-MAIN = [(0.8, 0.05)]
 
 
-def cases(n: int) -> list:
-    """(Hurst exponent, contact fraction) of the cases at size ``n``."""
-    return NINE if n == 512 else MAIN
+def cases(defaults: dict, n: int) -> list:
+    """(Hurst exponent, contact fraction) of bench_rough's cases at size ``n``, from its
+    ``defaults``: every pair up to its grid size, the main case beyond."""
+    if n <= defaults["grid_up_to"]:
+        return [(h, f) for h in defaults["hurst"] for f in defaults["fractions"]]
+    return [tuple(defaults["main"])]
 
 
 def size_weighted(levels: list) -> float:
@@ -73,9 +74,9 @@ def worker(build: str, n: int, modes: list, reps: int, cpu: bool, seed: int) -> 
     clock = time.process_time if cpu else time.perf_counter
     out = {}
     for mode in modes:
-        for hurst, fraction in cases(n):
-            z = br.self_affine(n, seed, hurst, 128)
-            force = fraction * br.E_STAR * br.RMS_SLOPE / 2.0 * br.EDGE**2
+        for hurst, fraction in cases(br.DEFAULTS, n):
+            z = br.self_affine(n, seed, hurst, br.DEFAULTS["short"])
+            force = br.estimated_pressure(fraction) * br.EDGE**2
             best = float("inf")
             for _ in range(reps):
                 start = clock()
