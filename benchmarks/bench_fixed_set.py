@@ -31,12 +31,24 @@ Preconditioners (each followed and preceded by P):
 * ``band``: mdrvisc's residual band, E^T |q| E, where E continues the residual from S onto
   the elements within 3 of it, each taking its nearest set element's value times
   exp(-d / 2), d its distance in elements (``rust/src/bem/contact/extension.rs``);
+* ``split+band``: ``band`` with abs(q) split into a near part, its real-space kernel cut to
+  offsets within 3 elements along each axis (a 7 x 7 stencil), and a far part, the rest of
+  its symbol applied on the grid coarsened by ``--coarsening`` (8): the residual's block means
+  go through an FFT pair of that small grid and come back constant over each block. Whether
+  the preconditioner's FFT pair on the whole grid can give way to a stencil on the set and
+  its band plus a small FFT pair at equal iterations;
 * ``patches`` and ``patches+band``: the balancing preconditioner of a coarse space of one
   constant per contact patch (4-connected; across the cell's edges on a cell) around
   ``spectral`` or ``band``: Q + (I - Q A) M (I - A Q), Q = Z (Z^T A Z)^+ Z^T, Z the patches'
   indicators. Its coarse matrix takes one operator apply per patch to build (``--preconditioners``
   chooses), and each application two more applies: it measures what such a coarse
-  space can do for the count, not a cost mdrvisc could pay as it stands.
+  space can do for the count, not a cost mdrvisc could pay as it stands;
+* ``deflated+band`` and ``deflated-far+band``: the same coarse space in the deflation form
+  that takes one apply per application, (I - Q A) M + Q around ``band``, started from Q b
+  (Tang, Nabben, Vuik and Erlangga 2009, "A-DEF2"); in ``deflated-far+band`` the coarse
+  matrix's entries of every two patches whose bounding boxes lie more than 2 elements apart
+  are their monopole terms, the patches' areas times the point-load deflection between their
+  centroids (no apply), which tests how exact the coarse matrix must be.
 
 ``bench_rough.py``'s surfaces are held out from tuning: a lever chosen from this diagnosis
 is to be checked on another ``--seed`` before it is measured there.
@@ -46,7 +58,8 @@ Polonsky-Keer) takes on its finest level on the same case: its excess over the f
 count is what finding the contact set costs.
 
 Run: ``python benchmarks/bench_fixed_set.py --sizes 512 1024 2048 --modes periodic free``
-(2048^2 takes a few minutes, most of it the patches' coarse matrix).
+(2048^2 takes a few minutes, most of it the patches' coarse matrix; ``--preconditioners``
+picks some, ``--coarsening`` sets split+band's coarse grid).
 """
 
 from __future__ import annotations
@@ -64,7 +77,10 @@ from bench_rough import EDGE, estimated_pressure, mv_solve, pressure, self_affin
 
 BAND_RADIUS, BAND_DECAY = 3, 2.0
 FREE_PAD = 8
-PRECONDITIONERS = ["none", "spectral", "band", "patches", "patches+band"]
+PRECONDITIONERS = ["none", "spectral", "band", "split+band", "patches", "patches+band",
+                   "deflated+band", "deflated-far+band"]
+SPLIT_RADIUS = 3
+FAR_GAP = 2
 
 
 def wavenumbers(shape: tuple[int, int], dx: float) -> np.ndarray:
@@ -78,8 +94,8 @@ class FixedSet:
     """The contact set's operator, its right-hand side and the preconditioners on one grid."""
 
     def __init__(self, n: int, mode: str, seed: int, hurst: float, fraction: float,
-                 short: int):
-        self.n, self.mode = n, mode
+                 short: int, coarsening: int = 8):
+        self.n, self.mode, self.coarsening = n, mode, coarsening
         z = self_affine(n, seed, hurst, short)
         force = estimated_pressure(fraction) * EDGE**2
         solved = mv_solve(z, mode, force, 1e-10)
@@ -117,6 +133,35 @@ class FixedSet:
         out = np.fft.irfft2(self.inverse * np.fft.rfft2(np.pad(r, pad)), s=self.shape)
         return out[pad:pad + n, pad:pad + n]
 
+    @cached_property
+    def split(self):
+        """The split of abs(q): (near, far) as functions of the (padded) residual."""
+        shape, f = self.shape, self.coarsening
+        if shape[0] % f or shape[1] % f:
+            raise ValueError(f"--coarsening {f} does not divide the FFT grid {shape}")
+        kernel = np.fft.irfft2(self.inverse, s=shape)
+        near = np.zeros(shape)
+        reach = np.r_[0:SPLIT_RADIUS + 1, -SPLIT_RADIUS:0]
+        near[np.ix_(reach, reach)] = kernel[np.ix_(reach, reach)]
+        near_symbol = np.fft.rfft2(near).real
+        coarse = (shape[0] // f, shape[1] // f)
+        rows = np.r_[0:coarse[0] // 2 + 1, shape[0] - (coarse[0] - coarse[0] // 2 - 1):shape[0]]
+        far_symbol = (self.inverse - near_symbol)[rows][:, :coarse[1] // 2 + 1]
+
+        def far(r):
+            means = r.reshape(coarse[0], f, coarse[1], f).mean(axis=(1, 3))
+            out = np.fft.irfft2(far_symbol * np.fft.rfft2(means), s=coarse)
+            return np.repeat(np.repeat(out, f, axis=0), f, axis=1)
+        return (lambda r: np.fft.irfft2(near_symbol * np.fft.rfft2(r), s=shape)), far
+
+    def split_inverse(self, r: np.ndarray) -> np.ndarray:
+        """abs(q) r as its near stencil plus its far part on the coarsened grid."""
+        pad, n = self.pad, self.n
+        near, far = self.split
+        padded = np.pad(r, pad)
+        out = near(padded) + far(padded)
+        return out[pad:pad + n, pad:pad + n]
+
     def _band_setup(self) -> None:
         n = self.n
         outside = ~self.set
@@ -149,10 +194,19 @@ class FixedSet:
             "none": lambda r: self.restrict(r),
             "spectral": lambda r: self.restrict(self.spectral(self.restrict(r))),
             "band": lambda r: self.restrict(self.fold(self.spectral(self.extend(self.restrict(r))))),
+            "split+band": lambda r: self.restrict(
+                self.fold(self.split_inverse(self.extend(self.restrict(r))))),
         }
         if name in base:
             return base[name]
         inner = base["spectral" if name == "patches" else "band"]
+        if name.startswith("deflated"):
+            coarse = self.coarse(far=name == "deflated-far+band")
+
+            def deflated(r):
+                y = inner(r)
+                return y - coarse(self.apply(y)) + coarse(r)
+            return deflated
         coarse = self.coarse()
 
         def balanced(r):
@@ -186,19 +240,80 @@ class FixedSet:
         return index
 
     @cached_property
-    def coarse_inverse(self) -> np.ndarray:
-        """(Z^T A Z)^+, the patches' coarse matrix inverted: one apply per patch."""
+    def patch_kernel(self) -> np.ndarray:
+        """Z^T K Z: the patches' mutual deflections (one apply per patch)."""
         index, m = self.patch_index, self.patch_count
         spread = np.zeros((self.n, self.n))
         matrix = np.empty((m, m))
         for k in range(m):
             spread[self.set] = index == k
-            matrix[:, k] = np.bincount(index, weights=self.apply(spread)[self.set], minlength=m)
-        return np.linalg.pinv(0.5 * (matrix + matrix.T), rcond=1e-12, hermitian=True)
+            matrix[:, k] = np.bincount(index, weights=self.operator.apply(spread)[self.set],
+                                       minlength=m)
+        return 0.5 * (matrix + matrix.T)
 
-    def coarse(self):
-        """Q r = Z (Z^T A Z)^+ Z^T r for the patches' coarse space."""
-        index, m, inverse = self.patch_index, self.patch_count, self.coarse_inverse
+    def projected(self, kernel: np.ndarray) -> np.ndarray:
+        """Z^T A Z from Z^T K Z: A = P K P, P the removal of the mean over the set, which
+        maps Z to Z (I - 1 a^T / s), a the patches' areas (elements) and s their sum."""
+        area = np.bincount(self.patch_index, minlength=self.patch_count).astype(float)
+        s, rows = area.sum(), kernel.sum(axis=1)
+        return (kernel - np.outer(area, rows) / s - np.outer(rows, area) / s
+                + np.outer(area, area) * rows.sum() / s**2)
+
+    @cached_property
+    def coarse_matrix(self) -> np.ndarray:
+        """Z^T A Z, the patches' coarse matrix."""
+        return self.projected(self.patch_kernel)
+
+    @cached_property
+    def coarse_matrix_far(self) -> np.ndarray:
+        """Z^T A Z with Z^T K Z's entries of every two patches whose bounding boxes lie more
+        than ``FAR_GAP`` elements apart (across the edges on a cell) taken as monopoles,
+        a_i a_j G(c_j - c_i): a the patches' areas (elements), c their centroids and G the
+        deflection of a unit point load, read bilinearly between elements."""
+        n, index, m = self.n, self.patch_index, self.patch_count
+        periodic = self.mode == "periodic"
+        ys, xs = (c.astype(float) for c in np.nonzero(self.set))
+        if periodic:  # each patch unwrapped around one of its elements
+            anchor = np.zeros((m, 2))
+            anchor[index] = np.column_stack([ys, xs])
+            ys = anchor[index, 0] + (ys - anchor[index, 0] + n / 2) % n - n / 2
+            xs = anchor[index, 1] + (xs - anchor[index, 1] + n / 2) % n - n / 2
+        area = np.bincount(index, minlength=m).astype(float)
+        cy, cx = np.bincount(index, ys, m) / area, np.bincount(index, xs, m) / area
+        half = []
+        for c in (ys, xs):
+            lo, hi = np.full(m, np.inf), np.full(m, -np.inf)
+            np.minimum.at(lo, index, c)
+            np.maximum.at(hi, index, c)
+            half.append((hi - lo) / 2)
+        dy, dx = cy[None, :] - cy[:, None], cx[None, :] - cx[:, None]
+        if periodic:
+            dy, dx = (dy + n / 2) % n - n / 2, (dx + n / 2) % n - n / 2
+        gap = np.maximum(np.abs(dy) - half[0][:, None] - half[0][None, :],
+                         np.abs(dx) - half[1][:, None] - half[1][None, :])
+        size = n if periodic else 2 * n
+        point = np.zeros((size, size))
+        point[0, 0] = 1.0
+        operator = (self.operator if periodic
+                    else mv.arrays.SurfaceOperator((size, size), EDGE / n))
+        response = operator.apply(point)
+        oy, ox = np.floor(dy).astype(int), np.floor(dx).astype(int)
+        fy, fx = dy - oy, dx - ox
+
+        def at(a, b):
+            return response[np.abs(a) % size, np.abs(b) % size]
+        green = ((1 - fy) * (1 - fx) * at(oy, ox) + fy * (1 - fx) * at(oy + 1, ox)
+                 + (1 - fy) * fx * at(oy, ox + 1) + fy * fx * at(oy + 1, ox + 1))
+        kernel = np.where(gap > FAR_GAP, np.outer(area, area) * green, self.patch_kernel)
+        self.far_share = float((gap > FAR_GAP).mean())
+        return self.projected(kernel)
+
+    def coarse(self, far: bool = False):
+        """Q r = Z (Z^T A Z)^+ Z^T r for the patches' coarse space (its matrix with far
+        patches' entries as monopoles with ``far``)."""
+        index, m = self.patch_index, self.patch_count
+        matrix = self.coarse_matrix_far if far else self.coarse_matrix
+        inverse = np.linalg.pinv(matrix, rcond=1e-12, hermitian=True)
 
         def q(r):
             out = np.zeros((self.n, self.n))
@@ -207,11 +322,13 @@ class FixedSet:
         return q
 
     def iterations(self, name: str, tol: float, max_iter: int = 1000) -> int:
-        """Conjugate gradients' iterations from zero to a step below ``tol`` of the pressure
-        (L1), under the named preconditioner."""
+        """Conjugate gradients' iterations from zero (the deflated ones: from Q b) to a step
+        below ``tol`` of the pressure (L1), under the named preconditioner."""
         precondition = self.preconditioner(name)
         x = np.zeros((self.n, self.n))
-        r = self.rhs.copy()
+        if name.startswith("deflated"):
+            x = self.coarse(far=name == "deflated-far+band")(self.rhs)
+        r = self.rhs - self.apply(x)
         z = precondition(r)
         d = z.copy()
         rz = np.vdot(r, z)
@@ -239,6 +356,8 @@ def main(argv=None) -> None:
     ap.add_argument("--fraction", type=float, default=0.05)
     ap.add_argument("--short", type=int, default=128)
     ap.add_argument("--tol", type=float, default=1e-8)
+    ap.add_argument("--coarsening", type=int, default=8,
+                    help="split+band: the far part's grid is coarsened by this factor (8)")
     ap.add_argument("--preconditioners", nargs="+", choices=PRECONDITIONERS,
                     default=PRECONDITIONERS,
                     help="the patch coarse space costs one operator apply per patch to build")
@@ -251,8 +370,12 @@ def main(argv=None) -> None:
     for mode in args.modes:
         for n in args.sizes:
             start = time.perf_counter()
-            case = FixedSet(n, mode, args.seed, args.hurst, args.fraction, args.short)
+            case = FixedSet(n, mode, args.seed, args.hurst, args.fraction, args.short,
+                            args.coarsening)
             counts = [case.iterations(name, args.tol) for name in names]
+            if "deflated-far+band" in names:
+                print(f"   {mode} {n}: {case.far_share:.1%} of the coarse matrix's entries "
+                      "taken as monopoles", flush=True)
             finest = mv_solve(case.heights, mode, case.force, args.tol).level_iterations[-1]
             rows.append([mode, n, case.set.mean(), case.patch_count, *counts, finest,
                          time.perf_counter() - start])
