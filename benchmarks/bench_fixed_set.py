@@ -90,25 +90,15 @@ def wavenumbers(shape: tuple[int, int], dx: float) -> np.ndarray:
     return 2.0 * np.pi * np.hypot(qy, qx)
 
 
-class FixedSet:
-    """The contact set's operator, its right-hand side and the preconditioners on one grid."""
+class SetOperators:
+    """The operator of a contact set ``mask`` (n x n, boolean) under force control and the
+    preconditioners on it; ``operator`` is mdrvisc's surface operator of the grid, and the
+    preconditioners' abs(q) is taken times ``scale`` (m; mdrvisc's is 2 dx abs(q))."""
 
-    def __init__(self, n: int, mode: str, seed: int, hurst: float, fraction: float,
-                 short: int, coarsening: int = 8):
-        self.n, self.mode, self.coarsening = n, mode, coarsening
-        z = self_affine(n, seed, hurst, short)
-        force = estimated_pressure(fraction) * EDGE**2
-        solved = mv_solve(z, mode, force, 1e-10)
-        p = pressure(solved)
-        self.heights, self.force = z, force
-        self.patch_count = int(solved.patches[0])
-        coarse = z.reshape(n // 2, 2, n // 2, 2).mean(axis=(1, 3))
-        p_coarse = pressure(mv_solve(coarse, mode, force, 1e-10))
-        self.set = p > 0
-        start = np.kron(p_coarse, np.ones((2, 2))) * self.set
-        self.p_sum = p.sum()
-        self.operator = mv.arrays.SurfaceOperator((n, n), EDGE / n, periodic=mode == "periodic")
-        self.rhs = self.apply(p - start * (self.p_sum / start.sum()))
+    def __init__(self, mask: np.ndarray, mode: str, operator, coarsening: int = 8,
+                 scale: float = 1.0):
+        self.n, self.mode, self.coarsening = mask.shape[0], mode, coarsening
+        self.set, self.operator, self.scale = mask, operator, scale
         self._spectral_setup()
         self._band_setup()
 
@@ -125,7 +115,7 @@ class FixedSet:
         pad = 0 if self.mode == "periodic" else FREE_PAD
         self.shape = (self.n + 2 * pad, self.n + 2 * pad)
         self.pad = pad
-        self.inverse = wavenumbers(self.shape, EDGE / self.n)
+        self.inverse = self.scale * wavenumbers(self.shape, EDGE / self.n)
 
     def spectral(self, r: np.ndarray) -> np.ndarray:
         """|q| r on the cell, or on the grid zero-padded by ``FREE_PAD``."""
@@ -233,11 +223,12 @@ class FixedSet:
                 if a and b:
                     parent[root(a)] = root(b)
         roots = np.array([root(a) for a in range(count + 1)])
-        _, index = np.unique(roots[labels[self.set]], return_inverse=True)
-        if index.max() + 1 != self.patch_count:
-            raise RuntimeError(f"{index.max() + 1} patches labelled, mdrvisc counts "
-                               f"{self.patch_count}")
-        return index
+        return np.unique(roots[labels[self.set]], return_inverse=True)[1]
+
+    @cached_property
+    def patch_count(self) -> int:
+        """The number of contact patches."""
+        return int(self.patch_index.max()) + 1 if self.set.any() else 0
 
     @cached_property
     def patch_kernel(self) -> np.ndarray:
@@ -320,6 +311,29 @@ class FixedSet:
             out[self.set] = (inverse @ np.bincount(index, weights=r[self.set], minlength=m))[index]
             return out
         return q
+
+
+class FixedSet(SetOperators):
+    """The contact set's operator, its right-hand side and the preconditioners on one grid:
+    the final contact set of bench_rough.py's surface."""
+
+    def __init__(self, n: int, mode: str, seed: int, hurst: float, fraction: float,
+                 short: int, coarsening: int = 8):
+        z = self_affine(n, seed, hurst, short)
+        force = estimated_pressure(fraction) * EDGE**2
+        solved = mv_solve(z, mode, force, 1e-10)
+        p = pressure(solved)
+        self.heights, self.force = z, force
+        coarse = z.reshape(n // 2, 2, n // 2, 2).mean(axis=(1, 3))
+        p_coarse = pressure(mv_solve(coarse, mode, force, 1e-10))
+        operator = mv.arrays.SurfaceOperator((n, n), EDGE / n, periodic=mode == "periodic")
+        super().__init__(p > 0, mode, operator, coarsening)
+        if self.patch_count != int(solved.patches[0]):
+            raise RuntimeError(f"{self.patch_count} patches labelled, mdrvisc counts "
+                               f"{int(solved.patches[0])}")
+        start = np.kron(p_coarse, np.ones((2, 2))) * self.set
+        self.p_sum = p.sum()
+        self.rhs = self.apply(p - start * (self.p_sum / start.sum()))
 
     def iterations(self, name: str, tol: float, max_iter: int = 1000) -> int:
         """Conjugate gradients' iterations from zero (the deflated ones: from Q b) to a step
