@@ -360,16 +360,27 @@ class FixedSet(SetOperators):
         return max_iter
 
 
-def main(argv=None) -> None:
-    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--sizes", type=int, nargs="+", default=[512, 1024])
-    ap.add_argument("--modes", nargs="+", choices=["periodic", "free"],
-                    default=["periodic", "free"])
+def surface_arguments(ap: argparse.ArgumentParser) -> None:
+    """The options that choose bench_rough.py's surface, load and tolerance."""
     ap.add_argument("--seed", type=int, default=20261127)
     ap.add_argument("--hurst", type=float, default=0.8)
     ap.add_argument("--fraction", type=float, default=0.05)
     ap.add_argument("--short", type=int, default=128)
     ap.add_argument("--tol", type=float, default=1e-8)
+
+
+def surface_line(args: argparse.Namespace) -> str:
+    """The surface, load and tolerance that ``surface_arguments`` chose, in a line."""
+    return (f"surface seed {args.seed}, H {args.hurst}, pbar for ~{args.fraction:.0%} contact, "
+            f"tol {args.tol:g}")
+
+
+def main(argv=None) -> None:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--sizes", type=int, nargs="+", default=[512, 1024])
+    ap.add_argument("--modes", nargs="+", choices=["periodic", "free"],
+                    default=["periodic", "free"])
+    surface_arguments(ap)
     ap.add_argument("--coarsening", type=int, default=8,
                     help="split+band: the far part's grid is coarsened by this factor (8)")
     ap.add_argument("--preconditioners", nargs="+", choices=PRECONDITIONERS,
@@ -378,8 +389,7 @@ def main(argv=None) -> None:
     args = ap.parse_args(argv)
     names = args.preconditioners
     header("fixed-set conjugate gradients: iterations per preconditioner against the grid")
-    print(f"   surface seed {args.seed}, H {args.hurst}, pbar for ~{args.fraction:.0%} contact, "
-          f"tol {args.tol:g}")
+    print(f"   {surface_line(args)}")
     rows = []
     for mode in args.modes:
         for n in args.sizes:

@@ -59,7 +59,7 @@ import numpy as np
 
 import mdrvisc as mv
 from _bench import header, table
-from bench_fixed_set import SetOperators
+from bench_fixed_set import SetOperators, surface_arguments, surface_line
 from bench_rough import EDGE, estimated_pressure, mv_solve, pressure, self_affine
 
 COARSE_TOL = 1e-4
@@ -154,11 +154,7 @@ def main(argv=None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--sizes", type=int, nargs="+", default=[512])
     ap.add_argument("--modes", nargs="+", choices=["periodic", "free"], default=["periodic"])
-    ap.add_argument("--seed", type=int, default=20261127)
-    ap.add_argument("--hurst", type=float, default=0.8)
-    ap.add_argument("--fraction", type=float, default=0.05)
-    ap.add_argument("--short", type=int, default=128)
-    ap.add_argument("--tol", type=float, default=1e-8)
+    surface_arguments(ap)
     ap.add_argument("--max-iter", type=int, default=80)
     ap.add_argument("--balance", type=float, default=1.0,
                     help="the band's weight inside the coarse variants' balancing form, in "
@@ -170,8 +166,7 @@ def main(argv=None) -> None:
                     help="plain, coarse, coarse-settled, gcr-K (K >= 1)")
     args = ap.parse_args(argv)
     header("NumPy Polonsky-Keer: the finest level's iterations per variant against the grid")
-    print(f"   surface seed {args.seed}, H {args.hurst}, pbar for ~{args.fraction:.0%} contact, "
-          f"tol {args.tol:g}, balance {args.balance:g}")
+    print(f"   {surface_line(args)}, balance {args.balance:g}")
     rows = []
     for mode in args.modes:
         for n in args.sizes:
