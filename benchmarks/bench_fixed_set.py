@@ -256,11 +256,11 @@ class SetOperators:
         return self.projected(self.patch_kernel)
 
     @cached_property
-    def coarse_matrix_far(self) -> np.ndarray:
-        """Z^T A Z with Z^T K Z's entries of every two patches whose bounding boxes lie more
-        than ``FAR_GAP`` elements apart (across the edges on a cell) taken as monopoles,
-        a_i a_j G(c_j - c_i): a the patches' areas (elements), c their centroids and G the
-        deflection of a unit point load, read bilinearly between elements."""
+    def monopoles(self) -> tuple[np.ndarray, np.ndarray]:
+        """(far, terms): which two patches' bounding boxes lie more than ``FAR_GAP`` elements
+        apart (across the edges on a cell), and their monopole terms a_i a_j G(c_j - c_i),
+        a the patches' areas (elements), c their centroids and G the deflection of a unit
+        point load, read bilinearly between elements."""
         n, index, m = self.n, self.patch_index, self.patch_count
         periodic = self.mode == "periodic"
         ys, xs = (c.astype(float) for c in np.nonzero(self.set))
@@ -295,16 +295,29 @@ class SetOperators:
             return response[np.abs(a) % size, np.abs(b) % size]
         green = ((1 - fy) * (1 - fx) * at(oy, ox) + fy * (1 - fx) * at(oy + 1, ox)
                  + (1 - fy) * fx * at(oy, ox + 1) + fy * fx * at(oy + 1, ox + 1))
-        kernel = np.where(gap > FAR_GAP, np.outer(area, area) * green, self.patch_kernel)
-        self.far_share = float((gap > FAR_GAP).mean())
-        return self.projected(kernel)
+        return gap > FAR_GAP, np.outer(area, area) * green
+
+    @cached_property
+    def coarse_matrix_far(self) -> np.ndarray:
+        """Z^T A Z with Z^T K Z's entries of far patches taken as their monopoles."""
+        far, terms = self.monopoles
+        return self.projected(np.where(far, terms, self.patch_kernel))
+
+    @cached_property
+    def coarse_inverse(self) -> np.ndarray:
+        """(Z^T A Z)^+."""
+        return np.linalg.pinv(self.coarse_matrix, rcond=1e-12, hermitian=True)
+
+    @cached_property
+    def coarse_inverse_far(self) -> np.ndarray:
+        """(Z^T A Z)^+ with far patches' entries as monopoles."""
+        return np.linalg.pinv(self.coarse_matrix_far, rcond=1e-12, hermitian=True)
 
     def coarse(self, far: bool = False):
         """Q r = Z (Z^T A Z)^+ Z^T r for the patches' coarse space (its matrix with far
         patches' entries as monopoles with ``far``)."""
         index, m = self.patch_index, self.patch_count
-        matrix = self.coarse_matrix_far if far else self.coarse_matrix
-        inverse = np.linalg.pinv(matrix, rcond=1e-12, hermitian=True)
+        inverse = self.coarse_inverse_far if far else self.coarse_inverse
 
         def q(r):
             out = np.zeros((self.n, self.n))
@@ -398,7 +411,7 @@ def main(argv=None) -> None:
                             args.coarsening)
             counts = [case.iterations(name, args.tol) for name in names]
             if "deflated-far+band" in names:
-                print(f"   {mode} {n}: {case.far_share:.1%} of the coarse matrix's entries "
+                print(f"   {mode} {n}: {case.monopoles[0].mean():.1%} of the coarse matrix's entries "
                       "taken as monopoles", flush=True)
             finest = mv_solve(case.heights, mode, case.force, args.tol).level_iterations[-1]
             rows.append([mode, n, case.set.mean(), case.patch_count, *counts, finest,

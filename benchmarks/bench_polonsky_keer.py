@@ -75,10 +75,20 @@ def variant_ok(name: str) -> str:
     raise argparse.ArgumentTypeError(f"unknown variant {name!r}")
 
 
-def polonsky_keer(z: np.ndarray, mode: str, force: float, variant: str, tol: float,
-                  max_iter: int, balance: float = 1.0, trace: bool = False) -> int | None:
+def nested_start(z: np.ndarray, mode: str, force: float) -> np.ndarray:
+    """The pressure (Pa) a finest level starts from: the solution on the grid coarsened by
+    two (tol ``COARSE_TOL``), repeated over each element's four children."""
+    n = z.shape[0]
+    coarse = z.reshape(n // 2, 2, n // 2, 2).mean(axis=(1, 3))
+    return np.kron(pressure(mv_solve(coarse, mode, force, COARSE_TOL)), np.ones((2, 2)))
+
+
+def polonsky_keer(z: np.ndarray, mode: str, force: float, start: np.ndarray, variant: str,
+                  tol: float, max_iter: int, balance: float = 1.0,
+                  trace: bool = False) -> int | None:
     """Iterations of the NumPy Polonsky-Keer (``variant``) on heights ``z`` (m) under
-    ``force`` (N) to a relative change below ``tol``; None if ``max_iter`` did not do.
+    ``force`` (N) from the pressure ``start`` (scaled to the force) to a relative change
+    below ``tol``; None if ``max_iter`` did not do.
     ``balance`` weighs the band's preconditioner inside the coarse variants' balancing
     form, in units of mdrvisc's 2 dx abs(q). ``trace`` prints each iteration's relative
     change and the elements that entered and left the set."""
@@ -86,9 +96,7 @@ def polonsky_keer(z: np.ndarray, mode: str, force: float, variant: str, tol: flo
     area = (EDGE / n) ** 2
     operator = mv.arrays.SurfaceOperator((n, n), EDGE / n, periodic=mode == "periodic")
     h = z.max() - z
-    coarse = z.reshape(n // 2, 2, n // 2, 2).mean(axis=(1, 3))
-    p = np.kron(pressure(mv_solve(coarse, mode, force, COARSE_TOL)), np.ones((2, 2)))
-    p *= force / (p.sum() * area)
+    p = start * (force / (start.sum() * area))
     u = operator.apply(p)
     t, z_old, g_old = np.zeros((n, n)), np.zeros((n, n)), 1.0
     history: list[np.ndarray] = []
@@ -99,7 +107,8 @@ def polonsky_keer(z: np.ndarray, mode: str, force: float, variant: str, tol: flo
             weighted = None
         on = ops.set
         gap = u + h
-        g = np.where(on, gap - gap[on].mean(), 0.0)
+        gap -= gap[on].mean()
+        g = np.where(on, gap, 0.0)
         use_coarse = variant == "coarse" or (variant == "coarse-settled" and not changed)
         if use_coarse:
             if weighted is None:
@@ -123,7 +132,7 @@ def polonsky_keer(z: np.ndarray, mode: str, force: float, variant: str, tol: flo
         tau = np.vdot(g, t) / np.vdot((r - rbar) * on, t)
         p_old = p
         p = np.where(on, np.maximum(p - tau * t, 0.0), 0.0)
-        after = gap - gap[on].mean() - tau * (r - rbar)
+        after = gap - tau * (r - rbar)
         enter = ~on & (after < 0)
         p[enter] = -tau * after[enter]
         p *= force / (p.sum() * area)
@@ -178,9 +187,9 @@ def main(argv=None) -> None:
             start = time.perf_counter()
             z = self_affine(n, args.seed, args.hurst, args.short)
             force = estimated_pressure(args.fraction) * EDGE**2
-            counts = []
+            counts, p0 = [], nested_start(z, mode, force)
             for variant in args.variants:
-                it = polonsky_keer(z, mode, force, variant, args.tol, args.max_iter,
+                it = polonsky_keer(z, mode, force, p0, variant, args.tol, args.max_iter,
                                    args.balance, args.trace)
                 counts.append(f">{args.max_iter}" if it is None else str(it))
             finest = mv_solve(z, mode, force, args.tol).level_iterations[-1]
