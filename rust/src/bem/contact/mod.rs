@@ -24,6 +24,7 @@ use crate::halfspace::operator::SurfaceOperator;
 use crate::model::settings::SolverOptions;
 use crate::support::error::{check_finite, check_len, check_positive, Error, Result};
 use crate::support::monitor::Monitor;
+use crate::support::pool::KeepAwake;
 use passes::{MAX_SUMS, PASS_CHUNK};
 
 /// What the solve holds fixed: the total force (N, or N s for impulses) or the rigid-body
@@ -338,6 +339,8 @@ impl<O: SurfaceOperator> ContactSolver<O> {
         opts: &SolverOptions,
         monitor: &mut dyn Monitor,
     ) -> Result<ContactSummary> {
+        // every iteration is a dozen parallel loops of well under a millisecond each
+        let _awake = KeepAwake::new();
         let n = self.p.len();
         check_len("separation h", h.len(), n)?;
         check_len("allowed mask", allowed.len(), n)?;

@@ -7,6 +7,7 @@ use crate::halfspace::operator::SurfaceOperator;
 use crate::model::settings::SolverOptions;
 use crate::support::error::{check_len, Error, Result};
 use crate::support::monitor::Monitor;
+use crate::support::pool::KeepAwake;
 use faer::linalg::solvers::Solve;
 use faer::{ColRef, Mat, Side};
 
@@ -23,6 +24,8 @@ impl<O: SurfaceOperator> ContactSolver<O> {
         opts: &SolverOptions,
         monitor: &mut dyn Monitor,
     ) -> Result<(usize, f64)> {
+        // every CG iteration is a few parallel loops of well under a millisecond each
+        let _awake = KeepAwake::new();
         let n = self.p.len();
         check_len("contact set", set.len(), n)?;
         opts.validate()?;
