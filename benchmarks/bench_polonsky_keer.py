@@ -39,6 +39,11 @@ Variants (``--variants``):
   the operator's inverse);
 * ``coarse-settled``: the same only in iterations that follow a step that changed no
   element, with beta = 0 at each switch;
+* ``shaped``, ``shaped-settled``: as ``coarse`` and ``coarse-settled``, but each patch's
+  coarse function is the current pressure on it raised to ``--shape-exponent`` (1), not a
+  constant: a correction in that space scales a patch's pressure and leaves its edge,
+  where the pressure falls to zero, where it is. Built anew at every iteration that uses it
+  (the pressure changes), one apply per patch;
 * ``gcr-K``: each new direction made A-orthogonal to the last K directions (K >= 1),
   restricted to the current set, with exact products (one apply each), in place of
   Polak-Ribiere's beta.
@@ -48,13 +53,17 @@ A variant that has not converged within ``--max-iter`` iterations prints as ``>N
 Run: ``python benchmarks/bench_polonsky_keer.py --sizes 512 1024 --variants plain
 coarse-settled gcr-3`` (the coarse variants take one apply per patch whenever they build
 their coarse matrix: ``coarse`` at 512^2 about 2 minutes; ``plain`` and ``coarse-settled``
-together about 1 and 4 minutes at 1024^2 and 2048^2, on 2 cores).
+together about 1 and 4 minutes at 1024^2 and 2048^2, on 2 cores; the shaped variants build
+theirs at every iteration that uses them: ``shaped`` at 512^2 about 1.5 minutes to
+``--max-iter 60``, ``plain`` and ``shaped-settled`` about 1 and 5 minutes at 1024^2 and
+2048^2).
 """
 
 from __future__ import annotations
 
 import argparse
 import time
+from functools import cached_property
 
 import numpy as np
 
@@ -68,7 +77,7 @@ COARSE_TOL = 1e-4
 
 def variant_ok(name: str) -> str:
     """``name`` if it is a known variant, else an argparse error."""
-    if name in ("plain", "coarse", "coarse-settled"):
+    if name in ("plain", "coarse", "coarse-settled", "shaped", "shaped-settled"):
         return name
     if name.startswith("gcr-") and name[4:].isdigit() and int(name[4:]) >= 1:
         return name
@@ -83,15 +92,63 @@ def nested_start(z: np.ndarray, mode: str, force: float) -> np.ndarray:
     return np.kron(pressure(mv_solve(coarse, mode, force, COARSE_TOL)), np.ones((2, 2)))
 
 
+class ShapedPatches(SetOperators):
+    """``SetOperators`` whose coarse space has one function per patch shaped by ``weights``
+    (one per set element, in the set's order): Z_j = weights on patch j, 0 elsewhere."""
+
+    def __init__(self, mask: np.ndarray, mode: str, operator, weights: np.ndarray,
+                 scale: float):
+        super().__init__(mask, mode, operator, scale=scale)
+        self.weights = weights
+
+    @cached_property
+    def patch_kernel(self) -> np.ndarray:
+        """Z^T K Z (one apply per patch)."""
+        index, m, w = self.patch_index, self.patch_count, self.weights
+        spread = np.zeros((self.n, self.n))
+        matrix = np.empty((m, m))
+        for k in range(m):
+            spread[self.set] = (index == k) * w
+            matrix[:, k] = np.bincount(index, weights=w * self.operator.apply(spread)[self.set],
+                                       minlength=m)
+        return 0.5 * (matrix + matrix.T)
+
+    @cached_property
+    def coarse_matrix(self) -> np.ndarray:
+        """Z^T A Z = (P Z)^T K (P Z), P Z = Z - 1 a^T / s (a = Z^T 1, s the set's size)."""
+        index, m, w = self.patch_index, self.patch_count, self.weights
+        a = np.bincount(index, weights=w, minlength=m)
+        s = float(self.set.sum())
+        ones = self.operator.apply(self.set.astype(float))[self.set]
+        b = np.bincount(index, weights=w * ones, minlength=m)
+        return (self.patch_kernel - np.outer(a, b) / s - np.outer(b, a) / s
+                + np.outer(a, a) * ones.sum() / s**2)
+
+    def coarse(self, far: bool = False):
+        """Q r = Z (Z^T A Z)^+ Z^T r (``far`` is not offered here)."""
+        if far:
+            raise ValueError("shaped patches have no monopole coarse matrix")
+        index, m, w = self.patch_index, self.patch_count, self.weights
+        inverse = self.coarse_inverse
+
+        def q(r):
+            out = np.zeros((self.n, self.n))
+            out[self.set] = w * (inverse @ np.bincount(index, weights=w * r[self.set],
+                                                       minlength=m))[index]
+            return out
+        return q
+
+
 def polonsky_keer(z: np.ndarray, mode: str, force: float, start: np.ndarray, variant: str,
                   tol: float, max_iter: int, balance: float = 1.0,
-                  trace: bool = False) -> int | None:
+                  trace: bool = False, exponent: float = 1.0) -> int | None:
     """Iterations of the NumPy Polonsky-Keer (``variant``) on heights ``z`` (m) under
     ``force`` (N) from the pressure ``start`` (scaled to the force) to a relative change
     below ``tol``; None if ``max_iter`` did not do.
     ``balance`` weighs the band's preconditioner inside the coarse variants' balancing
     form, in units of mdrvisc's 2 dx abs(q). ``trace`` prints each iteration's relative
-    change and the elements that entered and left the set."""
+    change and the elements that entered and left the set. ``exponent``: the shaped
+    variants' coarse functions are the pressure to this power on each patch."""
     n = z.shape[0]
     area = (EDGE / n) ** 2
     operator = mv.arrays.SurfaceOperator((n, n), EDGE / n, periodic=mode == "periodic")
@@ -109,8 +166,14 @@ def polonsky_keer(z: np.ndarray, mode: str, force: float, start: np.ndarray, var
         gap = u + h
         gap -= gap[on].mean()
         g = np.where(on, gap, 0.0)
-        use_coarse = variant == "coarse" or (variant == "coarse-settled" and not changed)
-        if use_coarse:
+        family = variant.removesuffix("-settled")
+        use_coarse = family in ("coarse", "shaped") and (
+            family == variant or not changed)
+        if use_coarse and family == "shaped":
+            shape = p[on] ** exponent
+            zz = ShapedPatches(on, mode, operator, shape / shape.mean(),
+                               scale=2.0 * EDGE / n * balance).preconditioner("patches+band")(g)
+        elif use_coarse:
             if weighted is None:
                 weighted = SetOperators(on, mode, operator, scale=2.0 * EDGE / n * balance)
             zz = weighted.preconditioner("patches+band")(g)
@@ -173,14 +236,18 @@ def main(argv=None) -> None:
     ap.add_argument("--balance", type=float, default=1.0,
                     help="the band's weight inside the coarse variants' balancing form, in "
                          "units of mdrvisc's preconditioner 2 dx abs(q) (1)")
+    ap.add_argument("--shape-exponent", type=float, default=1.0,
+                    help="the shaped variants' coarse functions: the pressure on each patch "
+                         "to this power (1)")
     ap.add_argument("--trace", action="store_true",
                     help="print each iteration's relative change and set changes")
     ap.add_argument("--variants", nargs="+", type=variant_ok,
                     default=["plain", "coarse-settled", "gcr-3"],
-                    help="plain, coarse, coarse-settled, gcr-K (K >= 1)")
+                    help="plain, coarse, coarse-settled, shaped, shaped-settled, gcr-K (K >= 1)")
     args = ap.parse_args(argv)
     header("NumPy Polonsky-Keer: the finest level's iterations per variant against the grid")
-    print(f"   {surface_line(args)}, balance {args.balance:g}")
+    print(f"   {surface_line(args)}, balance {args.balance:g}, "
+          f"shape exponent {args.shape_exponent:g}")
     rows = []
     for mode in args.modes:
         for n in args.sizes:
@@ -190,7 +257,7 @@ def main(argv=None) -> None:
             counts, p0 = [], nested_start(z, mode, force)
             for variant in args.variants:
                 it = polonsky_keer(z, mode, force, p0, variant, args.tol, args.max_iter,
-                                   args.balance, args.trace)
+                                   args.balance, args.trace, args.shape_exponent)
                 counts.append(f">{args.max_iter}" if it is None else str(it))
             finest = mv_solve(z, mode, force, args.tol).level_iterations[-1]
             rows.append([mode, n, *counts, finest, time.perf_counter() - start])
