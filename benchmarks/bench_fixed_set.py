@@ -231,14 +231,20 @@ class SetOperators:
         return int(self.patch_index.max()) + 1 if self.set.any() else 0
 
     @cached_property
+    def patch_shape(self) -> np.ndarray:
+        """The coarse functions' values on the set's elements, in the set's order (Z_j is
+        this on patch j and 0 elsewhere): 1, one constant per patch."""
+        return np.ones(int(self.set.sum()))
+
+    @cached_property
     def patch_kernel(self) -> np.ndarray:
         """Z^T K Z: the patches' mutual deflections (one apply per patch)."""
-        index, m = self.patch_index, self.patch_count
+        index, m, w = self.patch_index, self.patch_count, self.patch_shape
         spread = np.zeros((self.n, self.n))
         matrix = np.empty((m, m))
         for k in range(m):
-            spread[self.set] = index == k
-            matrix[:, k] = np.bincount(index, weights=self.operator.apply(spread)[self.set],
+            spread[self.set] = (index == k) * w
+            matrix[:, k] = np.bincount(index, weights=w * self.operator.apply(spread)[self.set],
                                        minlength=m)
         return 0.5 * (matrix + matrix.T)
 
@@ -316,12 +322,13 @@ class SetOperators:
     def coarse(self, far: bool = False):
         """Q r = Z (Z^T A Z)^+ Z^T r for the patches' coarse space (its matrix with far
         patches' entries as monopoles with ``far``)."""
-        index, m = self.patch_index, self.patch_count
+        index, m, w = self.patch_index, self.patch_count, self.patch_shape
         inverse = self.coarse_inverse_far if far else self.coarse_inverse
 
         def q(r):
             out = np.zeros((self.n, self.n))
-            out[self.set] = (inverse @ np.bincount(index, weights=r[self.set], minlength=m))[index]
+            out[self.set] = w * (inverse @ np.bincount(index, weights=w * r[self.set],
+                                                       minlength=m))[index]
             return out
         return q
 

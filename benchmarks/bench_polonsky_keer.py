@@ -93,30 +93,19 @@ def nested_start(z: np.ndarray, mode: str, force: float) -> np.ndarray:
 
 
 class ShapedPatches(SetOperators):
-    """``SetOperators`` whose coarse space has one function per patch shaped by ``weights``
-    (one per set element, in the set's order): Z_j = weights on patch j, 0 elsewhere."""
+    """``SetOperators`` whose coarse function on each patch is ``shape`` (one value per set
+    element, in the set's order) instead of a constant."""
 
-    def __init__(self, mask: np.ndarray, mode: str, operator, weights: np.ndarray,
+    def __init__(self, mask: np.ndarray, mode: str, operator, shape: np.ndarray,
                  scale: float):
         super().__init__(mask, mode, operator, scale=scale)
-        self.weights = weights
-
-    @cached_property
-    def patch_kernel(self) -> np.ndarray:
-        """Z^T K Z (one apply per patch)."""
-        index, m, w = self.patch_index, self.patch_count, self.weights
-        spread = np.zeros((self.n, self.n))
-        matrix = np.empty((m, m))
-        for k in range(m):
-            spread[self.set] = (index == k) * w
-            matrix[:, k] = np.bincount(index, weights=w * self.operator.apply(spread)[self.set],
-                                       minlength=m)
-        return 0.5 * (matrix + matrix.T)
+        self.patch_shape = shape
 
     @cached_property
     def coarse_matrix(self) -> np.ndarray:
-        """Z^T A Z = (P Z)^T K (P Z), P Z = Z - 1 a^T / s (a = Z^T 1, s the set's size)."""
-        index, m, w = self.patch_index, self.patch_count, self.weights
+        """Z^T A Z = (P Z)^T K (P Z), P Z = Z - 1 a^T / s (a = Z^T 1, s the set's size): the
+        constant functions' shortcut, Z^T K 1 as the kernel's row sums, does not hold."""
+        index, m, w = self.patch_index, self.patch_count, self.patch_shape
         a = np.bincount(index, weights=w, minlength=m)
         s = float(self.set.sum())
         ones = self.operator.apply(self.set.astype(float))[self.set]
@@ -125,18 +114,10 @@ class ShapedPatches(SetOperators):
                 + np.outer(a, a) * ones.sum() / s**2)
 
     def coarse(self, far: bool = False):
-        """Q r = Z (Z^T A Z)^+ Z^T r (``far`` is not offered here)."""
+        """Q r = Z (Z^T A Z)^+ Z^T r; the monopole matrix (``far``) is for constants only."""
         if far:
             raise ValueError("shaped patches have no monopole coarse matrix")
-        index, m, w = self.patch_index, self.patch_count, self.weights
-        inverse = self.coarse_inverse
-
-        def q(r):
-            out = np.zeros((self.n, self.n))
-            out[self.set] = w * (inverse @ np.bincount(index, weights=w * r[self.set],
-                                                       minlength=m))[index]
-            return out
-        return q
+        return super().coarse()
 
 
 def polonsky_keer(z: np.ndarray, mode: str, force: float, start: np.ndarray, variant: str,
